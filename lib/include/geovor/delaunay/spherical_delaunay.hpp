@@ -1,0 +1,178 @@
+/// \file spherical_delaunay.hpp
+/// \brief The Delaunay triangulation of sites on the sphere, exact on any input.
+///
+/// The sites are unit vectors stored as doubles. Rounded to doubles they lie within about 2^-52 of
+/// the unit sphere, so, as in the "second approach" of de Castro's thesis (Ch. 3, Caroli et al.,
+/// SEA 2010), the structure is the regular triangulation of weighted points on the sphere: the 3D
+/// convex hull of the stored points. Both predicates are 3D orientations of the stored doubles,
+/// decided exactly (kernel/predicates.hpp), and ties (four co-circular sites, sites on one great
+/// circle) are broken by a symbolic perturbation ordered by site index, so the triangulation is a
+/// function of the sites and their indices only, whatever the insertion order.
+///
+/// Lemma 9 of the thesis: if every point is within delta of the sphere and any two are farther
+/// apart than 2 sqrt(delta), no point is hidden (every site is a vertex). Normalised doubles have
+/// delta <= 2^-51, so sites are kept at least kMinSeparation = 2^-24 apart (0.38 m on the Earth):
+/// a closer site is merged into its neighbour and the merge is reported, never dropped silently.
+///
+/// Data layout (geogram/delaunator style, all flat arrays of std::uint32_t):
+///  - sites_[s]: the unit vector of site s;
+///  - triangles_[3t + i]: the i-th site of triangle t, counter-clockwise seen from outside;
+///  - halfedges_[e]: the twin of half-edge e (never kNoIndex: the surface is closed);
+///  - site_edge_[s]: one half-edge leaving s, kNoIndex for a removed site.
+/// With n >= 3 live sites there are exactly 2n - 4 triangles (Euler); with fewer, none.
+/// 76 bytes per site in all.
+///
+/// Triangles whose circumcircle is larger than a hemisphere (possible only when all sites lie in
+/// one open hemisphere) are kept, so the surface stays a closed sphere; is_ghost() flags them
+/// (CGAL's "ghost faces").
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "geovor/core/types.hpp"
+#include "geovor/delaunay/halfedge.hpp"
+
+namespace geovor {
+
+/// Options of SphericalDelaunay; every default is documented.
+struct DelaunayOptions {
+  /// Sites whose chord distance on the unit sphere is below this are merged into one site.
+  /// DEFAULT: SphericalDelaunay::kMinSeparation (2^-24, 0.38 m on the Earth).
+  /// REQUIRES: merge_distance >= kMinSeparation (below it, Lemma 9 no longer holds).
+  double merge_distance = 0x1p-24;
+  /// Insert in a spatially coherent order (BRIO rounds, each sorted along a Hilbert curve on the
+  /// faces of the cube). DEFAULT: true. Disabling it only costs time.
+  bool spatial_sort = true;
+  /// Seed of the BRIO shuffle. DEFAULT: 1. The result does not depend on it (unique perturbed
+  /// triangulation); only the running time does.
+  std::uint64_t seed = 1;
+};
+
+/// Why an input point did not become a site of its own.
+struct Merge {
+  std::uint32_t input = 0;  ///< index of the input point in the span given to build()
+  SiteId site = kNoIndex;   ///< the site it went into
+  double chord = 0;         ///< chord distance to that site on the unit sphere (0: exact duplicate)
+  bool hidden = false;      ///< true if the exact hull test found it hidden (never expected)
+};
+
+/// What build() did with each input point.
+struct BuildReport {
+  std::vector<SiteId> site_of_input;  ///< the site of every input point (kNoIndex: none)
+  std::vector<Merge> merges;          ///< every input point merged into another site
+  double sort_seconds = 0, insert_seconds = 0;
+  std::size_t peak_bytes = 0;         ///< the structure's largest footprint during the build
+};
+
+/// Result of a single insertion.
+struct InsertResult {
+  SiteId site = kNoIndex;  ///< the new site, or the site the point was merged into
+  bool merged = false;
+  double chord = 0;        ///< when merged: the distance to that site on the unit sphere
+  bool hidden = false;     ///< when merged: the exact hull test found the point hidden
+};
+
+/// Result of validate(): ok() or a list of violated invariants.
+struct Validation {
+  std::vector<std::string> errors;
+  bool ok() const { return errors.empty(); }
+};
+
+class SphericalDelaunay {
+ public:
+  /// Smallest allowed separation between sites (chord on the unit sphere): 2 sqrt(2^-50).
+  static constexpr double kMinSeparation = 0x1p-24;
+
+  SphericalDelaunay() = default;
+  explicit SphericalDelaunay(const DelaunayOptions& options);
+
+  /// Builds the triangulation of `points` (unit vectors, |p|^2 within 2^-49 of 1).
+  /// Site ids are assigned in input order to the points that are not merged.
+  /// @exception Error(InvalidArgument) if a point is not finite or not of unit length, or the
+  ///   options are invalid.
+  static SphericalDelaunay build(std::span<const Vec3> points, const DelaunayOptions& options = {},
+                                 BuildReport* report = nullptr);
+
+  /// Inserts one site (stations going online). A point closer than merge_distance to a site is
+  /// merged into it instead. New sites get the next id, so existing ids never change.
+  InsertResult insert(const Vec3& p);
+
+  /// Removes a live site (stations going offline); other ids do not change.
+  void remove(SiteId s);
+
+  /// \name Inspectors
+  ///@{
+  std::size_t num_sites() const { return num_live_; }
+  /// One past the largest site id ever used (removed sites keep their id).
+  std::size_t site_capacity() const { return sites_.size(); }
+  bool is_live(SiteId s) const { return s < sites_.size() && alive(s); }
+  const Vec3& site(SiteId s) const { return sites_[s]; }
+  std::span<const Vec3> sites() const { return sites_; }
+  std::size_t num_triangles() const { return triangles_.size() / 3; }
+  std::span<const SiteId> triangles() const { return triangles_; }
+  std::span<const HalfedgeId> halfedges() const { return halfedges_; }
+  SiteId tri_site(TriId t, int i) const { return triangles_[3 * t + i]; }
+  /// A half-edge leaving s, or kNoIndex if s has no triangle (removed, or fewer than 3 sites).
+  HalfedgeId site_edge(SiteId s) const { return alive(s) ? site_edge_[s] : kNoIndex; }
+  /// Next half-edge leaving the same site, counter-clockwise seen from outside.
+  HalfedgeId next_around_site(HalfedgeId e) const { return halfedges_[prev_halfedge(e)]; }
+  /// Exact: true iff the triangle's circumcircle is larger than a hemisphere (orient < 0).
+  bool is_ghost(TriId t) const;
+  std::size_t num_ghost_triangles() const;
+  const DelaunayOptions& options() const { return options_; }
+  /// Bytes held by the arrays (capacity), for the memory benchmark.
+  std::size_t memory_bytes() const;
+  ///@}
+
+  /// Checks every invariant exactly: twin symmetry, consistent orientation, no repeated site in a
+  /// triangle, every vertex star a single cycle, Euler characteristic (2n - 4 triangles), local
+  /// Delaunay of every edge under the perturbation, and that every live site is a vertex.
+  /// With a report, also checks that every input point of build() is accounted for: it is a live
+  /// site or merged into one, and every merge is listed. With `global`, also checks each triangle
+  /// against every site (O(n^2): small inputs only).
+  Validation validate(const BuildReport* report = nullptr, bool global = false) const;
+
+ private:
+  static constexpr HalfedgeId kRemoved = kNoIndex - 1;  // site_edge_ of a removed site
+  bool alive(SiteId s) const { return site_edge_[s] != kRemoved; }
+  std::uint32_t priority(SiteId s) const { return priority_.empty() ? s : priority_[s]; }
+  // Where a new point goes: merged into a site, or a triangle in conflict with it.
+  struct Placement {
+    SiteId merged_into = kNoIndex;
+    double chord = 0;
+    bool hidden = false;
+    TriId conflict = kNoIndex;
+  };
+  bool in_conflict(TriId t, const Vec3& p, std::uint32_t prio) const;
+  SiteId walk_to_nearest(const Vec3& p, SiteId start) const;
+  TriId find_conflict(const Vec3& p, std::uint32_t prio, SiteId near) const;
+  Placement place(const Vec3& p, std::uint32_t prio, SiteId hint) const;
+  void make_first_triangles(SiteId a, SiteId b, SiteId c);
+  void insert_in_cavity(SiteId s, TriId seed);
+  SiteId any_live_site() const;
+  void move_triangle(TriId from, TriId to);
+  // Inserts site s, already stored in sites_ with site_edge_[s] == kRemoved (not inserted yet);
+  // on a merge s stays so and the result names the site it went into.
+  InsertResult insert_site(SiteId s, SiteId hint);
+
+  DelaunayOptions options_;
+  std::vector<Vec3> sites_;
+  std::vector<SiteId> triangles_;
+  std::vector<HalfedgeId> halfedges_;
+  std::vector<HalfedgeId> site_edge_;
+  std::vector<std::uint32_t> priority_;  // empty: priority = site id (a link hull uses global ids)
+  std::size_t num_live_ = 0;
+  SiteId last_site_ = kNoIndex;           // hint for the next walk
+
+  // Scratch of one insertion, kept to avoid allocations.
+  std::vector<TriId> cavity_, stack_, tested_;
+  std::vector<HalfedgeId> boundary_;
+
+  friend class SphericalDelaunayTester;
+};
+
+}  // namespace geovor

@@ -1,0 +1,82 @@
+/// \file site_reader.hpp
+/// \brief read_sites_csv: a table of sites (latitude/longitude or ECEF columns) from CSV, with
+/// every data row either accepted as a site or rejected with a reason.
+///
+/// Column detection (names compared trimmed and case-insensitively; within each list the earlier
+/// name wins when several are present):
+/// - latitude: lat, latitude, lat_deg, y;
+/// - longitude: lon, lng, long, longitude, lon_deg, x;
+/// - id: id, icao, code, name; without one, a site's id is its row number.
+///
+/// What throws Error (the table cannot be used at all): an unreadable file (ErrorCode::Io), an
+/// empty file or no latitude/longitude columns (ErrorCode::BadData), an option naming a column
+/// that does not exist (ErrorCode::InvalidArgument). What does not throw: every problem of a
+/// single row becomes a RejectedRow whose reason names the column, e.g.
+/// "lat_deg: 'abc' is not a number"; so rows_read == sites.size() + rejected.size() always.
+#pragma once
+
+#include <cstdint>
+#include <istream>
+#include <string>
+#include <vector>
+
+#include "geovor/core/types.hpp"
+
+namespace geovor {
+
+/// Which columns hold what; empty names mean "detect by name".
+struct SiteReaderOptions {
+  std::string lat_field;  ///< latitude column (degrees); empty: detect
+  std::string lon_field;  ///< longitude column (degrees); empty: detect
+  std::string id_field;   ///< id column; empty: detect id/icao/code/name, else the row number
+  /// Exactly 3 column names (X, Y, Z earth-centred earth-fixed WGS84, metres), or empty for
+  /// latitude/longitude input. Exclusive with lat_field/lon_field.
+  std::vector<std::string> ecef_fields;
+};
+
+/// One accepted data row.
+struct InputSite {
+  std::uint64_t row = 0;   ///< 1-based data row number (the header is not a row)
+  std::uint64_t line = 0;  ///< 1-based line number in the file where the row starts
+  std::string id;          ///< value of the id column, or the row number as text
+  double lat_deg = 0;      ///< geodetic latitude (degrees), normalised by normalize_lat_lon
+  double lon_deg = 0;      ///< longitude (degrees), normalised by normalize_lat_lon
+  double height_m = 0;     ///< height above the ellipsoid (metres); 0 unless ECEF input
+  Vec3 unit;               ///< SiteEncoder::from_lat_lon(lat_deg, lon_deg)
+  std::vector<std::string> fields;  ///< every field of the row as read
+};
+
+/// One data row that is not a site, and why.
+struct RejectedRow {
+  std::uint64_t row = 0;   ///< 1-based data row number
+  std::uint64_t line = 0;  ///< 1-based line number where the row starts
+  std::string reason;      ///< human-readable, names the column at fault
+};
+
+/// The result of reading a table of sites.
+struct SiteTable {
+  std::string source;                ///< file name, or "<stdin>"
+  std::vector<std::string> columns;  ///< header names, as read
+  int lat_column = -1;               ///< index into columns; -1 for ECEF input
+  int lon_column = -1;               ///< index into columns; -1 for ECEF input
+  int id_column = -1;                ///< index into columns; -1: ids are row numbers
+  std::vector<int> ecef_columns;     ///< X, Y, Z indices for ECEF input, else empty
+  std::uint64_t rows_read = 0;       ///< data rows seen == sites.size() + rejected.size()
+  std::vector<InputSite> sites;
+  std::vector<RejectedRow> rejected;
+};
+
+/// Read sites from a CSV stream whose first record is the header.
+/// \param[in] in the CSV text.
+/// \param[in] source the name used in messages and kept in SiteTable::source.
+/// \param[in] options column choices.
+/// \throw Error as described in the file comment.
+SiteTable read_sites_csv(std::istream& in, const std::string& source,
+                         const SiteReaderOptions& options = {});
+
+/// Read sites from a CSV file; "-" reads standard input (source "<stdin>").
+/// \throw Error (ErrorCode::Io) naming the path and the system's reason when it cannot be read;
+///   otherwise as read_sites_csv.
+SiteTable read_sites_csv_file(const std::string& path, const SiteReaderOptions& options = {});
+
+}  // namespace geovor

@@ -1,0 +1,65 @@
+/// \file predicates.hpp
+/// \brief Exact predicates on points of R^3 given as doubles, for triangulations on the sphere.
+///
+/// Every function here takes its double arguments as exact rational numbers and returns the exact
+/// sign. Each is a cascade: a floating-point evaluation with a certified static error bound
+/// (Shewchuk's bounds, "Adaptive precision floating-point arithmetic", 1997), and when the bound
+/// cannot decide, CGAL's Exact_predicates_inexact_constructions_kernel (interval filter, then GMP).
+/// No CGAL or GMP type appears in this header; only lib/src/kernel/ sees CGAL.
+///
+/// Axioms (for points p, q, r, s that are pairwise distinct):
+///  1. orient(p, q, r) == -orient(q, p, r); cyclic rotation keeps the sign.
+///  2. in_sphere_sign(p, q, r, s) changes sign under any odd permutation of its arguments.
+///  3. perturbed_in_sphere never returns Zero for four distinct sites of which no three are
+///     collinear in R^3 (guaranteed on the sphere by the minimum separation of
+///     delaunay/spherical_delaunay.hpp), and is the sign of an actual infinitesimal motion of the
+///     points, so all its answers are mutually consistent.
+#pragma once
+
+#include <cstdint>
+
+#include "geovor/core/types.hpp"
+
+namespace geovor::kernel {
+
+/// Orientation on the sphere: sign of det(p, q, r) = orientation_3(O, p, q, r), O the centre.
+/// Positive when r lies to the left of the great circle from p to q (seen from outside).
+Sign orient(const Vec3& p, const Vec3& q, const Vec3& r) noexcept;
+
+/// Side of the plane (p, q, r) on which s lies: CGAL's orientation_3(p, q, r, s) = sign of
+/// det(q - p, r - p, s - p). For a triangle (p, q, r) of the triangulation seen counter-clockwise
+/// from outside the sphere, Positive means s is beyond the triangle's plane: s lies inside the
+/// triangle's circumcircle on the sphere ("in conflict"), thesis §3.2-3.3.
+Sign in_sphere_sign(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept;
+
+/// The in-circle test with ties broken by a consistent symbolic perturbation.
+///
+/// Each point i is moved to p_i (1 + e_i) + f_i z + g_i y + h_i x, where e, f, g, h are
+/// infinitesimals with e_* >> f_* >> g_* >> h_*, and within one family the point with the smaller
+/// priority value moves more. The radial terms e are a perturbation of the weights of the regular
+/// triangulation (thesis Ch. 3): they decide four co-circular sites on a small circle, as the
+/// lifting map would. When the four sites lie on one great circle (coplanar with O), radial motion
+/// keeps them coplanar, and the axis terms decide. The returned sign is that of
+/// in_sphere_sign on the moved points, for every small enough perturbation.
+///
+/// \param ip..is the priorities (site indices) of p..s; they must be pairwise distinct.
+Sign perturbed_in_sphere(const Vec3& p, std::uint32_t ip, const Vec3& q, std::uint32_t iq,
+                         const Vec3& r, std::uint32_t ir, const Vec3& s,
+                         std::uint32_t is) noexcept;
+
+/// Sign of dot(x, a) - dot(x, b): Positive when the unit vector a is nearer to x than b is in the
+/// order of the triangulation (the hull's normal fan); for unit vectors, the angular order.
+Sign compare_dot(const Vec3& x, const Vec3& a, const Vec3& b) noexcept;
+
+/// Counters of how often each stage of the cascade decided (geogram's predicate stats).
+struct PredicateStats {
+  std::uint64_t orient_calls = 0, orient_exact = 0;
+  std::uint64_t in_sphere_calls = 0, in_sphere_exact = 0, in_sphere_perturbed = 0;
+  std::uint64_t compare_dot_calls = 0, compare_dot_exact = 0;
+};
+
+/// The counters of this thread since the last reset. Counting costs one increment per call.
+PredicateStats predicate_stats() noexcept;
+void reset_predicate_stats() noexcept;
+
+}  // namespace geovor::kernel

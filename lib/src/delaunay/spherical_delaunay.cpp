@@ -1,0 +1,573 @@
+#include "geovor/delaunay/spherical_delaunay.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "geovor/core/assert.hpp"
+#include "geovor/core/error.hpp"
+#include "geovor/delaunay/spatial_sort.hpp"
+#include "geovor/kernel/predicates.hpp"
+
+namespace geovor {
+namespace {
+
+// A face is marked during a cavity search by the high bit of one of its site entries:
+// entry 0 for "in the cavity", entry 1 for "tested, not in conflict". Site ids stay below 2^31.
+constexpr SiteId kMark = 0x80000000u;
+constexpr std::size_t kMaxSites = 700'000'000;  // 6n half-edges must fit in 32 bits
+
+double chord2(const Vec3& a, const Vec3& b) { return norm2(a - b); }
+
+template <class T>
+std::size_t bytes_of(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+std::string num(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+}  // namespace
+
+SphericalDelaunay::SphericalDelaunay(const DelaunayOptions& options) : options_(options) {
+  if (!(options.merge_distance >= kMinSeparation) || !std::isfinite(options.merge_distance))
+    throw Error(ErrorCode::InvalidArgument,
+                "merge distance " + num(options.merge_distance) +
+                    " is below the minimum separation 2^-24 of sites on the unit sphere");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Build
+
+SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
+                                           const DelaunayOptions& options, BuildReport* report) {
+  using Clock = std::chrono::steady_clock;
+  const std::size_t n = points.size();
+  if (n > kMaxSites)
+    throw Error(ErrorCode::InvalidArgument, "too many sites: " + std::to_string(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& p = points[i];
+    const double r2 = norm2(p);
+    if (!std::isfinite(r2) || std::fabs(r2 - 1.0) > 0x1p-49)
+      throw Error(ErrorCode::InvalidArgument,
+                  "point " + std::to_string(i) + " is not a unit vector (|p|^2 = " + num(r2) + ")");
+  }
+  SphericalDelaunay dt(options);
+
+  const auto t0 = Clock::now();
+  std::vector<std::uint32_t> order;
+  if (options.spatial_sort) {
+    order = brio_order(points, options.seed);
+  } else {
+    order.resize(n);
+    std::iota(order.begin(), order.end(), 0u);
+  }
+  const auto t1 = Clock::now();
+
+  // Site id = input index during the build (so priorities follow input order); compacted below.
+  dt.sites_.assign(points.begin(), points.end());
+  dt.site_edge_.assign(n, kRemoved);  // not inserted yet
+  const std::size_t max_tris = n >= 3 ? 2 * n - 4 : 0;
+  dt.triangles_.reserve(3 * max_tris);
+  dt.halfedges_.reserve(3 * max_tris);
+  std::size_t peak = dt.memory_bytes() + order.capacity() * sizeof(std::uint32_t);
+
+  std::vector<Merge> merges;
+  SiteId hint = kNoIndex;
+  for (const std::uint32_t i : order) {
+    const InsertResult r = dt.insert_site(i, hint);
+    if (r.merged) {
+      merges.push_back({i, r.site, r.chord, r.hidden});
+    } else {
+      hint = i;
+    }
+  }
+  order = {};
+
+  // Compact the ids of the merged points away; the map is monotone, so priorities keep their
+  // order and the perturbed triangulation is unchanged.
+  std::vector<SiteId> new_id(n, kNoIndex);
+  SiteId next = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (dt.alive(static_cast<SiteId>(i))) new_id[i] = next++;
+  if (next != n) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (new_id[i] == kNoIndex) continue;
+      dt.sites_[new_id[i]] = dt.sites_[i];
+      dt.site_edge_[new_id[i]] = dt.site_edge_[i];
+    }
+    dt.sites_.resize(next);
+    dt.site_edge_.resize(next);
+    dt.sites_.shrink_to_fit();
+    dt.site_edge_.shrink_to_fit();
+    for (SiteId& s : dt.triangles_) s = new_id[s];
+    if (dt.last_site_ != kNoIndex) dt.last_site_ = new_id[dt.last_site_];
+  }
+  peak = std::max(peak, dt.memory_bytes() + new_id.capacity() * sizeof(SiteId));
+  const auto t2 = Clock::now();
+
+  if (report) {
+    report->site_of_input.assign(n, kNoIndex);
+    for (std::size_t i = 0; i < n; ++i) report->site_of_input[i] = new_id[i];
+    for (Merge& m : merges) {
+      // A merge target is never itself merged later: it stays live during the build.
+      m.site = new_id[m.site];
+      report->site_of_input[m.input] = m.site;
+    }
+    std::sort(merges.begin(), merges.end(),
+              [](const Merge& a, const Merge& b) { return a.input < b.input; });
+    report->merges = std::move(merges);
+    report->sort_seconds = std::chrono::duration<double>(t1 - t0).count();
+    report->insert_seconds = std::chrono::duration<double>(t2 - t1).count();
+    report->peak_bytes = peak;
+  }
+  return dt;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Insertion
+
+InsertResult SphericalDelaunay::insert(const Vec3& p) {
+  const double r2 = norm2(p);
+  if (!std::isfinite(r2) || std::fabs(r2 - 1.0) > 0x1p-49)
+    throw Error(ErrorCode::InvalidArgument, "insert: not a unit vector (|p|^2 = " + num(r2) + ")");
+  if (sites_.size() >= kMaxSites) throw Error(ErrorCode::InvalidArgument, "too many sites");
+  GEOVOR_ASSERT(priority_.empty());
+  const SiteId s = static_cast<SiteId>(sites_.size());
+  sites_.push_back(p);
+  site_edge_.push_back(kRemoved);
+  const InsertResult r = insert_site(s, last_site_);
+  if (r.merged) {  // the point never became a site: give its id back
+    sites_.pop_back();
+    site_edge_.pop_back();
+  }
+  return r;
+}
+
+InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
+  const Vec3& p = sites_[s];
+  const std::uint32_t prio = priority(s);
+  if (num_live_ < 3) {
+    // No triangle yet: compare with the (at most two) live sites directly.
+    SiteId live[2];
+    std::size_t k = 0;
+    for (SiteId t = 0; t < sites_.size() && k < num_live_; ++t)
+      if (t != s && alive(t)) live[k++] = t;
+    const double md2 = options_.merge_distance * options_.merge_distance;
+    for (std::size_t i = 0; i < k; ++i) {
+      const double d2 = chord2(p, sites_[live[i]]);
+      if (d2 < md2) {
+        return {live[i], true, std::sqrt(d2), false};
+      }
+    }
+    site_edge_[s] = kNoIndex;
+    ++num_live_;
+    last_site_ = s;
+    if (num_live_ == 3) make_first_triangles(live[0], live[1], s);
+    return {s, false, 0, false};
+  }
+  if (hint == kNoIndex || !alive(hint) || site_edge_[hint] == kNoIndex) hint = any_live_site();
+  const Placement where = place(p, prio, hint);
+  if (where.merged_into != kNoIndex) return {where.merged_into, true, where.chord, where.hidden};
+  insert_in_cavity(s, where.conflict);
+  ++num_live_;
+  last_site_ = s;
+  return {s, false, 0, false};
+}
+
+SiteId SphericalDelaunay::any_live_site() const {
+  if (last_site_ != kNoIndex && last_site_ < sites_.size() && alive(last_site_) &&
+      (num_live_ < 3 || site_edge_[last_site_] != kNoIndex))
+    return last_site_;
+  for (SiteId s = 0; s < sites_.size(); ++s)
+    if (alive(s) && (num_live_ < 3 || site_edge_[s] != kNoIndex)) return s;
+  return kNoIndex;
+}
+
+bool SphericalDelaunay::in_conflict(TriId t, const Vec3& p, std::uint32_t prio) const {
+  const SiteId a = triangles_[3 * t], b = triangles_[3 * t + 1], c = triangles_[3 * t + 2];
+  return kernel::perturbed_in_sphere(sites_[a], priority(a), sites_[b], priority(b), sites_[c],
+                                     priority(c), p, prio) == Sign::Positive;
+}
+
+// Greedy walk on the Delaunay graph towards the site maximising dot(p, site): the simplex method
+// on the hull's vertex graph, so a local maximum is the global one. Plain doubles are enough:
+// the result only seeds the exact conflict search.
+SiteId SphericalDelaunay::walk_to_nearest(const Vec3& p, SiteId v) const {
+  double best = dot(p, sites_[v]);
+  for (;;) {
+    const HalfedgeId e0 = site_edge_[v];
+    HalfedgeId e = e0;
+    SiteId next = v;
+    do {
+      const SiteId w = triangles_[next_halfedge(e)];
+      const double d = dot(p, sites_[w]);
+      if (d > best) best = d, next = w;
+      e = next_around_site(e);
+    } while (e != e0);
+    if (next == v) return v;
+    v = next;
+  }
+}
+
+TriId SphericalDelaunay::find_conflict(const Vec3& p, std::uint32_t prio, SiteId near) const {
+  // The new site's nearest neighbour becomes its Delaunay neighbour, so some triangle around it
+  // is in conflict; the exhaustive search below is only a safety net.
+  const HalfedgeId e0 = site_edge_[near];
+  HalfedgeId e = e0;
+  do {
+    if (in_conflict(tri_of(e), p, prio)) return tri_of(e);
+    e = next_around_site(e);
+  } while (e != e0);
+  for (TriId t = 0; t < num_triangles(); ++t)
+    if (in_conflict(t, p, prio)) return t;
+  return kNoIndex;
+}
+
+SphericalDelaunay::Placement SphericalDelaunay::place(const Vec3& p, std::uint32_t prio,
+                                                      SiteId hint) const {
+  Placement where;
+  const SiteId v = walk_to_nearest(p, hint);
+  // The merge test looks at v and its neighbours, which holds the nearest site even where the
+  // floating-point walk stopped one step short.
+  SiteId closest = v;
+  double best = chord2(p, sites_[v]);
+  const HalfedgeId e0 = site_edge_[v];
+  HalfedgeId e = e0;
+  do {
+    const SiteId w = triangles_[next_halfedge(e)];
+    const double d2 = chord2(p, sites_[w]);
+    if (d2 < best) best = d2, closest = w;
+    e = next_around_site(e);
+  } while (e != e0);
+  if (best < options_.merge_distance * options_.merge_distance) {
+    where.merged_into = closest;
+    where.chord = std::sqrt(best);
+    return where;
+  }
+  where.conflict = find_conflict(p, prio, v);
+  if (where.conflict == kNoIndex) {  // inside the hull: impossible beyond the separation bound
+    where.merged_into = closest;
+    where.chord = std::sqrt(best);
+    where.hidden = true;
+  }
+  return where;
+}
+
+void SphericalDelaunay::make_first_triangles(SiteId a, SiteId b, SiteId c) {
+  // Two triangles glued along their three edges: the (flat) hull of three points.
+  triangles_.assign({a, b, c, a, c, b});
+  halfedges_.assign({5, 4, 3, 2, 1, 0});
+  site_edge_[a] = 0;
+  site_edge_[b] = 1;
+  site_edge_[c] = 2;
+}
+
+void SphericalDelaunay::insert_in_cavity(SiteId s, TriId seed) {
+  const Vec3& p = sites_[s];
+  const std::uint32_t prio = priority(s);
+  cavity_.clear();
+  tested_.clear();
+  boundary_.clear();
+  stack_.clear();
+  // Grow the set of triangles in conflict with p (connected: the faces of the hull visible from
+  // p), marking faces so each is tested once.
+  cavity_.push_back(seed);
+  stack_.push_back(seed);
+  triangles_[3 * seed] |= kMark;
+  while (!stack_.empty()) {
+    const TriId t = stack_.back();
+    stack_.pop_back();
+    for (int j = 0; j < 3; ++j) {
+      const HalfedgeId e = 3 * t + j;
+      const TriId nt = tri_of(halfedges_[e]);
+      if (triangles_[3 * nt] & kMark) continue;  // in the cavity: an inner edge
+      if (triangles_[3 * nt + 1] & kMark) {      // tested before, not in conflict
+        boundary_.push_back(e);
+        continue;
+      }
+      if (in_conflict(nt, p, prio)) {
+        triangles_[3 * nt] |= kMark;
+        cavity_.push_back(nt);
+        stack_.push_back(nt);
+      } else {
+        triangles_[3 * nt + 1] |= kMark;
+        tested_.push_back(nt);
+        boundary_.push_back(e);
+      }
+    }
+  }
+  for (const TriId t : tested_) triangles_[3 * t + 1] &= ~kMark;
+  for (const TriId t : cavity_) triangles_[3 * t] &= ~kMark;
+  GEOVOR_ASSERT(boundary_.size() == cavity_.size() + 2);
+
+  // Replace the cavity by the fan of triangles (a, b, s), one per boundary edge a -> b, reusing
+  // the cavity's slots and adding two.
+  struct Edge {
+    SiteId a, b;
+    HalfedgeId outer;
+  };
+  Edge edges[64];
+  std::vector<Edge> many;
+  Edge* bnd = edges;
+  if (boundary_.size() > 64) {
+    many.resize(boundary_.size());
+    bnd = many.data();
+  }
+  for (std::size_t k = 0; k < boundary_.size(); ++k) {
+    const HalfedgeId e = boundary_[k];
+    bnd[k] = {triangles_[e], triangles_[next_halfedge(e)], halfedges_[e]};
+  }
+  const TriId first_new = static_cast<TriId>(num_triangles());
+  triangles_.resize(triangles_.size() + 6);
+  halfedges_.resize(halfedges_.size() + 6);
+  auto slot = [&](std::size_t k) {
+    return k < cavity_.size() ? cavity_[k] : first_new + static_cast<TriId>(k - cavity_.size());
+  };
+  for (std::size_t k = 0; k < boundary_.size(); ++k) {
+    const TriId t = slot(k);
+    const Edge& b = bnd[k];
+    triangles_[3 * t] = b.a;
+    triangles_[3 * t + 1] = b.b;
+    triangles_[3 * t + 2] = s;
+    halfedges_[3 * t] = b.outer;
+    halfedges_[b.outer] = 3 * t;
+    site_edge_[b.a] = 3 * t;  // every boundary vertex starts exactly one boundary edge
+  }
+  for (std::size_t k = 0; k < boundary_.size(); ++k) {
+    const TriId t = slot(k);
+    const TriId u = tri_of(site_edge_[bnd[k].b]);  // the fan triangle whose boundary edge leaves b
+    halfedges_[3 * t + 1] = 3 * u + 2;
+    halfedges_[3 * u + 2] = 3 * t + 1;
+  }
+  site_edge_[s] = 3 * slot(0) + 2;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Removal
+
+void SphericalDelaunay::remove(SiteId s) {
+  if (!is_live(s)) throw Error(ErrorCode::InvalidArgument, "remove: site " + std::to_string(s) + " is not live");
+  GEOVOR_ASSERT(priority_.empty());
+  if (num_live_ <= 3) {
+    // Fewer than three sites remain: no triangle.
+    triangles_.clear();
+    halfedges_.clear();
+    for (SiteId t = 0; t < sites_.size(); ++t)
+      if (alive(t)) site_edge_[t] = kNoIndex;
+    site_edge_[s] = kRemoved;
+    --num_live_;
+    last_site_ = any_live_site();
+    return;
+  }
+
+  // The star of s: link vertices w_i counter-clockwise, the star triangles (s, w_i, w_i+1), and
+  // the outer half-edges w_i+1 -> w_i across the link.
+  std::vector<SiteId> link;
+  std::vector<TriId> star;
+  std::vector<HalfedgeId> outer;
+  const HalfedgeId e0 = site_edge_[s];
+  HalfedgeId e = e0;
+  do {
+    link.push_back(triangles_[next_halfedge(e)]);
+    star.push_back(tri_of(e));
+    outer.push_back(halfedges_[next_halfedge(e)]);
+    e = next_around_site(e);
+  } while (e != e0);
+  const std::size_t k = link.size();
+
+  // The hole is filled by the faces of the hull of the link that s sees (they are exactly the
+  // faces of the hull of the other sites in the hole; see docs/design.md). That hull is built by
+  // the same exact code, with the global ids as perturbation priorities.
+  SphericalDelaunay hull(options_);
+  hull.sites_.reserve(k);
+  hull.priority_ = link;
+  for (std::size_t i = 0; i < k; ++i) {
+    hull.sites_.push_back(sites_[link[i]]);
+    hull.site_edge_.push_back(kRemoved);
+    const InsertResult r = hull.insert_site(static_cast<SiteId>(i), hull.last_site_);
+    GEOVOR_ASSERT(!r.merged);
+  }
+  std::vector<TriId> fill;
+  std::vector<TriId> slot_of(hull.num_triangles(), kNoIndex);
+  for (TriId t = 0; t < hull.num_triangles(); ++t) {
+    const SiteId a = link[hull.triangles_[3 * t]], b = link[hull.triangles_[3 * t + 1]],
+                 c = link[hull.triangles_[3 * t + 2]];
+    if (kernel::perturbed_in_sphere(sites_[a], priority(a), sites_[b], priority(b), sites_[c],
+                                    priority(c), sites_[s], priority(s)) == Sign::Positive) {
+      slot_of[t] = star[fill.size()];
+      fill.push_back(t);
+    }
+  }
+  GEOVOR_ASSERT(fill.size() == k - 2);
+
+  for (const TriId ht : fill) {
+    const TriId t = slot_of[ht];
+    for (int j = 0; j < 3; ++j) {
+      const HalfedgeId he = 3 * ht + j;
+      const std::uint32_t la = hull.triangles_[he];
+      triangles_[3 * t + j] = link[la];
+      const HalfedgeId htw = hull.halfedges_[he];
+      if (slot_of[tri_of(htw)] != kNoIndex) {
+        halfedges_[3 * t + j] = 3 * slot_of[tri_of(htw)] + htw % 3;
+      } else {
+        // A boundary edge of the hole: w_la -> w_la+1, glued to the outer half-edge.
+        GEOVOR_ASSERT(hull.triangles_[next_halfedge(he)] == (la + 1) % k);
+        halfedges_[3 * t + j] = outer[la];
+        halfedges_[outer[la]] = 3 * t + j;
+      }
+    }
+  }
+  for (std::size_t i = 0; i < k; ++i) site_edge_[link[(i + 1) % k]] = outer[i];
+  site_edge_[s] = kRemoved;
+  --num_live_;
+  last_site_ = link[0];
+
+  // Two star slots are left over: fill them with the last triangles of the arrays.
+  std::vector<TriId> spare(star.begin() + static_cast<std::ptrdiff_t>(k - 2), star.end());
+  std::sort(spare.begin(), spare.end(), std::greater<>());
+  for (const TriId t : spare) {
+    const TriId last = static_cast<TriId>(num_triangles() - 1);
+    if (t != last) move_triangle(last, t);
+    triangles_.resize(triangles_.size() - 3);
+    halfedges_.resize(halfedges_.size() - 3);
+  }
+}
+
+void SphericalDelaunay::move_triangle(TriId from, TriId to) {
+  for (int j = 0; j < 3; ++j) {
+    const HalfedgeId ef = 3 * from + j, et = 3 * to + j;
+    triangles_[et] = triangles_[ef];
+    halfedges_[et] = halfedges_[ef];
+    halfedges_[halfedges_[et]] = et;
+    if (site_edge_[triangles_[et]] == ef) site_edge_[triangles_[et]] = et;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Inspectors and validation
+
+bool SphericalDelaunay::is_ghost(TriId t) const {
+  return kernel::orient(sites_[triangles_[3 * t]], sites_[triangles_[3 * t + 1]],
+                        sites_[triangles_[3 * t + 2]]) == Sign::Negative;
+}
+
+std::size_t SphericalDelaunay::num_ghost_triangles() const {
+  std::size_t count = 0;
+  for (TriId t = 0; t < num_triangles(); ++t) count += is_ghost(t);
+  return count;
+}
+
+std::size_t SphericalDelaunay::memory_bytes() const {
+  return bytes_of(sites_) + bytes_of(triangles_) + bytes_of(halfedges_) + bytes_of(site_edge_) +
+         bytes_of(priority_) + bytes_of(cavity_) + bytes_of(stack_) + bytes_of(tested_) +
+         bytes_of(boundary_);
+}
+
+Validation SphericalDelaunay::validate(const BuildReport* report, bool global) const {
+  Validation v;
+  auto fail = [&v](std::string msg) {
+    if (v.errors.size() < 50) v.errors.push_back(std::move(msg));
+  };
+  const std::size_t nh = halfedges_.size(), nt = num_triangles();
+  std::size_t live = 0;
+  for (SiteId s = 0; s < sites_.size(); ++s) live += alive(s);
+  if (live != num_live_) fail("live site count " + std::to_string(live) + " != " + std::to_string(num_live_));
+  if (triangles_.size() != nh) fail("triangles and halfedges differ in size");
+  // Euler: a triangulated sphere with n vertices has 2n - 4 triangles.
+  const std::size_t expect = live >= 3 ? 2 * live - 4 : 0;
+  if (nt != expect)
+    fail("Euler: " + std::to_string(nt) + " triangles for " + std::to_string(live) + " sites");
+  if (!v.ok()) return v;
+
+  for (HalfedgeId e = 0; e < nh; ++e) {
+    const HalfedgeId tw = halfedges_[e];
+    if (tw >= nh || tw == e || halfedges_[tw] != e) {
+      fail("half-edge " + std::to_string(e) + ": twin not symmetric");
+      continue;
+    }
+    // Orientation: a twin runs the other way, so neighbouring triangles are oriented alike.
+    if (triangles_[tw] != triangles_[next_halfedge(e)] || triangles_[next_halfedge(tw)] != triangles_[e])
+      fail("half-edge " + std::to_string(e) + ": twin does not run the other way");
+  }
+  for (TriId t = 0; t < nt; ++t) {
+    const SiteId a = triangles_[3 * t], b = triangles_[3 * t + 1], c = triangles_[3 * t + 2];
+    if (a >= sites_.size() || b >= sites_.size() || c >= sites_.size() || !alive(a) || !alive(b) || !alive(c))
+      fail("triangle " + std::to_string(t) + " uses a removed or unknown site");
+    else if (a == b || b == c || c == a)
+      fail("triangle " + std::to_string(t) + " repeats a site");
+  }
+  if (!v.ok()) return v;
+
+  // Every live site is a vertex whose star is one cycle: the walks around all sites together
+  // meet every half-edge exactly once.
+  std::size_t visited = 0;
+  for (SiteId s = 0; s < sites_.size(); ++s) {
+    if (!alive(s)) continue;
+    const HalfedgeId e0 = site_edge_[s];
+    if (live < 3) {
+      if (e0 != kNoIndex) fail("site " + std::to_string(s) + " has an edge with fewer than 3 sites");
+      continue;
+    }
+    if (e0 >= nh || triangles_[e0] != s) {
+      fail("site " + std::to_string(s) + " is not a vertex");
+      continue;
+    }
+    HalfedgeId e = e0;
+    std::size_t degree = 0;
+    do {
+      ++degree;
+      e = next_around_site(e);
+    } while (e != e0 && degree <= nh);
+    if (e != e0) fail("site " + std::to_string(s) + ": star is not a cycle");
+    visited += degree;
+  }
+  if (live >= 3 && visited != nh) fail("vertex stars do not cover every half-edge once");
+  if (!v.ok()) return v;
+
+  // Local Delaunay under the perturbation: across every edge, the opposite site is outside the
+  // circumcircle. (The test is the same from both sides: an even permutation.)
+  for (HalfedgeId e = 0; e < nh; ++e) {
+    const HalfedgeId tw = halfedges_[e];
+    if (tw < e) continue;
+    const SiteId d = triangles_[prev_halfedge(tw)];
+    if (in_conflict(tri_of(e), sites_[d], priority(d)))
+      fail("edge " + std::to_string(e) + " is not locally Delaunay");
+  }
+  if (global) {
+    for (TriId t = 0; t < nt; ++t)
+      for (SiteId s = 0; s < sites_.size(); ++s) {
+        if (!alive(s) || s == triangles_[3 * t] || s == triangles_[3 * t + 1] || s == triangles_[3 * t + 2]) continue;
+        if (in_conflict(t, sites_[s], priority(s)))
+          fail("site " + std::to_string(s) + " lies in the circumcircle of triangle " + std::to_string(t));
+      }
+  }
+
+  if (report) {
+    // Every input point is accounted for: it is a site, or merged into one and listed.
+    std::vector<char> seen(sites_.size(), 0);
+    std::size_t merged = 0;
+    for (std::size_t i = 0; i < report->site_of_input.size(); ++i) {
+      const SiteId s = report->site_of_input[i];
+      if (s >= sites_.size()) {
+        fail("input " + std::to_string(i) + " has no site");
+        continue;
+      }
+      if (seen[s]) ++merged;
+      seen[s] = 1;
+    }
+    if (merged != report->merges.size())
+      fail("merges listed: " + std::to_string(report->merges.size()) + ", found " + std::to_string(merged));
+    for (const Merge& m : report->merges)
+      if (m.input >= report->site_of_input.size() || report->site_of_input[m.input] != m.site)
+        fail("merge of input " + std::to_string(m.input) + " disagrees with site_of_input");
+  }
+  return v;
+}
+
+}  // namespace geovor

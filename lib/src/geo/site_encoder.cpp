@@ -1,0 +1,47 @@
+#include "geovor/geo/site_encoder.hpp"
+
+#include <GeographicLib/Ellipsoid.hpp>
+#include <GeographicLib/Geocentric.hpp>
+#include <GeographicLib/Math.hpp>
+
+#include <cmath>
+#include <string>
+
+#include "geovor/core/assert.hpp"
+
+namespace geovor {
+namespace {
+
+// -0.0 == 0.0, so the assignment turns -0.0 into +0.0: equal points get equal bit patterns.
+double positive_zero(double v) { return v == 0 ? 0.0 : v; }
+
+}  // namespace
+
+Vec3 SiteEncoder::from_lat_lon(double lat_deg, double lon_deg) {
+  double x = 0, y = 0, z = 0;
+  GeographicLib::Geocentric::WGS84().Forward(lat_deg, lon_deg, 0, x, y, z);
+  const double n = std::sqrt(x * x + y * y + z * z);
+  const Vec3 u{positive_zero(x / n), positive_zero(y / n), positive_zero(z / n)};
+  // Predicates treat sites as exactly on the sphere; a few ulps of slack is all they tolerate.
+  GEOVOR_ASSERT(std::fabs(u.x * u.x + u.y * u.y + u.z * u.z - 1) <= 0x1p-49);
+  return u;
+}
+
+SiteEncoder::Geodetic SiteEncoder::from_ecef(double x_m, double y_m, double z_m) {
+  Geodetic g{0, 0, 0};
+  GeographicLib::Geocentric::WGS84().Reverse(x_m, y_m, z_m, g.lat_deg, g.lon_deg, g.height_m);
+  return g;
+}
+
+LatLon SiteEncoder::to_lat_lon(const Vec3& u) {
+  using GeographicLib::Math;
+  // atan2d is exact at multiples of 45 degrees, so axis directions map to exact degrees.
+  const double theta = Math::atan2d(u.z, std::hypot(u.x, u.y));
+  LatLon p{GeographicLib::Ellipsoid::WGS84().InverseGeocentricLatitude(theta),
+           Math::atan2d(u.y, u.x)};
+  const std::string reason = normalize_lat_lon(p.lat_deg, p.lon_deg);
+  GEOVOR_ASSERT(reason.empty());
+  return p;
+}
+
+}  // namespace geovor

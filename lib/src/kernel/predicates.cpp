@@ -1,0 +1,154 @@
+// The only translation unit of the library that includes CGAL: exact fallbacks of the predicates.
+#include "geovor/kernel/predicates.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Mpzf.h>
+
+#include <cmath>
+#include <utility>
+
+namespace geovor::kernel {
+namespace {
+
+using Epick = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+thread_local PredicateStats g_stats;
+
+constexpr double kEps = 0x1p-53;
+// Shewchuk's orient3d error bound (7 + 56 eps) eps times the permanent; also valid (looser) for
+// the determinant of the inputs themselves, where no difference is rounded.
+constexpr double kO3dErrBound = (7.0 + 56.0 * kEps) * kEps;
+// |fl(sum of 3 products) - exact| <= gamma_4 * sum |products|; doubled for the difference of two.
+constexpr double kDotErrBound = 8.0 * kEps;
+
+Sign to_sign(int s) { return s > 0 ? Sign::Positive : (s < 0 ? Sign::Negative : Sign::Zero); }
+Sign to_sign(CGAL::Sign s) { return to_sign(static_cast<int>(s)); }
+Sign negate(Sign s) { return static_cast<Sign>(-static_cast<int>(s)); }
+
+Epick::Point_3 P3(const Vec3& v) { return {v.x, v.y, v.z}; }
+
+Sign orient_exact(const Vec3& p, const Vec3& q, const Vec3& r) {
+  static const Epick::Point_3 origin(0, 0, 0);
+  return to_sign(CGAL::orientation(origin, P3(p), P3(q), P3(r)));
+}
+
+// Sign of det(a, b, c) projected on coordinates (i, j): the 2D orientation of the projections.
+Sign orient2d_exact(const Vec3& a, const Vec3& b, const Vec3& c, int i, int j) {
+  auto pick = [](const Vec3& v, int k) { return k == 0 ? v.x : (k == 1 ? v.y : v.z); };
+  return to_sign(CGAL::orientation(Epick::Point_2(pick(a, i), pick(a, j)),
+                                   Epick::Point_2(pick(b, i), pick(b, j)),
+                                   Epick::Point_2(pick(c, i), pick(c, j))));
+}
+
+}  // namespace
+
+Sign orient(const Vec3& p, const Vec3& q, const Vec3& r) noexcept {
+  ++g_stats.orient_calls;
+  const double qyrz = q.y * r.z, qzry = q.z * r.y;
+  const double qzrx = q.z * r.x, qxrz = q.x * r.z;
+  const double qxry = q.x * r.y, qyrx = q.y * r.x;
+  const double det = p.x * (qyrz - qzry) + p.y * (qzrx - qxrz) + p.z * (qxry - qyrx);
+  const double perm = (std::fabs(qyrz) + std::fabs(qzry)) * std::fabs(p.x) +
+                      (std::fabs(qzrx) + std::fabs(qxrz)) * std::fabs(p.y) +
+                      (std::fabs(qxry) + std::fabs(qyrx)) * std::fabs(p.z);
+  const double bound = kO3dErrBound * perm;
+  if (det > bound) return Sign::Positive;
+  if (-det > bound) return Sign::Negative;
+  ++g_stats.orient_exact;
+  return orient_exact(p, q, r);
+}
+
+Sign in_sphere_sign(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
+  ++g_stats.in_sphere_calls;
+  const double bx = q.x - p.x, by = q.y - p.y, bz = q.z - p.z;
+  const double cx = r.x - p.x, cy = r.y - p.y, cz = r.z - p.z;
+  const double dx = s.x - p.x, dy = s.y - p.y, dz = s.z - p.z;
+  const double cydz = cy * dz, czdy = cz * dy;
+  const double czdx = cz * dx, cxdz = cx * dz;
+  const double cxdy = cx * dy, cydx = cy * dx;
+  const double det = bx * (cydz - czdy) + by * (czdx - cxdz) + bz * (cxdy - cydx);
+  const double perm = (std::fabs(cydz) + std::fabs(czdy)) * std::fabs(bx) +
+                      (std::fabs(czdx) + std::fabs(cxdz)) * std::fabs(by) +
+                      (std::fabs(cxdy) + std::fabs(cydx)) * std::fabs(bz);
+  const double bound = kO3dErrBound * perm;
+  if (det > bound) return Sign::Positive;
+  if (-det > bound) return Sign::Negative;
+  ++g_stats.in_sphere_exact;
+  return to_sign(CGAL::orientation(P3(p), P3(q), P3(r), P3(s)));
+}
+
+Sign perturbed_in_sphere(const Vec3& p, std::uint32_t ip, const Vec3& q, std::uint32_t iq,
+                         const Vec3& r, std::uint32_t ir, const Vec3& s,
+                         std::uint32_t is) noexcept {
+  const Sign exact = in_sphere_sign(p, q, r, s);
+  if (exact != Sign::Zero) return exact;
+  ++g_stats.in_sphere_perturbed;
+
+  // Sort by priority (smallest first = largest perturbation), tracking the permutation's parity.
+  const Vec3* pts[4] = {&p, &q, &r, &s};
+  std::uint32_t pri[4] = {ip, iq, ir, is};
+  int parity = 1;
+  for (int i = 1; i < 4; ++i) {
+    for (int j = i; j > 0 && pri[j] < pri[j - 1]; --j) {
+      std::swap(pri[j], pri[j - 1]);
+      std::swap(pts[j], pts[j - 1]);
+      parity = -parity;
+    }
+  }
+  // With D(a,b,c,d) = det[[a,1],[b,1],[c,1],[d,1]], in_sphere_sign = -sign(D). Moving point k by
+  // eps*v adds eps * (-1)^k * det(v, b - a, c - a), (a, b, c) the other points in order. The
+  // first non-zero term in the order of the infinitesimals decides (see the header).
+  auto others = [&](int k, const Vec3*& a, const Vec3*& b, const Vec3*& c) {
+    const Vec3* o[3];
+    for (int i = 0, n = 0; i < 4; ++i)
+      if (i != k) o[n++] = pts[i];
+    a = o[0], b = o[1], c = o[2];
+  };
+  auto finish = [&](Sign term, int k) {
+    // term is the sign of D's first non-zero coefficient, for the sorted order.
+    int d = static_cast<int>(term) * ((k % 2 == 0) ? 1 : -1) * parity;
+    return negate(to_sign(d));
+  };
+  // Radial terms: with the four points coplanar, det(p_k, b - a, c - a) = det(a, b, c).
+  for (int k = 0; k < 4; ++k) {
+    const Vec3 *a, *b, *c;
+    others(k, a, b, c);
+    const Sign t = orient(*a, *b, *c);
+    if (t != Sign::Zero) return finish(t, k);
+  }
+  // The four points lie on a plane through O: move them along z, then y, then x.
+  // det(e_z, u, v) = u_x v_y - u_y v_x: the orientation of the projections on (x, y), etc.
+  constexpr int kAxes[3][2] = {{0, 1}, {2, 0}, {1, 2}};
+  for (const auto& axis : kAxes) {
+    for (int k = 0; k < 4; ++k) {
+      const Vec3 *a, *b, *c;
+      others(k, a, b, c);
+      const Sign t = orient2d_exact(*a, *b, *c, axis[0], axis[1]);
+      if (t != Sign::Zero) return finish(t, k);
+    }
+  }
+  return Sign::Zero;  // four points on one line: excluded by the minimum separation of sites
+}
+
+Sign compare_dot(const Vec3& x, const Vec3& a, const Vec3& b) noexcept {
+  ++g_stats.compare_dot_calls;
+  const double xa = x.x * a.x, ya = x.y * a.y, za = x.z * a.z;
+  const double xb = x.x * b.x, yb = x.y * b.y, zb = x.z * b.z;
+  const double diff = (xa + ya + za) - (xb + yb + zb);
+  const double mag = std::fabs(xa) + std::fabs(ya) + std::fabs(za) + std::fabs(xb) +
+                     std::fabs(yb) + std::fabs(zb);
+  const double bound = kDotErrBound * mag;
+  if (diff > bound) return Sign::Positive;
+  if (-diff > bound) return Sign::Negative;
+  ++g_stats.compare_dot_exact;
+  // Mpzf holds sums and products of doubles exactly.
+  const CGAL::Mpzf e = CGAL::Mpzf(x.x) * (CGAL::Mpzf(a.x) - CGAL::Mpzf(b.x)) +
+                       CGAL::Mpzf(x.y) * (CGAL::Mpzf(a.y) - CGAL::Mpzf(b.y)) +
+                       CGAL::Mpzf(x.z) * (CGAL::Mpzf(a.z) - CGAL::Mpzf(b.z));
+  return to_sign(CGAL::sign(e));
+}
+
+PredicateStats predicate_stats() noexcept { return g_stats; }
+void reset_predicate_stats() noexcept { g_stats = PredicateStats{}; }
+
+}  // namespace geovor::kernel
