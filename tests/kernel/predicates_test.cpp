@@ -1,0 +1,171 @@
+// Tests of the exact predicates against independent exact arithmetic (CGAL::Gmpq), including the
+// symbolic perturbation, checked against an actual small perturbation of the points.
+#include "geovor/kernel/predicates.hpp"
+
+#include <CGAL/Gmpq.h>
+#include <CGAL/Gmpz.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <random>
+
+#include "support/generators.hpp"
+
+namespace geovor::kernel {
+namespace {
+
+using Q = CGAL::Gmpq;
+
+int sgn(const Q& q) { return q > 0 ? 1 : (q < 0 ? -1 : 0); }
+int sgn(Sign s) { return static_cast<int>(s); }
+
+Q det3(const std::array<Q, 3>& a, const std::array<Q, 3>& b, const std::array<Q, 3>& c) {
+  return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+         a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+std::array<Q, 3> q3(const Vec3& v) { return {Q(v.x), Q(v.y), Q(v.z)}; }
+std::array<Q, 3> sub(const std::array<Q, 3>& a, const std::array<Q, 3>& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+
+// CGAL convention: orientation(p, q, r, s) = sign det(q - p, r - p, s - p).
+int exact_in_sphere(const std::array<Q, 3>& p, const std::array<Q, 3>& q,
+                    const std::array<Q, 3>& r, const std::array<Q, 3>& s) {
+  return sgn(det3(sub(q, p), sub(r, p), sub(s, p)));
+}
+
+// 2^-k as an exact rational.
+Q pow2neg(int k) { return Q(CGAL::Gmpz(1), CGAL::Gmpz(1) << k); }
+
+// The perturbation of the header, with concrete infinitesimals: family f (radial, z, y, x) and
+// rank r (0 = smallest priority) move by eps^(2^(4f + r)) with eps = 2^-24, so each term
+// dominates every later one and every product.
+int perturbed_oracle(const std::array<Vec3, 4>& pts, const std::array<std::uint32_t, 4>& prio) {
+  std::array<int, 4> rank{};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) rank[i] += prio[j] < prio[i];
+  std::array<std::array<Q, 3>, 4> moved;
+  for (int i = 0; i < 4; ++i) {
+    auto p = q3(pts[i]);
+    const Q er = pow2neg(24 << (0 + rank[i]));
+    const Q ez = pow2neg(24 << (4 + rank[i]));
+    const Q ey = pow2neg(24 << (8 + rank[i]));
+    const Q ex = pow2neg(24 << (12 + rank[i]));
+    moved[i] = {p[0] + p[0] * er + ex, p[1] + p[1] * er + ey, p[2] + p[2] * er + ez};
+  }
+  return exact_in_sphere(moved[0], moved[1], moved[2], moved[3]);
+}
+
+TEST(Predicates, OrientAndInSphereMatchExactOnRandomAndNearDegenerateInput) {
+  std::mt19937_64 rng(7);
+  const auto pts = testing::uniform_on_sphere(400, 3);
+  int zero_in_sphere = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    Vec3 p = pts[rng() % pts.size()], q = pts[rng() % pts.size()], r = pts[rng() % pts.size()];
+    Vec3 s = pts[rng() % pts.size()];
+    if (trial % 2) {
+      // Make s nearly coplanar with p, q, r: an affine combination, rounded.
+      const double a = (rng() % 1000) / 1000.0, b = (rng() % 1000) / 1000.0;
+      s = p + a * (q - p) + b * (r - p);
+      if (trial % 4 == 1) s.x = std::nextafter(s.x, 2.0);
+    }
+    EXPECT_EQ(sgn(orient(p, q, r)), sgn(det3(q3(p), q3(q), q3(r))));
+    const int expected = exact_in_sphere(q3(p), q3(q), q3(r), q3(s));
+    EXPECT_EQ(sgn(in_sphere_sign(p, q, r, s)), expected);
+    zero_in_sphere += expected == 0;
+  }
+  EXPECT_GT(zero_in_sphere, 0);  // the test did reach exact ties
+}
+
+// Four coplanar points with integer coordinates, no three collinear, in every kind of plane.
+std::array<Vec3, 4> coplanar_quad(std::mt19937_64& rng, int kind) {
+  auto ri = [&](int lo, int hi) { return double(lo + int(rng() % unsigned(hi - lo + 1))); };
+  for (;;) {
+    Vec3 o{0, 0, 0}, u, v;
+    switch (kind) {
+      case 0: o = {ri(-5, 5), ri(-5, 5), ri(1, 5)}; [[fallthrough]];  // plane missing O
+      case 1: u = {ri(-4, 4), ri(-4, 4), ri(-4, 4)}; v = {ri(-4, 4), ri(-4, 4), ri(-4, 4)}; break;
+      case 2: u = {1, 0, 0}; v = {0, 1, 0}; break;                  // z = 0
+      case 3: u = {1, 1, 0}; v = {0, 0, 1}; break;                  // x = y, holds e_z
+      default: u = {0, 1, 0}; v = {0, 0, 1}; break;                 // x = 0, holds e_z and e_y
+    }
+    std::array<Vec3, 4> q;
+    for (auto& p : q) p = o + ri(-3, 3) * u + ri(-3, 3) * v;
+    bool ok = norm2(cross(u, v)) > 0;
+    for (int i = 0; i < 4 && ok; ++i)
+      for (int j = i + 1; j < 4 && ok; ++j)
+        for (int k = j + 1; k < 4 && ok; ++k) ok = norm2(cross(q[j] - q[i], q[k] - q[i])) > 0;
+    if (kind == 0) ok = ok && det3(q3(q[0]), q3(q[1]), q3(q[2])) != 0;
+    if (ok) return q;
+  }
+}
+
+TEST(Predicates, PerturbationIsTheSignOfAnActualSmallMotion) {
+  std::mt19937_64 rng(11);
+  for (int kind = 0; kind < 5; ++kind) {
+    for (int trial = 0; trial < 60; ++trial) {
+      const auto q = coplanar_quad(rng, kind);
+      std::array<std::uint32_t, 4> prio;
+      for (auto& x : prio) x = static_cast<std::uint32_t>(rng() % 1000);
+      if (prio[0] == prio[1] || prio[0] == prio[2] || prio[0] == prio[3] || prio[1] == prio[2] ||
+          prio[1] == prio[3] || prio[2] == prio[3])
+        continue;
+      ASSERT_EQ(in_sphere_sign(q[0], q[1], q[2], q[3]), Sign::Zero);
+      const Sign got = perturbed_in_sphere(q[0], prio[0], q[1], prio[1], q[2], prio[2], q[3], prio[3]);
+      ASSERT_NE(got, Sign::Zero);
+      EXPECT_EQ(sgn(got), perturbed_oracle(q, prio)) << "kind " << kind << " trial " << trial;
+    }
+  }
+}
+
+TEST(Predicates, PerturbationObeysThePermutationAxiom) {
+  // Cube corners: co-circular quadruples on small circles; swapping two arguments negates.
+  const auto c = testing::cube_corners();
+  for (std::uint32_t a = 0; a < 8; ++a)
+    for (std::uint32_t b = 0; b < 8; ++b)
+      for (std::uint32_t d = 0; d < 8; ++d)
+        for (std::uint32_t e = 0; e < 8; ++e) {
+          if (a == b || a == d || a == e || b == d || b == e || d == e) continue;
+          const Sign s1 = perturbed_in_sphere(c[a], a, c[b], b, c[d], d, c[e], e);
+          const Sign s2 = perturbed_in_sphere(c[b], b, c[a], a, c[d], d, c[e], e);
+          const Sign s3 = perturbed_in_sphere(c[b], b, c[d], d, c[a], a, c[e], e);
+          ASSERT_NE(s1, Sign::Zero);
+          EXPECT_EQ(sgn(s1), -sgn(s2));
+          EXPECT_EQ(sgn(s1), sgn(s3));
+        }
+}
+
+TEST(Predicates, CompareDotMatchesExact) {
+  std::mt19937_64 rng(5);
+  const auto pts = testing::uniform_on_sphere(300, 9);
+  int ties = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const Vec3 x = pts[rng() % pts.size()];
+    Vec3 a = pts[rng() % pts.size()];
+    Vec3 b = pts[rng() % pts.size()];
+    if (trial % 3 == 0) b = {a.y, a.x, a.z};           // tie when x.x == x.y... rarely
+    if (trial % 3 == 1) b = {-a.x, a.y, a.z}, a = {a.x, a.y, a.z};
+    const auto xq = q3(x), aq = q3(a), bq = q3(b);
+    const Q exact = xq[0] * (aq[0] - bq[0]) + xq[1] * (aq[1] - bq[1]) + xq[2] * (aq[2] - bq[2]);
+    EXPECT_EQ(sgn(compare_dot(x, a, b)), sgn(exact));
+    ties += sgn(exact) == 0;
+  }
+  // Exact ties: x on the bisector plane of a and b.
+  const Vec3 a{0.6, 0.8, 0}, b{0.8, 0.6, 0}, x{0.5, 0.5, std::sqrt(0.5)};
+  EXPECT_EQ(compare_dot(x, a, b), Sign::Zero);
+  EXPECT_GE(ties, 0);
+}
+
+TEST(Predicates, StatsCountTheExactStage) {
+  reset_predicate_stats();
+  const Vec3 p{1, 0, 0}, q{0, 1, 0}, r{-1, 0, 0}, s{0, -1, 0};
+  EXPECT_EQ(in_sphere_sign(p, q, r, s), Sign::Zero);
+  const auto st = predicate_stats();
+  EXPECT_EQ(st.in_sphere_calls, 1u);
+  EXPECT_EQ(st.in_sphere_exact, 1u);
+}
+
+}  // namespace
+}  // namespace geovor::kernel

@@ -1,0 +1,41 @@
+// geovor: Voronoi cells, Delaunay triangulations and nearest sites on the Earth.
+// A thin tool over the library (GeographicLib's Planimeter style): parse arguments, run, map
+// errors to exit codes.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+
+#include "commands.hpp"
+#include "geovor/core/error.hpp"
+
+int main(int argc, char** argv) {
+  using namespace geovor::tools;
+  CLI::App app{"geovor: Voronoi cells, Delaunay triangulations and nearest sites on the Earth"};
+  app.footer(
+      "Exit codes: 0 ok, 2 usage error, 3 bad input data, 4 I/O error, 70 internal error.\n"
+      "Example: geovor info datasets/weather_stations.csv");
+  app.require_subcommand(1);
+  const auto run_info = add_info_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kOk : kUsage;
+  }
+  try {
+    if (app.got_subcommand("info")) return run_info();
+  } catch (const geovor::Error& e) {
+    std::fprintf(stderr, "geovor: %s\n", e.what());
+    switch (e.code()) {
+      case geovor::ErrorCode::InvalidArgument: return kUsage;
+      case geovor::ErrorCode::BadData: return kBadData;
+      case geovor::ErrorCode::Io: return kIo;
+      case geovor::ErrorCode::Internal: return kInternal;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "geovor: internal error: %s\n", e.what());
+    return kInternal;
+  }
+  return kUsage;
+}
