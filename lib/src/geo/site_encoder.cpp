@@ -3,7 +3,6 @@
 #include <GeographicLib/Ellipsoid.hpp>
 #include <GeographicLib/Geocentric.hpp>
 #include <GeographicLib/Math.hpp>
-
 #include <cmath>
 #include <string>
 

@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -94,10 +95,27 @@ std::string parse_double(std::string_view text, double& value) {
   return "";
 }
 
+// The header's names for a message: long names cut, and at most kMaxListedColumns of them.
+std::string column_list(const std::vector<std::string>& columns) {
+  constexpr std::size_t kMaxListedColumns = 50;
+  std::string out;
+  for (std::size_t i = 0; i < columns.size() && i < kMaxListedColumns; ++i) {
+    if (i > 0) out += ", ";
+    const std::string_view name = columns[i];
+    out += name.size() <= kMaxQuotedValue ? std::string(name)
+                                          : std::string(name.substr(0, kMaxQuotedValue)) + "...";
+  }
+  if (columns.size() > kMaxListedColumns) {
+    out += ", ... (" + std::to_string(columns.size()) + " columns)";
+  }
+  return out;
+}
+
 Error named_field_error(const std::string& source, const char* what, const std::string& name,
                         const std::vector<std::string>& columns) {
-  return Error(ErrorCode::InvalidArgument, source + ": " + what + " field '" + name +
-                                               "' is not a column; found columns: " + join(columns));
+  return Error(ErrorCode::InvalidArgument,
+               source + ": " + what + " field '" + name +
+                   "' is not a column; found columns: " + column_list(columns));
 }
 
 int named_column(const std::string& source, const char* what, const std::string& name,
@@ -129,11 +147,12 @@ void choose_columns(SiteTable& table, const SiteReaderOptions& options) {
       throw Error(ErrorCode::BadData,
                   source + ": no latitude/longitude columns" + which + "; looked for " +
                       join(kLatNames) + " and " + join(kLonNames) +
-                      "; found columns: " + join(columns) + "; use --lat-field/--lon-field");
+                      "; found columns: " + column_list(columns) + "; use --lat-field/--lon-field");
     }
     if (table.lat_column == table.lon_column) {
-      throw Error(ErrorCode::InvalidArgument, source + ": latitude and longitude are both column '" +
-                                                  columns[table.lat_column] + "'");
+      throw Error(
+          ErrorCode::InvalidArgument,
+          source + ": latitude and longitude are both column '" + columns[table.lat_column] + "'");
     }
   }
   table.id_column = options.id_field.empty()
@@ -152,10 +171,13 @@ std::string locate_site(const SiteTable& table, const std::vector<std::string>& 
       if (auto reason = parse_double(fields[c], xyz[k]); !reason.empty()) {
         return columns[c] + ": " + reason;
       }
-      if (!std::isfinite(xyz[k])) return columns[c] + ": " + quoted(trim(fields[c])) + " is not a finite number";
+      if (!std::isfinite(xyz[k])) {
+        return columns[c] + ": " + quoted(trim(fields[c])) + " is not a finite number";
+      }
     }
     const std::string names = columns[table.ecef_columns[0]] + ", " +
-                              columns[table.ecef_columns[1]] + ", " + columns[table.ecef_columns[2]];
+                              columns[table.ecef_columns[1]] + ", " +
+                              columns[table.ecef_columns[2]];
     // The centre of the Earth has no direction, so no latitude/longitude to give it.
     if (xyz[0] == 0 && xyz[1] == 0 && xyz[2] == 0) {
       return names + ": (0, 0, 0) is the centre of the Earth, not a position on it";
@@ -191,9 +213,9 @@ std::string locate_site(const SiteTable& table, const std::vector<std::string>& 
 SiteTable read_sites_csv(std::istream& in, const std::string& source,
                          const SiteReaderOptions& options) {
   if (!options.ecef_fields.empty() && options.ecef_fields.size() != 3) {
-    throw Error(ErrorCode::InvalidArgument,
-                "ECEF input needs exactly 3 columns (X, Y, Z), got " +
-                    std::to_string(options.ecef_fields.size()) + ": " + join(options.ecef_fields));
+    throw Error(ErrorCode::InvalidArgument, "ECEF input needs exactly 3 columns (X, Y, Z), got " +
+                                                std::to_string(options.ecef_fields.size()) + ": " +
+                                                join(options.ecef_fields));
   }
   if (!options.ecef_fields.empty() && (!options.lat_field.empty() || !options.lon_field.empty())) {
     throw Error(ErrorCode::InvalidArgument,
@@ -214,6 +236,11 @@ SiteTable read_sites_csv(std::istream& in, const std::string& source,
   };
 
   if (!next_record()) throw Error(ErrorCode::BadData, source + ": empty file, no header");
+  // A compressed file would otherwise be reported as a header of binary garbage.
+  if (fields[0].rfind("\x1f\x8b", 0) == 0) {
+    throw Error(ErrorCode::BadData,
+                source + ": gzip-compressed data, not CSV; decompress it first");
+  }
   if (!reader.error().empty()) {
     throw Error(ErrorCode::BadData, source + ": header: " + reader.error());
   }
@@ -236,8 +263,9 @@ SiteTable read_sites_csv(std::istream& in, const std::string& source,
       std::string reason = "found " + std::to_string(fields.size()) + " fields, expected " +
                            std::to_string(table.columns.size()) + " as in the header";
       if (fields.size() < table.columns.size()) {
-        std::vector<std::string> missing(table.columns.begin() + static_cast<long>(fields.size()),
-                                         table.columns.end());
+        std::vector<std::string> missing(
+            table.columns.begin() + static_cast<std::ptrdiff_t>(fields.size()),
+            table.columns.end());
         reason += " (no value for " + join(missing) + ")";
       }
       reject(std::move(reason));

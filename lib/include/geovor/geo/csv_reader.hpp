@@ -16,6 +16,7 @@
 /// error() says why it is suspect. Field and line lengths are unbounded (no fixed buffer).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <istream>
 #include <string>
@@ -53,7 +54,7 @@ class CsvReader {
   std::vector<char> buf_;
   std::size_t pos_ = 0, end_ = 0;
   bool started_ = false;
-  bool prev_cr_ = false;           // inside quotes: the last character consumed was a CR
+  bool prev_cr_ = false;         // inside quotes: the last character consumed was a CR
   std::uint64_t next_line_ = 1;  // line number of the next unread character
   std::uint64_t line_ = 0, record_ = 0;
   std::string error_;

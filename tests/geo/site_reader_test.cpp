@@ -1,0 +1,358 @@
+/// \file site_reader_test.cpp
+/// \brief Tests of read_sites_csv: column detection, every row accounted for, reasons, errors.
+#include "geovor/geo/site_reader.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "geovor/core/error.hpp"
+#include "geovor/geo/site_encoder.hpp"
+
+namespace geovor {
+namespace {
+
+SiteTable read(const std::string& text, const SiteReaderOptions& options = {}) {
+  std::istringstream in(text);
+  SiteTable t = read_sites_csv(in, "test.csv", options);
+  EXPECT_EQ(t.rows_read, t.sites.size() + t.rejected.size());
+  return t;
+}
+
+// The Error thrown by reading text, or a default one with code Internal if nothing is thrown.
+Error error_of(const std::string& text, const SiteReaderOptions& options = {}) {
+  try {
+    read(text, options);
+  } catch (const Error& e) {
+    return e;
+  }
+  return Error(ErrorCode::Internal, "no error thrown");
+}
+
+TEST(SiteReader, ReadsSitesWithIdsAndPositions) {
+  const SiteTable t = read(
+      "icao,name,lat_deg,lon_deg\nAGGH,\"Honiara, SB\",-9.4166645,160.0500018\n"
+      "LFPG,Paris,49.0097,2.5479\n");
+  EXPECT_EQ(t.source, "test.csv");
+  EXPECT_EQ(t.columns, (std::vector<std::string>{"icao", "name", "lat_deg", "lon_deg"}));
+  EXPECT_EQ(t.lat_column, 2);
+  EXPECT_EQ(t.lon_column, 3);
+  EXPECT_EQ(t.id_column, 0);
+  EXPECT_TRUE(t.ecef_columns.empty());
+  ASSERT_EQ(t.sites.size(), 2u);
+  EXPECT_EQ(t.rows_read, 2u);
+  const InputSite& s = t.sites[0];
+  EXPECT_EQ(s.row, 1u);
+  EXPECT_EQ(s.line, 2u);
+  EXPECT_EQ(s.id, "AGGH");
+  EXPECT_EQ(s.lat_deg, -9.4166645);
+  EXPECT_EQ(s.lon_deg, 160.0500018);
+  EXPECT_EQ(s.height_m, 0.0);
+  EXPECT_EQ(s.unit, SiteEncoder::from_lat_lon(-9.4166645, 160.0500018));
+  EXPECT_EQ(s.fields,
+            (std::vector<std::string>{"AGGH", "Honiara, SB", "-9.4166645", "160.0500018"}));
+  EXPECT_EQ(t.sites[1].id, "LFPG");
+  EXPECT_EQ(t.sites[1].row, 2u);
+  EXPECT_EQ(t.sites[1].line, 3u);
+}
+
+TEST(SiteReader, HeaderOnlyIsZeroRows) {
+  const SiteTable t = read("lat,lon\n");
+  EXPECT_EQ(t.rows_read, 0u);
+  EXPECT_TRUE(t.sites.empty());
+  EXPECT_TRUE(t.rejected.empty());
+  EXPECT_EQ(read("lat,lon").rows_read, 0u);
+}
+
+TEST(SiteReader, EmptyFileThrowsBadData) {
+  for (const std::string text : {"", "\xEF\xBB\xBF", "\n\n"}) {
+    const Error e = error_of(text);
+    EXPECT_EQ(e.code(), ErrorCode::BadData);
+    EXPECT_STREQ(e.what(), "test.csv: empty file, no header");
+  }
+}
+
+TEST(SiteReader, GzipInputIsNamed) {
+  const Error e = error_of(std::string("\x1f\x8b\x08\x00\x01,garbage\n", 14));
+  EXPECT_EQ(e.code(), ErrorCode::BadData);
+  EXPECT_NE(std::string(e.what()).find("gzip"), std::string::npos) << e.what();
+}
+
+TEST(SiteReader, MissingColumnsThrowWithColumnList) {
+  const Error e = error_of("a,b,c\n1,2,3\n");
+  EXPECT_EQ(e.code(), ErrorCode::BadData);
+  const std::string what = e.what();
+  EXPECT_NE(what.find("test.csv: no latitude/longitude columns"), std::string::npos) << what;
+  EXPECT_NE(what.find("found columns: a, b, c"), std::string::npos) << what;
+  EXPECT_NE(what.find("--lat-field/--lon-field"), std::string::npos) << what;
+  EXPECT_NE(what.find("lat_deg"), std::string::npos) << what;  // says what was looked for
+  const Error half = error_of("name,latitude\nx,1\n");
+  EXPECT_EQ(half.code(), ErrorCode::BadData);
+  EXPECT_NE(std::string(half.what()).find("found columns: name, latitude"), std::string::npos);
+}
+
+TEST(SiteReader, DetectsEveryAlias) {
+  const std::vector<std::string> lats = {"lat", "latitude", "lat_deg", "y"};
+  const std::vector<std::string> lons = {"lon", "lng", "long", "longitude", "lon_deg", "x"};
+  for (const auto& lat : lats) {
+    for (const auto& lon : lons) {
+      const SiteTable t = read("name," + lon + "," + lat + "\nA,10,20\n");
+      ASSERT_EQ(t.lat_column, 2) << lat << " " << lon;
+      ASSERT_EQ(t.lon_column, 1) << lat << " " << lon;
+      ASSERT_EQ(t.sites.size(), 1u);
+      EXPECT_EQ(t.sites[0].lat_deg, 20.0);
+      EXPECT_EQ(t.sites[0].lon_deg, 10.0);
+    }
+  }
+}
+
+TEST(SiteReader, DetectionIsCaseInsensitiveAndTrimmed) {
+  const SiteTable t = read(" Latitude ,LONGITUDE\r\n1,2\r\n");
+  EXPECT_EQ(t.lat_column, 0);
+  EXPECT_EQ(t.lon_column, 1);
+  EXPECT_EQ(t.columns[0], " Latitude ");  // kept as read
+  ASSERT_EQ(t.sites.size(), 1u);
+}
+
+TEST(SiteReader, EarlierNameInListWins) {
+  const SiteTable t = read("y,x,lat_deg,lon_deg,lat,lon\n1,2,3,4,5,6\n");
+  EXPECT_EQ(t.lat_column, 4);
+  EXPECT_EQ(t.lon_column, 5);
+  EXPECT_EQ(t.sites[0].lat_deg, 5.0);
+  const SiteTable u = read("longitude,lng,latitude,y\n1,2,3,4\n");
+  EXPECT_EQ(u.lon_column, 1);
+  EXPECT_EQ(u.lat_column, 2);
+}
+
+TEST(SiteReader, IdColumnPriority) {
+  EXPECT_EQ(read("name,code,lat,lon\n").id_column, 1);
+  EXPECT_EQ(read("name,icao,lat,lon\n").id_column, 1);
+  EXPECT_EQ(read("icao,ID,lat,lon\n").id_column, 1);
+  EXPECT_EQ(read("Name,lat,lon\n").id_column, 0);
+  const SiteTable t = read("lat,lon\n1,2\nbad,2\n3,4\n");
+  EXPECT_EQ(t.id_column, -1);
+  ASSERT_EQ(t.sites.size(), 2u);
+  EXPECT_EQ(t.sites[0].id, "1");
+  EXPECT_EQ(t.sites[1].id, "3");  // the row number, not the index among accepted sites
+}
+
+TEST(SiteReader, NamedFields) {
+  SiteReaderOptions o;
+  o.lat_field = "B";
+  o.lon_field = "a";
+  o.id_field = "c";
+  const SiteTable t = read("a,b,c,lat,lon\n1,2,k,80,80\n", o);
+  EXPECT_EQ(t.lat_column, 1);
+  EXPECT_EQ(t.lon_column, 0);
+  EXPECT_EQ(t.id_column, 2);
+  EXPECT_EQ(t.sites[0].lat_deg, 2.0);
+  EXPECT_EQ(t.sites[0].lon_deg, 1.0);
+  EXPECT_EQ(t.sites[0].id, "k");
+}
+
+TEST(SiteReader, NamedFieldThatDoesNotExistIsInvalidArgument) {
+  for (int which = 0; which < 4; ++which) {
+    SiteReaderOptions o;
+    if (which == 0) o.lat_field = "nope";
+    if (which == 1) o.lon_field = "nope";
+    if (which == 2) o.id_field = "nope";
+    if (which == 3) o.ecef_fields = {"lat", "lon", "nope"};
+    const Error e = error_of("lat,lon\n1,2\n", o);
+    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument) << which;
+    EXPECT_NE(std::string(e.what()).find("'nope'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("found columns: lat, lon"), std::string::npos);
+  }
+  SiteReaderOptions two;
+  two.ecef_fields = {"lat", "lon"};
+  EXPECT_EQ(error_of("lat,lon\n", two).code(), ErrorCode::InvalidArgument);
+  SiteReaderOptions same;
+  same.lat_field = same.lon_field = "lat";
+  EXPECT_EQ(error_of("lat,lon\n", same).code(), ErrorCode::InvalidArgument);
+}
+
+TEST(SiteReader, RejectionReasonsNameTheColumn) {
+  const std::string text =
+      "id,lat_deg,lon_deg\n"
+      "nan,NaN,0\n"         // row 1
+      "inf,inf,0\n"         // row 2
+      "big,1e308,0\n"       // row 3
+      "huge,1e999,0\n"      // row 4
+      "n91,91,0\n"          // row 5
+      "e541,0,541\n"        // row 6
+      "ninf,0,-inf\n"       // row 7
+      "abc,abc,0\n"         // row 8
+      "empty,,0\n"          // row 9
+      "blank,  ,0\n"        // row 10
+      "garbage,12.5x,0\n"   // row 11
+      "missing,10\n"        // row 12
+      "extra,1,2,3\n"       // row 13
+      "ok, 12.5 ,+13.25\n"  // row 14: surrounding spaces and a plus sign are fine
+      "two signs,+-1,0\n"   // row 15
+      "hex,0x10,0\n";       // row 16
+  const SiteTable t = read(text);
+  EXPECT_EQ(t.rows_read, 16u);
+  ASSERT_EQ(t.sites.size(), 1u);
+  EXPECT_EQ(t.sites[0].id, "ok");
+  EXPECT_EQ(t.sites[0].row, 14u);
+  EXPECT_EQ(t.sites[0].lat_deg, 12.5);
+  EXPECT_EQ(t.sites[0].lon_deg, 13.25);
+  const std::vector<std::pair<std::uint64_t, std::string>> expected = {
+      {1, "lat_deg: latitude is not a finite number"},
+      {2, "lat_deg: latitude is not a finite number"},
+      {3, "lat_deg: latitude 1e+308 is beyond +-90"},
+      {4, "lat_deg: '1e999' is out of the range of a double"},
+      {5, "lat_deg: latitude 91 is beyond +-90"},
+      {6, "lon_deg: longitude 541 is out of range [-540, 540]"},
+      {7, "lon_deg: longitude is not a finite number"},
+      {8, "lat_deg: 'abc' is not a number"},
+      {9, "lat_deg: empty value"},
+      {10, "lat_deg: empty value"},
+      {11, "lat_deg: '12.5x' is not a number"},
+      {12, "found 2 fields, expected 3 as in the header (no value for lon_deg)"},
+      {13, "found 4 fields, expected 3 as in the header"},
+      {15, "lat_deg: '+-1' is not a number"},
+      {16, "lat_deg: '0x10' is not a number"},
+  };
+  ASSERT_EQ(t.rejected.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(t.rejected[i].row, expected[i].first);
+    EXPECT_EQ(t.rejected[i].line, expected[i].first + 1);
+    EXPECT_EQ(t.rejected[i].reason, expected[i].second);
+  }
+}
+
+TEST(SiteReader, LongBadValueIsCutInTheReason) {
+  const SiteTable t = read("lat,lon\n" + std::string(1000, '7') + "q,0\n");
+  ASSERT_EQ(t.rejected.size(), 1u);
+  EXPECT_LT(t.rejected[0].reason.size(), 120u);
+  EXPECT_NE(t.rejected[0].reason.find("1001 characters"), std::string::npos);
+}
+
+TEST(SiteReader, UnterminatedQuoteIsRejected) {
+  const SiteTable t = read("name,lat,lon\nA,1,2\nB,3,\"4\n");
+  EXPECT_EQ(t.rows_read, 2u);
+  ASSERT_EQ(t.sites.size(), 1u);
+  ASSERT_EQ(t.rejected.size(), 1u);
+  EXPECT_EQ(t.rejected[0].row, 2u);
+  EXPECT_EQ(t.rejected[0].line, 3u);
+  EXPECT_EQ(t.rejected[0].reason, "lon: unterminated quoted field starting on line 3");
+}
+
+TEST(SiteReader, LineNumbersFollowEmbeddedNewlines) {
+  const SiteTable t = read("name,lat,lon\n\"multi\nline\",1,2\nbad,x,2\n");
+  ASSERT_EQ(t.rejected.size(), 1u);
+  EXPECT_EQ(t.rejected[0].row, 2u);
+  EXPECT_EQ(t.rejected[0].line, 4u);
+}
+
+TEST(SiteReader, AntimeridianAndExtraTurnAreOnePoint) {
+  const SiteTable t = read("lat,lon\n12.5,180\n12.5,-180\n12.5,540\n12.5,-540\n");
+  ASSERT_EQ(t.sites.size(), 4u);
+  for (const auto& s : t.sites) {
+    EXPECT_EQ(s.lon_deg, -180.0);
+    EXPECT_EQ(s.unit, t.sites[0].unit);
+  }
+  const SiteTable p = read("lat,lon\n90,10\n90,-170\n-90,33\n-90,0\n");
+  EXPECT_EQ(p.sites[0].unit, p.sites[1].unit);
+  EXPECT_EQ(p.sites[0].lon_deg, 0.0);
+  EXPECT_EQ(p.sites[2].unit, p.sites[3].unit);
+}
+
+TEST(SiteReader, EcefInput) {
+  // Paris (48.8566, 2.3522, 35 m), ECEF from N = a / sqrt(1 - e^2 sin^2 phi).
+  const double a = 6378137, f = 1 / 298.257223563, e2 = f * (2 - f);
+  const double phi = 48.8566 * std::numbers::pi / 180, lam = 2.3522 * std::numbers::pi / 180,
+               h = 35;
+  const double n = a / std::sqrt(1 - e2 * std::sin(phi) * std::sin(phi));
+  char row[200];
+  std::snprintf(row, sizeof row, "%.17g,%.17g,%.17g", (n + h) * std::cos(phi) * std::cos(lam),
+                (n + h) * std::cos(phi) * std::sin(lam), (n * (1 - e2) + h) * std::sin(phi));
+  SiteReaderOptions o;
+  o.ecef_fields = {"X", "Y", "Z"};
+  const SiteTable t =
+      read(std::string("name,x,y,z\nParis,") + row + "\nbad,1,q,3\ncentre,0,0,0\n", o);
+  EXPECT_EQ(t.lat_column, -1);
+  EXPECT_EQ(t.lon_column, -1);
+  EXPECT_EQ(t.ecef_columns, (std::vector<int>{1, 2, 3}));
+  EXPECT_EQ(t.id_column, 0);
+  ASSERT_EQ(t.sites.size(), 1u);
+  const InputSite& s = t.sites[0];
+  EXPECT_EQ(s.id, "Paris");
+  EXPECT_NEAR(s.lat_deg, 48.8566, 1e-9);
+  EXPECT_NEAR(s.lon_deg, 2.3522, 1e-9);
+  EXPECT_NEAR(s.height_m, 35, 1e-6);
+  EXPECT_EQ(s.unit, SiteEncoder::from_lat_lon(s.lat_deg, s.lon_deg));
+  ASSERT_EQ(t.rejected.size(), 2u);
+  EXPECT_EQ(t.rejected[0].reason, "y: 'q' is not a number");
+  EXPECT_NE(t.rejected[1].reason.find("x, y, z: "), std::string::npos);
+}
+
+TEST(SiteReader, FileErrors) {
+  try {
+    read_sites_csv_file("/nonexistent/dir/sites.csv");
+    FAIL() << "expected geovor::Error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::Io);
+    EXPECT_STREQ(e.what(), "/nonexistent/dir/sites.csv: cannot open: No such file or directory");
+  }
+  const auto dir = std::filesystem::temp_directory_path();
+  try {
+    read_sites_csv_file(dir.string());
+    FAIL() << "expected geovor::Error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::Io);
+    EXPECT_NE(std::string(e.what()).find(dir.string()), std::string::npos);
+  }
+}
+
+TEST(SiteReader, ReadsFileAndStdin) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("geovor_site_reader_test_" + std::to_string(::getpid()) + ".csv");
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << "\xEF\xBB\xBFid,lat,lon\r\nA,1,2\r\n";
+  }
+  const SiteTable t = read_sites_csv_file(path.string());
+  std::filesystem::remove(path);
+  EXPECT_EQ(t.source, path.string());
+  ASSERT_EQ(t.sites.size(), 1u);
+  EXPECT_EQ(t.sites[0].id, "A");
+
+  std::istringstream fake_stdin("lat,lon\n3,4\n");
+  auto* const saved = std::cin.rdbuf(fake_stdin.rdbuf());
+  const SiteTable s = read_sites_csv_file("-");
+  std::cin.rdbuf(saved);
+  EXPECT_EQ(s.source, "<stdin>");
+  ASSERT_EQ(s.sites.size(), 1u);
+  EXPECT_EQ(s.sites[0].lat_deg, 3.0);
+}
+
+TEST(SiteReader, BundledWeatherStations) {
+  const std::string path = GEOVOR_SOURCE_DIR "/datasets/weather_stations.csv";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is missing";
+  const SiteTable t = read_sites_csv_file(path);
+  EXPECT_EQ(t.rows_read, 5634u);
+  EXPECT_EQ(t.sites.size(), 5634u);
+  for (const auto& r : t.rejected) ADD_FAILURE() << "row " << r.row << ": " << r.reason;
+  ASSERT_GE(t.id_column, 0);
+  EXPECT_EQ(t.columns[static_cast<std::size_t>(t.id_column)], "icao");
+  ASSERT_FALSE(t.sites.empty());
+  EXPECT_EQ(t.sites[0].id, "AGGH");
+  for (const auto& s : t.sites) {
+    ASSERT_LE(std::fabs(norm2(s.unit) - 1), 0x1p-49) << s.id;
+    ASSERT_GE(s.lon_deg, -180.0);
+    ASSERT_LT(s.lon_deg, 180.0);
+  }
+}
+
+}  // namespace
+}  // namespace geovor
