@@ -38,12 +38,18 @@ std::vector<Tri> our_triangles(const SphericalDelaunay& dt, const std::vector<st
   return out;
 }
 
-// The input index of the first point of each site.
-std::vector<std::uint32_t> first_inputs(const SphericalDelaunay& dt, const BuildReport& rep) {
-  std::vector<std::uint32_t> first(dt.site_capacity(), kNoIndex);
-  for (std::uint32_t i = 0; i < rep.site_of_input.size(); ++i)
-    if (first[rep.site_of_input[i]] == kNoIndex) first[rep.site_of_input[i]] = i;
-  return first;
+// For each site, the input index CGAL kept among the inputs merged into it (CGAL keeps the
+// first one it inserts, in its own order), so both triangle lists speak of the same points.
+std::vector<std::uint32_t> cgal_labels(const SphericalDelaunay& dt, const BuildReport& rep,
+                                       const std::vector<std::uint32_t>& cgal_rejected) {
+  std::vector<std::uint32_t> label(dt.site_capacity(), kNoIndex);
+  std::vector<char> lost(rep.site_of_input.size(), 0);
+  for (const std::uint32_t i : cgal_rejected) lost[i] = 1;
+  for (std::uint32_t i = 0; i < rep.site_of_input.size(); ++i) {
+    std::uint32_t& l = label[rep.site_of_input[i]];
+    if (l == kNoIndex || (lost[l] && !lost[i])) l = i;
+  }
+  return label;
 }
 
 SphericalDelaunay build_checked(const std::vector<Vec3>& pts, BuildReport* rep = nullptr,
@@ -58,8 +64,9 @@ SphericalDelaunay build_checked(const std::vector<Vec3>& pts, BuildReport* rep =
 
 // Triangles where ours and CGAL's differ must come from co-circular ties: every one of them has
 // an edge whose opposite site (in our triangulation) is exactly on its circumcircle.
-void expect_equal_up_to_ties(const SphericalDelaunay& dt, const std::vector<Tri>& ours_labelled,
+void expect_equal_up_to_ties(const SphericalDelaunay& dt, const std::vector<std::uint32_t>& label,
                              const std::vector<Tri>& cgal) {
+  const std::vector<Tri> ours_labelled = our_triangles(dt, label);
   ASSERT_EQ(ours_labelled.size(), cgal.size());
   std::vector<Tri> only_ours;
   std::set_difference(ours_labelled.begin(), ours_labelled.end(), cgal.begin(), cgal.end(),
@@ -80,14 +87,15 @@ void expect_equal_up_to_ties(const SphericalDelaunay& dt, const std::vector<Tri>
   }
   differing = only_ours.size();
   EXPECT_GT(tied, 0u) << differing << " triangles differ from CGAL without any co-circular tie";
-  // Every differing triangle (labels = site ids here) must be one with a tie.
+  // Every differing triangle must be one with a tie.
   for (TriId t = 0; t < dt.num_triangles(); ++t) {
-    const Tri tri = canonical(dt.tri_site(t, 0), dt.tri_site(t, 1), dt.tri_site(t, 2));
+    const SiteId a = dt.tri_site(t, 0), b = dt.tri_site(t, 1), c = dt.tri_site(t, 2);
+    const Tri tri = canonical(label[a], label[b], label[c]);
     if (!diff.count(tri)) continue;
     bool has_tie = false;
     for (int j = 0; j < 3; ++j) {
       const SiteId d = dt.triangles()[prev_halfedge(dt.halfedges()[3 * t + j])];
-      has_tie |= kernel::in_sphere_sign(dt.site(tri[0]), dt.site(tri[1]), dt.site(tri[2]), dt.site(d)) == Sign::Zero;
+      has_tie |= kernel::in_sphere_sign(dt.site(a), dt.site(b), dt.site(c), dt.site(d)) == Sign::Zero;
     }
     EXPECT_TRUE(has_tie) << "triangle " << tri[0] << "," << tri[1] << "," << tri[2] << " differs without a tie";
   }
@@ -125,8 +133,7 @@ TEST(SphericalDelaunay, WeatherStationsEqualCgalUpToTies) {
   std::vector<std::uint32_t> rejected;
   const auto cgal = testing::cgal_triangles(pts, &rejected);
   EXPECT_EQ(rejected.size(), rep.merges.size());
-  const auto label = first_inputs(dt, rep);
-  expect_equal_up_to_ties(dt, our_triangles(dt, label), cgal);
+  expect_equal_up_to_ties(dt, cgal_labels(dt, rep, rejected), cgal);
 }
 
 TEST(SphericalDelaunay, BruteForceNoSiteInAnyCircumcircle) {
@@ -196,7 +203,7 @@ TEST(SphericalDelaunay, HardSets) {
     // CGAL may reject the near-duplicate (1, 0, 6e-17) of (1, 0, 0) too; compare when it agrees.
     std::vector<std::uint32_t> rejected;
     const auto cgal = testing::cgal_triangles(s, &rejected);
-    if (rejected.size() == rep.merges.size()) expect_equal_up_to_ties(dt, our_triangles(dt, first_inputs(dt, rep)), cgal);
+    if (rejected.size() == rep.merges.size()) expect_equal_up_to_ties(dt, cgal_labels(dt, rep, rejected), cgal);
   }
   const auto global_grid = testing::lat_lon_grid(1.0);
   BuildReport rep;
@@ -266,9 +273,12 @@ TEST(SphericalDelaunay, DynamicInsertAndRemoveEqualAFreshBuild) {
       EXPECT_FALSE(r.merged);
     }
     EXPECT_TRUE(dt.validate().ok());
-    // Inserting an existing position merges.
-    const InsertResult again = dt.insert(set[1]);
+    // Inserting the position of a live site merges into it.
+    SiteId live = 0;
+    while (!dt.is_live(live)) ++live;
+    const InsertResult again = dt.insert(dt.site(live));
     EXPECT_TRUE(again.merged);
+    EXPECT_EQ(again.site, live);
   }
 }
 
@@ -292,7 +302,7 @@ TEST(SphericalDelaunay, RejectsBadInputAndOptions) {
   EXPECT_THROW(SphericalDelaunay::build(std::vector<Vec3>{{NAN, 0, 0}}), Error);
   DelaunayOptions tight;
   tight.merge_distance = SphericalDelaunay::kMinSeparation / 2;
-  EXPECT_THROW(SphericalDelaunay(tight), Error);
+  EXPECT_THROW(SphericalDelaunay{tight}, Error);
 }
 
 TEST(SphericalDelaunay, MemoryPerSite) {
