@@ -8,23 +8,25 @@
 namespace geovor {
 namespace {
 
-constexpr int kBits = 20;
+constexpr int kBits = 16;
 constexpr std::uint32_t kCells = 1u << kBits;
 
-// Classic (x, y) -> distance along the Hilbert curve of a kCells x kCells grid.
+// Classic (x, y) -> distance along the Hilbert curve of a kCells x kCells grid, without branches
+// (the branchy form mispredicts at every level on random input).
 std::uint64_t hilbert_2d(std::uint32_t x, std::uint32_t y) {
   std::uint64_t d = 0;
-  for (std::uint32_t s = kCells / 2; s > 0; s /= 2) {
-    const std::uint32_t rx = (x & s) ? 1 : 0;
-    const std::uint32_t ry = (y & s) ? 1 : 0;
-    d += std::uint64_t{s} * s * ((3 * rx) ^ ry);
-    if (ry == 0) {
-      if (rx == 1) {
-        x = kCells - 1 - x;
-        y = kCells - 1 - y;
-      }
-      std::swap(x, y);
-    }
+  for (int level = kBits - 1; level >= 0; --level) {
+    const std::uint32_t rx = (x >> level) & 1u;
+    const std::uint32_t ry = (y >> level) & 1u;
+    d = (d << 2) | ((3u * rx) ^ ry);
+    // Rotate the quadrant: reflect when rx = 1 and ry = 0, then swap when ry = 0. Flipping the
+    // higher bits too is harmless: they are never read again.
+    const std::uint32_t reflect = 0u - (rx & (ry ^ 1u));
+    x ^= reflect;
+    y ^= reflect;
+    const std::uint32_t swap = (x ^ y) & (0u - (ry ^ 1u));
+    x ^= swap;
+    y ^= swap;
   }
   return d;
 }
@@ -68,7 +70,7 @@ std::uint64_t hilbert_key(const Vec3& p) noexcept {
     face = p.y >= 0 ? 2 : 4;
     u = p.z / ay, v = p.x / ay;
   }
-  return (std::uint64_t(face) << (2 * kBits)) | hilbert_2d(to_cell(u), to_cell(v));
+  return (std::uint64_t(face) << (2 * kBits)) | hilbert_2d(to_cell(u), to_cell(v));  // < 2^35
 }
 
 std::vector<std::uint32_t> hilbert_order(std::span<const Vec3> points) {
@@ -79,21 +81,23 @@ std::vector<std::uint32_t> hilbert_order(std::span<const Vec3> points) {
 }
 
 std::vector<std::uint32_t> brio_order(std::span<const Vec3> points, std::uint64_t seed) {
-  std::vector<std::uint32_t> order(points.size());
-  std::iota(order.begin(), order.end(), 0u);
-  std::uint64_t state = seed;
-  for (std::size_t i = order.size(); i > 1; --i) {
-    const std::size_t j = splitmix(state) % i;
-    std::swap(order[i - 1], order[j]);
+  // Each point draws its round from a geometric law (about half the points in the last round, a
+  // quarter in the one before...), and one sort by (round, Hilbert key) gives all rounds in order.
+  // Keys are computed in input order: reading the points in shuffled order costs a cache miss each.
+  const std::size_t n = points.size();
+  int last_round = 0;
+  while ((std::size_t{64} << last_round) < n) ++last_round;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t state = seed ^ (0x9e3779b97f4a7c15ULL * (i + 1));
+    const std::uint64_t r = splitmix(state);
+    const int level = r == 0 ? 64 : __builtin_ctzll(r);  // P(level >= j) = 2^-j
+    const std::uint64_t round = static_cast<std::uint64_t>(last_round - std::min(level, last_round));
+    keyed[i] = {(round << 48) | hilbert_key(points[i]), static_cast<std::uint32_t>(i)};
   }
-  // Rounds: [0, n/2^k), ..., [n/4, n/2), [n/2, n); the first round is small enough to sort whole.
-  constexpr std::size_t kFirstRound = 64;
-  std::size_t end = order.size();
-  while (end > 0) {
-    const std::size_t begin = end > kFirstRound ? end / 2 : 0;
-    sort_by_key(points, order.data() + begin, order.data() + end);
-    end = begin;
-  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = keyed[i].second;
   return order;
 }
 

@@ -69,54 +69,65 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
   }
   const auto t1 = Clock::now();
 
-  // Site id = input index during the build (so priorities follow input order); compacted below.
-  dt.sites_.assign(points.begin(), points.end());
+  // During the build, slot k holds the k-th point inserted, so that sites inserted together sit
+  // together in memory; its priority is its input index, and the final ids follow input order.
+  dt.sites_.resize(n);
+  dt.priority_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    dt.sites_[k] = points[order[k]];
+    dt.priority_[k] = order[k];
+  }
   dt.site_edge_.assign(n, kRemoved);  // not inserted yet
   const std::size_t max_tris = n >= 3 ? 2 * n - 4 : 0;
   dt.triangles_.reserve(3 * max_tris);
   dt.halfedges_.reserve(3 * max_tris);
   std::size_t peak = dt.memory_bytes() + order.capacity() * sizeof(std::uint32_t);
 
-  std::vector<Merge> merges;
+  std::vector<Merge> merges;  // input = slot and site = slot until renumbered below
   SiteId hint = kNoIndex;
-  for (const std::uint32_t i : order) {
-    const InsertResult r = dt.insert_site(i, hint);
+  for (std::size_t k = 0; k < n; ++k) {
+    const InsertResult r = dt.insert_site(static_cast<SiteId>(k), hint);
     if (r.merged) {
-      merges.push_back({i, r.site, r.chord, r.hidden});
+      merges.push_back({static_cast<std::uint32_t>(k), r.site, r.chord, r.hidden});
     } else {
-      hint = i;
+      hint = static_cast<SiteId>(k);
     }
   }
-  order = {};
 
-  // Compact the ids of the merged points away; the map is monotone, so priorities keep their
-  // order and the perturbed triangulation is unchanged.
-  std::vector<SiteId> new_id(n, kNoIndex);
+  // Final ids: the live sites in input order. The map from priority to id is monotone, so the
+  // perturbation, and with it the triangulation, is the same.
+  std::vector<SiteId> id_of_input(n, kNoIndex);
+  for (std::size_t k = 0; k < n; ++k)
+    if (dt.alive(static_cast<SiteId>(k))) id_of_input[order[k]] = 0;
   SiteId next = 0;
   for (std::size_t i = 0; i < n; ++i)
-    if (dt.alive(static_cast<SiteId>(i))) new_id[i] = next++;
-  if (next != n) {
-    for (std::size_t i = 0; i < n; ++i) {
-      if (new_id[i] == kNoIndex) continue;
-      dt.sites_[new_id[i]] = dt.sites_[i];
-      dt.site_edge_[new_id[i]] = dt.site_edge_[i];
+    if (id_of_input[i] != kNoIndex) id_of_input[i] = next++;
+  std::vector<SiteId> new_id(n, kNoIndex);  // slot -> final id
+  for (std::size_t k = 0; k < n; ++k) new_id[k] = id_of_input[order[k]];
+  {
+    std::vector<Vec3> sites(next);
+    std::vector<HalfedgeId> site_edge(next);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (new_id[k] == kNoIndex) continue;
+      sites[new_id[k]] = dt.sites_[k];
+      site_edge[new_id[k]] = dt.site_edge_[k];
     }
-    dt.sites_.resize(next);
-    dt.site_edge_.resize(next);
-    dt.sites_.shrink_to_fit();
-    dt.site_edge_.shrink_to_fit();
-    for (SiteId& s : dt.triangles_) s = new_id[s];
-    if (dt.last_site_ != kNoIndex) dt.last_site_ = new_id[dt.last_site_];
+    peak = std::max(peak, dt.memory_bytes() + (sites.capacity() + site_edge.capacity()) * 8);
+    dt.sites_ = std::move(sites);
+    dt.site_edge_ = std::move(site_edge);
   }
-  peak = std::max(peak, dt.memory_bytes() + new_id.capacity() * sizeof(SiteId));
+  for (SiteId& s : dt.triangles_) s = new_id[s];
+  if (dt.last_site_ != kNoIndex) dt.last_site_ = new_id[dt.last_site_];
+  std::vector<std::uint32_t>().swap(dt.priority_);  // "= {}" would keep the capacity
+  peak = std::max(peak, dt.memory_bytes() + 2 * n * sizeof(SiteId));
   const auto t2 = Clock::now();
 
   if (report) {
-    report->site_of_input.assign(n, kNoIndex);
-    for (std::size_t i = 0; i < n; ++i) report->site_of_input[i] = new_id[i];
+    report->site_of_input = std::move(id_of_input);
     for (Merge& m : merges) {
       // A merge target is never itself merged later: it stays live during the build.
       m.site = new_id[m.site];
+      m.input = order[m.input];
       report->site_of_input[m.input] = m.site;
     }
     std::sort(merges.begin(), merges.end(),
@@ -152,18 +163,16 @@ InsertResult SphericalDelaunay::insert(const Vec3& p) {
 InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
   const Vec3& p = sites_[s];
   const std::uint32_t prio = priority(s);
+  const double md2 = options_.merge_distance * options_.merge_distance;
   if (num_live_ < 3) {
     // No triangle yet: compare with the (at most two) live sites directly.
     SiteId live[2];
     std::size_t k = 0;
     for (SiteId t = 0; t < sites_.size() && k < num_live_; ++t)
       if (t != s && alive(t)) live[k++] = t;
-    const double md2 = options_.merge_distance * options_.merge_distance;
     for (std::size_t i = 0; i < k; ++i) {
       const double d2 = chord2(p, sites_[live[i]]);
-      if (d2 < md2) {
-        return {live[i], true, std::sqrt(d2), false};
-      }
+      if (d2 < md2) return {live[i], true, std::sqrt(d2), false};
     }
     site_edge_[s] = kNoIndex;
     ++num_live_;
@@ -174,7 +183,17 @@ InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
   if (hint == kNoIndex || !alive(hint) || site_edge_[hint] == kNoIndex) hint = any_live_site();
   const Placement where = place(p, prio, hint);
   if (where.merged_into != kNoIndex) return {where.merged_into, true, where.chord, where.hidden};
-  insert_in_cavity(s, where.conflict);
+  find_cavity(p, prio, where.conflict);
+  // The nearest site of p becomes its Delaunay neighbour, so it is on the cavity's boundary:
+  // the merge test needs no search of its own.
+  SiteId closest = kNoIndex;
+  double best = md2;
+  for (const HalfedgeId e : boundary_) {
+    const double d2 = chord2(p, sites_[triangles_[e]]);
+    if (d2 < best) best = d2, closest = triangles_[e];
+  }
+  if (closest != kNoIndex) return {closest, true, std::sqrt(best), false};
+  fill_cavity(s);
   ++num_live_;
   last_site_ = s;
   return {s, false, 0, false};
@@ -191,6 +210,9 @@ SiteId SphericalDelaunay::any_live_site() const {
 
 bool SphericalDelaunay::in_conflict(TriId t, const Vec3& p, std::uint32_t prio) const {
   const SiteId a = triangles_[3 * t], b = triangles_[3 * t + 1], c = triangles_[3 * t + 2];
+  const Sign exact = kernel::in_sphere_sign(sites_[a], sites_[b], sites_[c], p);
+  if (exact != Sign::Zero) return exact == Sign::Positive;
+  // A tie: only now are the priorities needed.
   return kernel::perturbed_in_sphere(sites_[a], priority(a), sites_[b], priority(b), sites_[c],
                                      priority(c), p, prio) == Sign::Positive;
 }
@@ -232,28 +254,24 @@ TriId SphericalDelaunay::find_conflict(const Vec3& p, std::uint32_t prio, SiteId
 SphericalDelaunay::Placement SphericalDelaunay::place(const Vec3& p, std::uint32_t prio,
                                                       SiteId hint) const {
   Placement where;
-  const SiteId v = walk_to_nearest(p, hint);
-  // The merge test looks at v and its neighbours, which holds the nearest site even where the
-  // floating-point walk stopped one step short.
-  SiteId closest = v;
-  double best = chord2(p, sites_[v]);
-  const HalfedgeId e0 = site_edge_[v];
+  // Fast path: consecutive sites in a spatial order are near, so the triangles around the last
+  // site are often in conflict already.
+  const HalfedgeId e0 = site_edge_[hint];
   HalfedgeId e = e0;
   do {
-    const SiteId w = triangles_[next_halfedge(e)];
-    const double d2 = chord2(p, sites_[w]);
-    if (d2 < best) best = d2, closest = w;
+    if (in_conflict(tri_of(e), p, prio)) {
+      where.conflict = tri_of(e);
+      return where;
+    }
     e = next_around_site(e);
   } while (e != e0);
-  if (best < options_.merge_distance * options_.merge_distance) {
-    where.merged_into = closest;
-    where.chord = std::sqrt(best);
-    return where;
-  }
+  const SiteId v = walk_to_nearest(p, hint);
   where.conflict = find_conflict(p, prio, v);
-  if (where.conflict == kNoIndex) {  // inside the hull: impossible beyond the separation bound
-    where.merged_into = closest;
-    where.chord = std::sqrt(best);
+  if (where.conflict == kNoIndex) {
+    // No triangle in conflict: p lies inside the hull, which the minimum separation excludes;
+    // it goes into the nearest site all the same, and the report says so.
+    where.merged_into = v;
+    where.chord = std::sqrt(chord2(p, sites_[v]));
     where.hidden = true;
   }
   return where;
@@ -268,9 +286,7 @@ void SphericalDelaunay::make_first_triangles(SiteId a, SiteId b, SiteId c) {
   site_edge_[c] = 2;
 }
 
-void SphericalDelaunay::insert_in_cavity(SiteId s, TriId seed) {
-  const Vec3& p = sites_[s];
-  const std::uint32_t prio = priority(s);
+void SphericalDelaunay::find_cavity(const Vec3& p, std::uint32_t prio, TriId seed) {
   cavity_.clear();
   tested_.clear();
   boundary_.clear();
@@ -305,7 +321,9 @@ void SphericalDelaunay::insert_in_cavity(SiteId s, TriId seed) {
   for (const TriId t : tested_) triangles_[3 * t + 1] &= ~kMark;
   for (const TriId t : cavity_) triangles_[3 * t] &= ~kMark;
   GEOVOR_ASSERT(boundary_.size() == cavity_.size() + 2);
+}
 
+void SphericalDelaunay::fill_cavity(SiteId s) {
   // Replace the cavity by the fan of triangles (a, b, s), one per boundary edge a -> b, reusing
   // the cavity's slots and adding two.
   struct Edge {

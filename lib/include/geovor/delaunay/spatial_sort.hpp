@@ -12,15 +12,17 @@
 namespace geovor {
 
 /// Position of a unit vector along a Hilbert curve drawn on the six faces of the cube
-/// (2^20 x 2^20 cells per face). Nearby points get nearby keys, with jumps at face borders.
+/// (2^16 x 2^16 cells per face; key < 6 * 2^32). Nearby points get nearby keys, with jumps at
+/// face borders.
 std::uint64_t hilbert_key(const Vec3& p) noexcept;
 
 /// Indices of `points` in Hilbert-key order (ties by index).
 std::vector<std::uint32_t> hilbert_order(std::span<const Vec3> points);
 
-/// A BRIO order: a deterministic shuffle with `seed`, then rounds of geometrically growing size
-/// (the last half, the half before...), each round sorted along the Hilbert curve. The random
-/// rounds bound the expected cost of incremental Delaunay; the sorting makes walks short.
+/// A BRIO order: each point is drawn (deterministically from `seed` and its index) into one of
+/// rounds of geometrically growing size (about half the points in the last round, a quarter in
+/// the one before, at least 64 in the first), each round sorted along the Hilbert curve. The
+/// random rounds bound the expected cost of incremental Delaunay; the sorting makes walks short.
 std::vector<std::uint32_t> brio_order(std::span<const Vec3> points, std::uint64_t seed);
 
 }  // namespace geovor

@@ -152,7 +152,10 @@ class SphericalDelaunay {
   TriId find_conflict(const Vec3& p, std::uint32_t prio, SiteId near) const;
   Placement place(const Vec3& p, std::uint32_t prio, SiteId hint) const;
   void make_first_triangles(SiteId a, SiteId b, SiteId c);
-  void insert_in_cavity(SiteId s, TriId seed);
+  // The triangles in conflict with p, grown from seed, and the half-edges bounding them.
+  void find_cavity(const Vec3& p, std::uint32_t prio, TriId seed);
+  // Replaces the cavity found last by the fan of triangles joining its boundary to site s.
+  void fill_cavity(SiteId s);
   SiteId any_live_site() const;
   void move_triangle(TriId from, TriId to);
   // Inserts site s, already stored in sites_ with site_edge_[s] == kRemoved (not inserted yet);
