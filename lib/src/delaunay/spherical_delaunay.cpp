@@ -184,15 +184,22 @@ InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
   const Placement where = place(p, prio, hint);
   if (where.merged_into != kNoIndex) return {where.merged_into, true, where.chord, where.hidden};
   find_cavity(p, prio, where.conflict);
-  // The nearest site of p becomes its Delaunay neighbour, so it is on the cavity's boundary:
-  // the merge test needs no search of its own.
+  // The nearest site of p becomes its Delaunay neighbour, so it is a vertex of the cavity: the
+  // merge test needs no search of its own.
   SiteId closest = kNoIndex;
   double best = md2;
-  for (const HalfedgeId e : boundary_) {
-    const double d2 = chord2(p, sites_[triangles_[e]]);
-    if (d2 < best) best = d2, closest = triangles_[e];
-  }
+  for (const TriId t : cavity_)
+    for (int j = 0; j < 3; ++j) {
+      const double d2 = chord2(p, sites_[triangles_[3 * t + j]]);
+      if (d2 < best) best = d2, closest = triangles_[3 * t + j];
+    }
   if (closest != kNoIndex) return {closest, true, std::sqrt(best), false};
+  if (boundary_.size() != cavity_.size() + 2) {
+    // Not a disk: only a point on (or extremely near) a site not met so far does this.
+    const Placement near = nearest_site(p, triangles_[3 * where.conflict]);
+    GEOVOR_ASSERT(near.merged_into != kNoIndex);
+    return {near.merged_into, true, near.chord, false};
+  }
   fill_cavity(s);
   ++num_live_;
   last_site_ = s;
@@ -265,6 +272,10 @@ SphericalDelaunay::Placement SphericalDelaunay::place(const Vec3& p, std::uint32
     }
     e = next_around_site(e);
   } while (e != e0);
+  // Slow path: walk to the nearest site; a point on or next to it merges before any exhaustive
+  // search (a duplicate can be hidden inside the hull).
+  const Placement near = nearest_site(p, hint);
+  if (near.merged_into != kNoIndex) return near;
   const SiteId v = walk_to_nearest(p, hint);
   where.conflict = find_conflict(p, prio, v);
   if (where.conflict == kNoIndex) {
@@ -273,6 +284,27 @@ SphericalDelaunay::Placement SphericalDelaunay::place(const Vec3& p, std::uint32
     where.merged_into = v;
     where.chord = std::sqrt(chord2(p, sites_[v]));
     where.hidden = true;
+  }
+  return where;
+}
+
+SphericalDelaunay::Placement SphericalDelaunay::nearest_site(const Vec3& p, SiteId hint) const {
+  // The walk is in doubles; the nearest site is then v or one of its neighbours.
+  const SiteId v = walk_to_nearest(p, hint);
+  SiteId closest = v;
+  double best = chord2(p, sites_[v]);
+  const HalfedgeId e0 = site_edge_[v];
+  HalfedgeId e = e0;
+  do {
+    const SiteId w = triangles_[next_halfedge(e)];
+    const double d2 = chord2(p, sites_[w]);
+    if (d2 < best) best = d2, closest = w;
+    e = next_around_site(e);
+  } while (e != e0);
+  Placement where;
+  if (best < options_.merge_distance * options_.merge_distance) {
+    where.merged_into = closest;
+    where.chord = std::sqrt(best);
   }
   return where;
 }
@@ -320,10 +352,10 @@ void SphericalDelaunay::find_cavity(const Vec3& p, std::uint32_t prio, TriId see
   }
   for (const TriId t : tested_) triangles_[3 * t + 1] &= ~kMark;
   for (const TriId t : cavity_) triangles_[3 * t] &= ~kMark;
-  GEOVOR_ASSERT(boundary_.size() == cavity_.size() + 2);
 }
 
 void SphericalDelaunay::fill_cavity(SiteId s) {
+  GEOVOR_ASSERT(boundary_.size() == cavity_.size() + 2);
   // Replace the cavity by the fan of triangles (a, b, s), one per boundary edge a -> b, reusing
   // the cavity's slots and adding two.
   struct Edge {

@@ -151,6 +151,8 @@ class SphericalDelaunay {
   SiteId walk_to_nearest(const Vec3& p, SiteId start) const;
   TriId find_conflict(const Vec3& p, std::uint32_t prio, SiteId near) const;
   Placement place(const Vec3& p, std::uint32_t prio, SiteId hint) const;
+  // The site p merges into (merged_into set) if any lies within the merge distance.
+  Placement nearest_site(const Vec3& p, SiteId hint) const;
   void make_first_triangles(SiteId a, SiteId b, SiteId c);
   // The triangles in conflict with p, grown from seed, and the half-edges bounding them.
   void find_cavity(const Vec3& p, std::uint32_t prio, TriId seed);
