@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages that geovor needs to build and test, only those missing.
+# Silent when everything is installed. Needs root when something is missing.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build
+  libcgal-dev libgmp-dev libmpfr-dev libgeographiclib-dev libgdal-dev gdal-bin
+  libgtest-dev libgmock-dev libcli11-dev libbenchmark-dev libnanoflann-dev
+)
+
+missing=()
+for pkg in "${packages[@]}"; do
+  # shellcheck disable=SC2016  # ${Status} is dpkg-query's format, not a shell expansion
+  status=$(dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null || true)
+  if [[ $status != *" installed" ]]; then
+    missing+=("$pkg")
+  fi
+done
+
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+
+if ((EUID != 0)); then
+  echo "install-deps.sh: missing Debian packages: ${missing[*]}" >&2
+  echo "install-deps.sh: run this script as root, or: sudo apt-get install ${missing[*]}" >&2
+  exit 1
+fi
+
+echo "install-deps.sh: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update
+apt-get install -y --no-install-recommends "${missing[@]}"

@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# The test command: release build and all its tests, then the ASan/UBSan build and all its tests
+# except those labelled package or nosan. Exits non-zero if any stage fails. Ends with one summary
+# line per stage (with elapsed seconds) and the total of tests passed and failed.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+ctest_args=(--output-on-failure -j2 --timeout 600 --no-tests=error)
+ctest_env=()
+summary=()
+failed=0
+tests_passed=0
+tests_failed=0
+
+# stage NAME COMMAND...: runs the command and records "NAME: ok|FAILED (exit N) in S s".
+stage() {
+  local name=$1 start=$SECONDS rc=0
+  shift
+  echo "=== $name: $*"
+  "$@" || rc=$?
+  if ((rc == 0)); then
+    summary+=("$name: ok in $((SECONDS - start)) s")
+  else
+    summary+=("$name: FAILED (exit $rc) in $((SECONDS - start)) s")
+    failed=1
+  fi
+  return "$rc"
+}
+
+# skip NAME REASON: records a stage that could not run (and so fails the run).
+skip() {
+  summary+=("$1: skipped, $2")
+  failed=1
+}
+
+# run_ctest DIR [CTEST_ARG...]: ctest on DIR with ctest_env set; its output also goes to
+# DIR/ctest.log. Adds the counts from ctest's closing line to the totals.
+# shellcheck disable=SC2317  # called through stage
+run_ctest() {
+  local dir=$1 rc=0 line
+  shift
+  env "${ctest_env[@]}" ctest --test-dir "$dir" "${ctest_args[@]}" "$@" 2>&1 |
+    tee "$dir/ctest.log" || rc=$?
+  line=$(grep -E '[0-9]+ tests? failed out of [0-9]+' "$dir/ctest.log" | tail -n 1 || true)
+  if [[ $line =~ ([0-9]+)\ tests?\ failed\ out\ of\ ([0-9]+) ]]; then
+    tests_failed=$((tests_failed + BASH_REMATCH[1]))
+    tests_passed=$((tests_passed + BASH_REMATCH[2] - BASH_REMATCH[1]))
+  fi
+  return "$rc"
+}
+
+if stage build-release scripts/build.sh release; then
+  stage test-release run_ctest build || true
+else
+  skip test-release "the release build failed"
+fi
+
+if stage build-asan scripts/build.sh asan; then
+  ctest_env=(ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+             UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1)
+  stage test-asan run_ctest build-asan -LE 'package|nosan' || true
+else
+  skip test-asan "the asan build failed"
+fi
+
+echo
+echo "=== summary"
+printf '%s\n' "${summary[@]}"
+echo "tests: $tests_passed passed, $tests_failed failed"
+exit "$failed"
