@@ -114,11 +114,12 @@ struct Args {
   std::string cities;  // empty: look in the default places; "none": skip
   int repeat = 3;
   std::uint64_t seed = 42;
+  geovor::DelaunayOptions options;  // --brio: BRIO rounds instead of one Hilbert pass
 };
 
 [[noreturn]] void usage(const char* argv0, const char* why) {
   std::fprintf(stderr,
-               "%s\nusage: %s [--sizes N1,N2,...] [--cities PATH|none] [--repeat N] [--seed S]\n",
+               "%s\nusage: %s [--sizes N1,N2,...] [--cities PATH|none] [--repeat N] [--seed S] [--brio]\n",
                why, argv0);
   std::exit(2);
 }
@@ -128,6 +129,10 @@ Args parse_args(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string opt = argv[i];
     if (opt == "--help" || opt == "-h") usage(argv[0], "geovor_bench_triangulation: ours vs CGAL");
+    if (opt == "--brio") {
+      args.options.brio = true;
+      continue;
+    }
     if (i + 1 >= argc) usage(argv[0], ("missing value after " + opt).c_str());
     const std::string value = argv[++i];
     if (opt == "--sizes") {
@@ -185,7 +190,8 @@ void print_header() {
               "cgal_s", "speedup", "B/site", "peak_B/site", "cgal_peak", "merged");
 }
 
-void run_case(const std::string& name, const std::vector<geovor::Vec3>& points, int repeat, bool validate) {
+void run_case(const std::string& name, const std::vector<geovor::Vec3>& points, int repeat, bool validate,
+              const geovor::DelaunayOptions& options) {
   const std::size_t n = points.size();
   double ours_best = 1e300, cgal_best = 1e300;
   std::size_t ours_peak = 0, cgal_peak = 0, bytes = 0, sites = 0, cgal_vertices = 0, merged = 0;
@@ -195,7 +201,7 @@ void run_case(const std::string& name, const std::vector<geovor::Vec3>& points, 
       geovor::BuildReport report;
       const std::size_t base = reset_peak();
       const auto t0 = Clock::now();
-      const geovor::SphericalDelaunay dt = geovor::SphericalDelaunay::build(points, {}, &report);
+      const geovor::SphericalDelaunay dt = geovor::SphericalDelaunay::build(points, options, &report);
       const auto t1 = Clock::now();
       ours_best = std::min(ours_best, std::chrono::duration<double>(t1 - t0).count());
       if (r == 0) {
@@ -244,10 +250,11 @@ int main(int argc, char** argv) {
 #ifndef NDEBUG
   std::printf("WARNING: assertions enabled (not a Release build): times are not representative\n");
 #endif
+  std::printf("insertion order: %s\n", args.options.brio ? "BRIO rounds along the Hilbert curve (--brio)" : "one Hilbert pass (default)");
   print_header();
   for (std::size_t i = 0; i < args.sizes.size(); ++i) {
     const std::vector<geovor::Vec3> points = geovor::testing::uniform_on_sphere(args.sizes[i], args.seed);
-    run_case("uniform", points, args.repeat, i == 0);
+    run_case("uniform", points, args.repeat, i == 0, args.options);
   }
   const std::string cities = find_cities(args.cities);
   if (cities.empty()) {
@@ -256,7 +263,7 @@ int main(int argc, char** argv) {
   }
   try {
     const std::vector<geovor::Vec3> points = geovor::testing::load_lat_lon_csv_gz_unit_vectors(cities);
-    run_case("cities", points, args.repeat, false);
+    run_case("cities", points, args.repeat, false, args.options);
   } catch (const std::exception& e) {
     std::printf("cities: skipped (%s)\n", e.what());
   }

@@ -10,6 +10,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/delaunay/spatial_sort.hpp"
 #include "geovor/kernel/predicates.hpp"
+#include "kernel/in_sphere_filter.hpp"
 
 namespace geovor {
 namespace {
@@ -41,6 +42,24 @@ SphericalDelaunay::SphericalDelaunay(const DelaunayOptions& options) : options_(
                     " is below the minimum separation 2^-24 of sites on the unit sphere");
 }
 
+// The hot path is inline and makes no call, so it needs no register spills; the exact and
+// perturbed stages are out of line.
+inline bool SphericalDelaunay::in_conflict(TriId t, const Vec3& p, std::uint32_t prio) const {
+  const SiteId* tri = triangles_.data() + 3 * t;
+  const Vec3* s = sites_.data();
+  const int filtered = kernel::detail::in_sphere_filter_only(s[tri[0]], s[tri[1]], s[tri[2]], p);
+  if (filtered != 0) [[likely]]
+    return filtered > 0;
+  return in_conflict_exact(t, p, prio);
+}
+
+bool SphericalDelaunay::in_conflict_exact(TriId t, const Vec3& p, std::uint32_t prio) const {
+  const SiteId a = triangles_[3 * t], b = triangles_[3 * t + 1], c = triangles_[3 * t + 2];
+  // Ties get the perturbation; only now are the priorities needed.
+  return kernel::perturbed_in_sphere(sites_[a], priority(a), sites_[b], priority(b), sites_[c],
+                                     priority(c), p, prio) == Sign::Positive;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Build
 
@@ -62,7 +81,7 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
   const auto t0 = Clock::now();
   std::vector<std::uint32_t> order;
   if (options.spatial_sort) {
-    order = brio_order(points, options.seed);
+    order = options.brio ? brio_order(points, options.seed) : hilbert_order(points);
   } else {
     order.resize(n);
     std::iota(order.begin(), order.end(), 0u);
@@ -184,22 +203,22 @@ InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
   const Placement where = place(p, prio, hint);
   if (where.merged_into != kNoIndex) return {where.merged_into, true, where.chord, where.hidden};
   find_cavity(p, prio, where.conflict);
-  // The nearest site of p becomes its Delaunay neighbour, so it is a vertex of the cavity: the
-  // merge test needs no search of its own.
-  SiteId closest = kNoIndex;
-  double best = md2;
-  for (const TriId t : cavity_)
-    for (int j = 0; j < 3; ++j) {
-      const double d2 = chord2(p, sites_[triangles_[3 * t + j]]);
-      if (d2 < best) best = d2, closest = triangles_[3 * t + j];
-    }
-  if (closest != kNoIndex) return {closest, true, std::sqrt(best), false};
   if (boundary_.size() != cavity_.size() + 2) {
-    // Not a disk: only a point on (or extremely near) a site not met so far does this.
+    // Not a disk: a site is inside the cavity, which only a point on (or extremely near) a site
+    // not met so far can cause.
     const Placement near = nearest_site(p, triangles_[3 * where.conflict]);
     GEOVOR_ASSERT(near.merged_into != kNoIndex);
     return {near.merged_into, true, near.chord, false};
   }
+  // The nearest site of p becomes its Delaunay neighbour, so it is on the cavity's boundary
+  // (every vertex of a disk-shaped cavity is): the merge test needs no search of its own.
+  SiteId closest = kNoIndex;
+  double best = md2;
+  for (const HalfedgeId e : boundary_) {
+    const double d2 = chord2(p, sites_[triangles_[e]]);
+    if (d2 < best) best = d2, closest = triangles_[e];
+  }
+  if (closest != kNoIndex) return {closest, true, std::sqrt(best), false};
   fill_cavity(s);
   ++num_live_;
   last_site_ = s;
@@ -215,14 +234,6 @@ SiteId SphericalDelaunay::any_live_site() const {
   return kNoIndex;
 }
 
-bool SphericalDelaunay::in_conflict(TriId t, const Vec3& p, std::uint32_t prio) const {
-  const SiteId a = triangles_[3 * t], b = triangles_[3 * t + 1], c = triangles_[3 * t + 2];
-  const Sign exact = kernel::in_sphere_sign(sites_[a], sites_[b], sites_[c], p);
-  if (exact != Sign::Zero) return exact == Sign::Positive;
-  // A tie: only now are the priorities needed.
-  return kernel::perturbed_in_sphere(sites_[a], priority(a), sites_[b], priority(b), sites_[c],
-                                     priority(c), p, prio) == Sign::Positive;
-}
 
 // Greedy walk on the Delaunay graph towards the site maximising dot(p, site): the simplex method
 // on the hull's vertex graph, so a local maximum is the global one. Plain doubles are enough:
@@ -322,15 +333,12 @@ void SphericalDelaunay::find_cavity(const Vec3& p, std::uint32_t prio, TriId see
   cavity_.clear();
   tested_.clear();
   boundary_.clear();
-  stack_.clear();
   // Grow the set of triangles in conflict with p (connected: the faces of the hull visible from
-  // p), marking faces so each is tested once.
+  // p), breadth first with cavity_ as the queue, marking faces so each is tested once.
   cavity_.push_back(seed);
-  stack_.push_back(seed);
   triangles_[3 * seed] |= kMark;
-  while (!stack_.empty()) {
-    const TriId t = stack_.back();
-    stack_.pop_back();
+  for (std::size_t next = 0; next < cavity_.size(); ++next) {
+    const TriId t = cavity_[next];
     for (int j = 0; j < 3; ++j) {
       const HalfedgeId e = 3 * t + j;
       const TriId nt = tri_of(halfedges_[e]);
@@ -342,7 +350,6 @@ void SphericalDelaunay::find_cavity(const Vec3& p, std::uint32_t prio, TriId see
       if (in_conflict(nt, p, prio)) {
         triangles_[3 * nt] |= kMark;
         cavity_.push_back(nt);
-        stack_.push_back(nt);
       } else {
         triangles_[3 * nt + 1] |= kMark;
         tested_.push_back(nt);
@@ -515,7 +522,7 @@ std::size_t SphericalDelaunay::num_ghost_triangles() const {
 
 std::size_t SphericalDelaunay::memory_bytes() const {
   return bytes_of(sites_) + bytes_of(triangles_) + bytes_of(halfedges_) + bytes_of(site_edge_) +
-         bytes_of(priority_) + bytes_of(cavity_) + bytes_of(stack_) + bytes_of(tested_) +
+         bytes_of(priority_) + bytes_of(cavity_) + bytes_of(tested_) +
          bytes_of(boundary_);
 }
 

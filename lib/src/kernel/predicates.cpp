@@ -1,6 +1,8 @@
 // The only translation unit of the library that includes CGAL: exact fallbacks of the predicates.
 #include "geovor/kernel/predicates.hpp"
 
+#include "kernel/in_sphere_filter.hpp"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Mpzf.h>
 
@@ -15,9 +17,9 @@ using Epick = CGAL::Exact_predicates_inexact_constructions_kernel;
 thread_local PredicateStats g_stats;
 
 constexpr double kEps = 0x1p-53;
-// Shewchuk's orient3d error bound (7 + 56 eps) eps times the permanent; also valid (looser) for
-// the determinant of the inputs themselves, where no difference is rounded.
-constexpr double kO3dErrBound = (7.0 + 56.0 * kEps) * kEps;
+// Shewchuk's orient3d error bound, also valid (looser) for the determinant of the inputs
+// themselves, where no difference is rounded.
+using detail::kO3dErrBound;
 // |fl(sum of 3 products) - exact| <= gamma_4 * sum |products|; doubled for the difference of two.
 constexpr double kDotErrBound = 8.0 * kEps;
 
@@ -58,23 +60,15 @@ Sign orient(const Vec3& p, const Vec3& q, const Vec3& r) noexcept {
   return orient_exact(p, q, r);
 }
 
-Sign in_sphere_sign(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
-  ++g_stats.in_sphere_calls;
-  const double bx = q.x - p.x, by = q.y - p.y, bz = q.z - p.z;
-  const double cx = r.x - p.x, cy = r.y - p.y, cz = r.z - p.z;
-  const double dx = s.x - p.x, dy = s.y - p.y, dz = s.z - p.z;
-  const double cydz = cy * dz, czdy = cz * dy;
-  const double czdx = cz * dx, cxdz = cx * dz;
-  const double cxdy = cx * dy, cydx = cy * dx;
-  const double det = bx * (cydz - czdy) + by * (czdx - cxdz) + bz * (cxdy - cydx);
-  const double perm = (std::fabs(cydz) + std::fabs(czdy)) * std::fabs(bx) +
-                      (std::fabs(czdx) + std::fabs(cxdz)) * std::fabs(by) +
-                      (std::fabs(cxdy) + std::fabs(cydx)) * std::fabs(bz);
-  const double bound = kO3dErrBound * perm;
-  if (det > bound) return Sign::Positive;
-  if (-det > bound) return Sign::Negative;
+namespace detail {
+Sign in_sphere_exact(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
   ++g_stats.in_sphere_exact;
   return to_sign(CGAL::orientation(P3(p), P3(q), P3(r), P3(s)));
+}
+}  // namespace detail
+
+Sign in_sphere_sign(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
+  return detail::in_sphere_filtered(p, q, r, s);
 }
 
 Sign perturbed_in_sphere(const Vec3& p, std::uint32_t ip, const Vec3& q, std::uint32_t iq,

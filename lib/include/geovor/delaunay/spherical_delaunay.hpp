@@ -44,10 +44,15 @@ struct DelaunayOptions {
   /// DEFAULT: SphericalDelaunay::kMinSeparation (2^-24, 0.38 m on the Earth).
   /// REQUIRES: merge_distance >= kMinSeparation (below it, Lemma 9 no longer holds).
   double merge_distance = 0x1p-24;
-  /// Insert in a spatially coherent order (BRIO rounds, each sorted along a Hilbert curve on the
-  /// faces of the cube). DEFAULT: true. Disabling it only costs time.
+  /// Insert in a spatially coherent order: along a Hilbert curve drawn on the faces of the cube.
+  /// DEFAULT: true. Disabling it (input order) only costs time.
   bool spatial_sort = true;
-  /// Seed of the BRIO shuffle. DEFAULT: 1. The result does not depend on it (unique perturbed
+  /// Sort in BRIO rounds (random rounds of growing size, each along the Hilbert curve), which
+  /// bounds the expected cost on any input; one Hilbert pass is faster on real and uniform data
+  /// (the previous site is then a neighbour of the next 94% of the time, against 62%).
+  /// DEFAULT: false.
+  bool brio = false;
+  /// Seed of the BRIO rounds. DEFAULT: 1. The result does not depend on it (unique perturbed
   /// triangulation); only the running time does.
   std::uint64_t seed = 1;
 };
@@ -148,6 +153,7 @@ class SphericalDelaunay {
     TriId conflict = kNoIndex;
   };
   bool in_conflict(TriId t, const Vec3& p, std::uint32_t prio) const;
+  bool in_conflict_exact(TriId t, const Vec3& p, std::uint32_t prio) const;
   SiteId walk_to_nearest(const Vec3& p, SiteId start) const;
   TriId find_conflict(const Vec3& p, std::uint32_t prio, SiteId near) const;
   Placement place(const Vec3& p, std::uint32_t prio, SiteId hint) const;
@@ -174,7 +180,7 @@ class SphericalDelaunay {
   SiteId last_site_ = kNoIndex;           // hint for the next walk
 
   // Scratch of one insertion, kept to avoid allocations.
-  std::vector<TriId> cavity_, stack_, tested_;
+  std::vector<TriId> cavity_, tested_;
   std::vector<HalfedgeId> boundary_;
 
   friend class SphericalDelaunayTester;

@@ -51,10 +51,12 @@ Sign perturbed_in_sphere(const Vec3& p, std::uint32_t ip, const Vec3& q, std::ui
 /// order of the triangulation (the hull's normal fan); for unit vectors, the angular order.
 Sign compare_dot(const Vec3& x, const Vec3& a, const Vec3& b) noexcept;
 
-/// Counters of how often each stage of the cascade decided (geogram's predicate stats).
+/// Counters of how often each stage of the cascade decided (geogram's predicate stats). The
+/// in-sphere filter inlined into the triangulation is not counted, only its exact and perturbed
+/// stages.
 struct PredicateStats {
   std::uint64_t orient_calls = 0, orient_exact = 0;
-  std::uint64_t in_sphere_calls = 0, in_sphere_exact = 0, in_sphere_perturbed = 0;
+  std::uint64_t in_sphere_exact = 0, in_sphere_perturbed = 0;
   std::uint64_t compare_dot_calls = 0, compare_dot_exact = 0;
 };
 

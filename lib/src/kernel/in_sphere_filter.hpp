@@ -1,0 +1,51 @@
+// Private to the library: the in-sphere filter, inline so that the triangulation's hot loop does
+// not pay a call. The library is compiled with -ffp-contract=off: the error bound assumes every
+// product and sum is rounded on its own, so this header must not reach code built otherwise.
+#pragma once
+
+#include <cmath>
+
+#include "geovor/kernel/predicates.hpp"
+
+namespace geovor::kernel::detail {
+
+/// Shewchuk's orient3d bound (7 + 56 eps) eps, eps = 2^-53, times the permanent.
+inline constexpr double kO3dErrBound = (7.0 + 56.0 * 0x1p-53) * 0x1p-53;
+
+/// The exact stage (CGAL), out of line: reached only when the filter cannot decide.
+Sign in_sphere_exact(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept;
+
+/// The filter alone: +1 or -1 when the double evaluation is certified, 0 when it cannot decide.
+inline int in_sphere_filter_only(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
+  const double bx = q.x - p.x, by = q.y - p.y, bz = q.z - p.z;
+  const double cx = r.x - p.x, cy = r.y - p.y, cz = r.z - p.z;
+  const double dx = s.x - p.x, dy = s.y - p.y, dz = s.z - p.z;
+  const double cydz = cy * dz, czdy = cz * dy;
+  const double czdx = cz * dx, cxdz = cx * dz;
+  const double cxdy = cx * dy, cydx = cy * dx;
+  const double det = bx * (cydz - czdy) + by * (czdx - cxdz) + bz * (cxdy - cydx);
+  const double perm = (std::fabs(cydz) + std::fabs(czdy)) * std::fabs(bx) +
+                      (std::fabs(czdx) + std::fabs(cxdz)) * std::fabs(by) +
+                      (std::fabs(cxdy) + std::fabs(cydx)) * std::fabs(bz);
+  const double bound = kO3dErrBound * perm;
+  return (det > bound) - (-det > bound);
+}
+
+inline Sign in_sphere_filtered(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
+  const double bx = q.x - p.x, by = q.y - p.y, bz = q.z - p.z;
+  const double cx = r.x - p.x, cy = r.y - p.y, cz = r.z - p.z;
+  const double dx = s.x - p.x, dy = s.y - p.y, dz = s.z - p.z;
+  const double cydz = cy * dz, czdy = cz * dy;
+  const double czdx = cz * dx, cxdz = cx * dz;
+  const double cxdy = cx * dy, cydx = cy * dx;
+  const double det = bx * (cydz - czdy) + by * (czdx - cxdz) + bz * (cxdy - cydx);
+  const double perm = (std::fabs(cydz) + std::fabs(czdy)) * std::fabs(bx) +
+                      (std::fabs(czdx) + std::fabs(cxdz)) * std::fabs(by) +
+                      (std::fabs(cxdy) + std::fabs(cydx)) * std::fabs(bz);
+  const double bound = kO3dErrBound * perm;
+  if (det > bound) return Sign::Positive;
+  if (-det > bound) return Sign::Negative;
+  return in_sphere_exact(p, q, r, s);
+}
+
+}  // namespace geovor::kernel::detail
