@@ -8,14 +8,14 @@
 namespace geovor {
 namespace {
 
-constexpr int kBits = 16;
+constexpr int kBits = 16;  // the finest grid: 2^16 x 2^16 cells per face
 constexpr std::uint32_t kCells = 1u << kBits;
 
-// Classic (x, y) -> distance along the Hilbert curve of a kCells x kCells grid, without branches
-// (the branchy form mispredicts at every level on random input).
-std::uint64_t hilbert_2d(std::uint32_t x, std::uint32_t y) {
+// Classic (x, y) -> distance along the Hilbert curve of the grid of the top `bits` bits of x and
+// y, without branches (the branchy form mispredicts at every level on random input).
+std::uint64_t hilbert_2d(std::uint32_t x, std::uint32_t y, int bits) {
   std::uint64_t d = 0;
-  for (int level = kBits - 1; level >= 0; --level) {
+  for (int level = kBits - 1; level >= kBits - bits; --level) {
     const std::uint32_t rx = (x >> level) & 1u;
     const std::uint32_t ry = (y >> level) & 1u;
     d = (d << 2) | ((3u * rx) ^ ry);
@@ -80,11 +80,16 @@ std::vector<std::uint32_t> indices_by_key(std::vector<Keyed>& keyed, int bits) {
   return order;
 }
 
-constexpr int kKeyBits = 3 + 2 * kBits;  // face and Hilbert position: hilbert_key < 6 * 2^32
+int key_bits(int bits) { return 3 + 2 * bits; }  // face and Hilbert position: key < 6 * 4^bits
 
-}  // namespace
+// A grid of about 4 cells per point is fine enough: points sharing a cell keep input order.
+int bits_for(std::size_t n) {
+  int bits = 4;
+  while (bits < kBits && (std::size_t{6} << (2 * bits)) < 4 * n) ++bits;
+  return bits;
+}
 
-std::uint64_t hilbert_key(const Vec3& p) noexcept {
+std::uint64_t hilbert_key_bits(const Vec3& p, int bits) noexcept {
   const double ax = std::fabs(p.x), ay = std::fabs(p.y), az = std::fabs(p.z);
   // Faces in the order +z, +x, +y, -x, -y, -z: consecutive faces share an edge.
   int face;
@@ -99,14 +104,19 @@ std::uint64_t hilbert_key(const Vec3& p) noexcept {
     face = p.y >= 0 ? 2 : 4;
     u = p.z / ay, v = p.x / ay;
   }
-  return (std::uint64_t(face) << (2 * kBits)) | hilbert_2d(to_cell(u), to_cell(v));  // < 2^35
+  return (std::uint64_t(face) << (2 * bits)) | hilbert_2d(to_cell(u), to_cell(v), bits);
 }
 
+}  // namespace
+
+std::uint64_t hilbert_key(const Vec3& p) noexcept { return hilbert_key_bits(p, kBits); }
+
 std::vector<std::uint32_t> hilbert_order(std::span<const Vec3> points) {
+  const int bits = bits_for(points.size());
   std::vector<Keyed> keyed(points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
-    keyed[i] = {hilbert_key(points[i]), static_cast<std::uint32_t>(i)};
-  return indices_by_key(keyed, kKeyBits);
+    keyed[i] = {hilbert_key_bits(points[i], bits), static_cast<std::uint32_t>(i)};
+  return indices_by_key(keyed, key_bits(bits));
 }
 
 std::vector<std::uint32_t> brio_order(std::span<const Vec3> points, std::uint64_t seed) {
@@ -114,6 +124,7 @@ std::vector<std::uint32_t> brio_order(std::span<const Vec3> points, std::uint64_
   // quarter in the one before...), and one sort by (round, Hilbert key) gives all rounds in order.
   // Keys are computed in input order: reading the points in shuffled order costs a cache miss each.
   const std::size_t n = points.size();
+  const int bits = bits_for(n);
   int last_round = 0;
   while ((std::size_t{64} << last_round) < n) ++last_round;
   std::vector<Keyed> keyed(n);
@@ -122,9 +133,9 @@ std::vector<std::uint32_t> brio_order(std::span<const Vec3> points, std::uint64_
     const std::uint64_t r = splitmix(state);
     const int level = r == 0 ? 64 : __builtin_ctzll(r);  // P(level >= j) = 2^-j
     const std::uint64_t round = static_cast<std::uint64_t>(last_round - std::min(level, last_round));
-    keyed[i] = {(round << kKeyBits) | hilbert_key(points[i]), static_cast<std::uint32_t>(i)};
+    keyed[i] = {(round << key_bits(bits)) | hilbert_key_bits(points[i], bits), static_cast<std::uint32_t>(i)};
   }
-  return indices_by_key(keyed, kKeyBits + 6);  // at most 2^6 rounds
+  return indices_by_key(keyed, key_bits(bits) + 6);  // at most 2^6 rounds
 }
 
 }  // namespace geovor

@@ -100,7 +100,8 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
   const std::size_t max_tris = n >= 3 ? 2 * n - 4 : 0;
   dt.triangles_.reserve(3 * max_tris);
   dt.halfedges_.reserve(3 * max_tris);
-  std::size_t peak = dt.memory_bytes() + order.capacity() * sizeof(std::uint32_t);
+  std::vector<std::uint32_t>().swap(order);  // priority_ holds it from here on
+  std::size_t peak = dt.memory_bytes();
 
   std::vector<Merge> merges;  // input = slot and site = slot until renumbered below
   SiteId hint = kNoIndex;
@@ -114,15 +115,24 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
   }
 
   // Final ids: the live sites in input order. The map from priority to id is monotone, so the
-  // perturbation, and with it the triangulation, is the same.
-  std::vector<SiteId> id_of_input(n, kNoIndex);
-  for (std::size_t k = 0; k < n; ++k)
-    if (dt.alive(static_cast<SiteId>(k))) id_of_input[order[k]] = 0;
-  SiteId next = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    if (id_of_input[i] != kNoIndex) id_of_input[i] = next++;
-  std::vector<SiteId> new_id(n, kNoIndex);  // slot -> final id
-  for (std::size_t k = 0; k < n; ++k) new_id[k] = id_of_input[order[k]];
+  // perturbation, and with it the triangulation, is the same. Without merges it is the order.
+  std::vector<SiteId> id_of_input;
+  std::vector<SiteId> new_id;  // slot -> final id
+  SiteId next = static_cast<SiteId>(n);
+  std::vector<std::uint32_t> input_of_slot = std::move(dt.priority_);
+  dt.priority_ = std::vector<std::uint32_t>();
+  if (merges.empty()) {
+    new_id = std::move(input_of_slot);
+  } else {
+    id_of_input.assign(n, kNoIndex);
+    for (std::size_t k = 0; k < n; ++k)
+      if (dt.alive(static_cast<SiteId>(k))) id_of_input[input_of_slot[k]] = 0;
+    next = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (id_of_input[i] != kNoIndex) id_of_input[i] = next++;
+    new_id.resize(n);
+    for (std::size_t k = 0; k < n; ++k) new_id[k] = id_of_input[input_of_slot[k]];
+  }
   {
     std::vector<Vec3> sites(next);
     std::vector<HalfedgeId> site_edge(next);
@@ -137,16 +147,20 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
   }
   for (SiteId& s : dt.triangles_) s = new_id[s];
   if (dt.last_site_ != kNoIndex) dt.last_site_ = new_id[dt.last_site_];
-  std::vector<std::uint32_t>().swap(dt.priority_);  // "= {}" would keep the capacity
   peak = std::max(peak, dt.memory_bytes() + 2 * n * sizeof(SiteId));
   const auto t2 = Clock::now();
 
   if (report) {
-    report->site_of_input = std::move(id_of_input);
+    if (merges.empty()) {
+      report->site_of_input.resize(n);
+      std::iota(report->site_of_input.begin(), report->site_of_input.end(), SiteId{0});
+    } else {
+      report->site_of_input = std::move(id_of_input);
+    }
     for (Merge& m : merges) {
       // A merge target is never itself merged later: it stays live during the build.
+      m.input = input_of_slot[m.input];
       m.site = new_id[m.site];
-      m.input = order[m.input];
       report->site_of_input[m.input] = m.site;
     }
     std::sort(merges.begin(), merges.end(),
