@@ -12,6 +12,8 @@
 #include <set>
 
 #include "geovor/core/error.hpp"
+#include "geovor/geo/lat_lon.hpp"
+#include "geovor/geo/site_encoder.hpp"
 #include "geovor/geo/site_reader.hpp"
 #include "geovor/kernel/predicates.hpp"
 #include "support/cgal_oracle.hpp"
@@ -340,6 +342,46 @@ TEST(SphericalDelaunay, ValidateCatchesCorruption) {
   link(3 * tb + 2, a1);  // p1 -> p2
   const Validation v = flipped.validate();
   EXPECT_FALSE(v.ok());
+}
+
+}  // namespace
+}  // namespace geovor
+
+namespace geovor {
+namespace {
+
+TEST(SphericalDelaunay, LongitudesAtTheAntimeridianAndPoles) {
+  // 180 and -180 are one point (an exact duplicate); 179.9999999 is 1.1 cm away at the equator,
+  // closer than the separation, so it merges too, with its distance reported.
+  std::vector<Vec3> pts;
+  for (const double lat : {-60.0, 0.0, 45.0}) {
+    for (double lon : {180.0, -180.0, 179.9999999, 540.0}) {
+      double la = lat;
+      ASSERT_EQ(normalize_lat_lon(la, lon), "");
+      pts.push_back(SiteEncoder::from_lat_lon(la, lon));
+    }
+  }
+  for (double lon : {0.0, 17.0, -123.0}) {  // any longitude at a pole is the pole
+    double lat = 90;
+    ASSERT_EQ(normalize_lat_lon(lat, lon), "");
+    pts.push_back(SiteEncoder::from_lat_lon(lat, lon));
+  }
+  pts.push_back(SiteEncoder::from_lat_lon(-10, 90));
+  BuildReport rep;
+  const SphericalDelaunay dt = build_checked(pts, &rep, true);
+  EXPECT_EQ(dt.num_sites(), 3u + 1u + 1u);
+  ASSERT_EQ(rep.merges.size(), pts.size() - dt.num_sites());
+  int exact = 0, near = 0;
+  for (const Merge& m : rep.merges) {
+    if (m.chord == 0) {
+      ++exact;
+    } else {
+      ++near;
+      EXPECT_LT(m.chord * SiteEncoder::kEarthRadiusM, 0.02);
+    }
+  }
+  EXPECT_EQ(exact, 3 * 2 + 2);  // -180 and 540 equal 180 bit for bit; the pole thrice
+  EXPECT_EQ(near, 3);           // 179.9999999 at each latitude
 }
 
 }  // namespace

@@ -96,13 +96,16 @@ std::uint64_t hilbert_key_bits(const Vec3& p, int bits) noexcept {
   double u, v;
   if (az >= ax && az >= ay) {
     face = p.z >= 0 ? 0 : 5;
-    u = p.x / az, v = p.y / az;
+    const double inv = 1.0 / az;
+    u = p.x * inv, v = p.y * inv;
   } else if (ax >= ay) {
     face = p.x >= 0 ? 1 : 3;
-    u = p.y / ax, v = p.z / ax;
+    const double inv = 1.0 / ax;
+    u = p.y * inv, v = p.z * inv;
   } else {
     face = p.y >= 0 ? 2 : 4;
-    u = p.z / ay, v = p.x / ay;
+    const double inv = 1.0 / ay;
+    u = p.z * inv, v = p.x * inv;
   }
   return (std::uint64_t(face) << (2 * bits)) | hilbert_2d(to_cell(u), to_cell(v), bits);
 }

@@ -218,6 +218,7 @@ InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
   if (where.merged_into != kNoIndex) return {where.merged_into, true, where.chord, where.hidden};
   find_cavity(p, prio, where.conflict);
   if (boundary_.size() != cavity_.size() + 2) {
+    abandon_cavity();
     // Not a disk: a site is inside the cavity, which only a point on (or extremely near) a site
     // not met so far can cause.
     const Placement near = nearest_site(p, triangles_[3 * where.conflict]);
@@ -229,10 +230,14 @@ InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
   SiteId closest = kNoIndex;
   double best = md2;
   for (const HalfedgeId e : boundary_) {
-    const double d2 = chord2(p, sites_[triangles_[e]]);
-    if (d2 < best) best = d2, closest = triangles_[e];
+    const SiteId a = triangles_[e] & ~kMark;  // entry 0 of a cavity triangle carries the mark
+    const double d2 = chord2(p, sites_[a]);
+    if (d2 < best) best = d2, closest = a;
   }
-  if (closest != kNoIndex) return {closest, true, std::sqrt(best), false};
+  if (closest != kNoIndex) {
+    abandon_cavity();
+    return {closest, true, std::sqrt(best), false};
+  }
   fill_cavity(s);
   ++num_live_;
   last_site_ = s;
@@ -372,6 +377,10 @@ void SphericalDelaunay::find_cavity(const Vec3& p, std::uint32_t prio, TriId see
     }
   }
   for (const TriId t : tested_) triangles_[3 * t + 1] &= ~kMark;
+  // The cavity's marks stay: fill_cavity() overwrites those triangles, abandon_cavity() clears.
+}
+
+void SphericalDelaunay::abandon_cavity() {
   for (const TriId t : cavity_) triangles_[3 * t] &= ~kMark;
 }
 
@@ -392,7 +401,7 @@ void SphericalDelaunay::fill_cavity(SiteId s) {
   }
   for (std::size_t k = 0; k < boundary_.size(); ++k) {
     const HalfedgeId e = boundary_[k];
-    bnd[k] = {triangles_[e], triangles_[next_halfedge(e)], halfedges_[e]};
+    bnd[k] = {triangles_[e] & ~kMark, triangles_[next_halfedge(e)] & ~kMark, halfedges_[e]};
   }
   const TriId first_new = static_cast<TriId>(num_triangles());
   triangles_.resize(triangles_.size() + 6);

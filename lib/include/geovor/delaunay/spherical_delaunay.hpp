@@ -164,6 +164,8 @@ class SphericalDelaunay {
   void find_cavity(const Vec3& p, std::uint32_t prio, TriId seed);
   // Replaces the cavity found last by the fan of triangles joining its boundary to site s.
   void fill_cavity(SiteId s);
+  // Gives up the cavity found last (p merges instead): clears its marks.
+  void abandon_cavity();
   SiteId any_live_site() const;
   void move_triangle(TriId from, TriId to);
   // Inserts site s, already stored in sites_ with site_edge_[s] == kRemoved (not inserted yet);
