@@ -11,24 +11,46 @@ namespace {
 constexpr int kBits = 16;  // the finest grid: 2^16 x 2^16 cells per face
 constexpr std::uint32_t kCells = 1u << kBits;
 
-// Classic (x, y) -> distance along the Hilbert curve of the grid of the top `bits` bits of x and
-// y, without branches (the branchy form mispredicts at every level on random input).
-std::uint64_t hilbert_2d(std::uint32_t x, std::uint32_t y, int bits) {
-  std::uint64_t d = 0;
-  for (int level = kBits - 1; level >= kBits - bits; --level) {
-    const std::uint32_t rx = (x >> level) & 1u;
-    const std::uint32_t ry = (y >> level) & 1u;
-    d = (d << 2) | ((3u * rx) ^ ry);
-    // Rotate the quadrant: reflect when rx = 1 and ry = 0, then swap when ry = 0. Flipping the
-    // higher bits too is harmless: they are never read again.
-    const std::uint32_t reflect = 0u - (rx & (ry ^ 1u));
-    x ^= reflect;
-    y ^= reflect;
-    const std::uint32_t swap = (x ^ y) & (0u - (ry ^ 1u));
-    x ^= swap;
-    y ^= swap;
+// The Hilbert curve, read four levels at a time. While descending, the classic algorithm swaps
+// and/or complements the coordinates; those transforms commute, so two bits of state (swap,
+// complement) say where we are, and a table maps (state, 4 bits of x, 4 bits of y) to the next
+// 8 bits of the distance along the curve and the next state.
+struct HilbertTable {
+  std::uint8_t digits[4][256];
+  std::uint8_t next[4][256];
+  HilbertTable() {
+    for (unsigned state = 0; state < 4; ++state)
+      for (unsigned xy = 0; xy < 256; ++xy) {
+        unsigned swap = state & 1u, complement = state >> 1, d = 0;
+        for (int level = 3; level >= 0; --level) {
+          unsigned rx = ((xy >> 4) >> level) & 1u, ry = (xy >> level) & 1u;
+          rx ^= complement, ry ^= complement;
+          if (swap) std::swap(rx, ry);
+          d = (d << 2) | ((3u * rx) ^ ry);
+          if (ry == 0) {
+            complement ^= rx;
+            swap ^= 1u;
+          }
+        }
+        digits[state][xy] = static_cast<std::uint8_t>(d);
+        next[state][xy] = static_cast<std::uint8_t>(swap | (complement << 1));
+      }
   }
-  return d;
+};
+
+// Distance along the Hilbert curve of the grid of the top `bits` bits of x and y (kBits wide).
+std::uint64_t hilbert_2d(std::uint32_t x, std::uint32_t y, int bits) {
+  static const HilbertTable table;
+  const int steps = (bits + 3) / 4;  // round up to whole steps; the extra levels are dropped
+  std::uint64_t d = 0;
+  unsigned state = 0;
+  for (int step = 0; step < steps; ++step) {
+    const int shift = kBits - 4 * (step + 1);
+    const unsigned xy = (((x >> shift) & 15u) << 4) | ((y >> shift) & 15u);
+    d = (d << 8) | table.digits[state][xy];
+    state = table.next[state][xy];
+  }
+  return d >> (2 * (4 * steps - bits));  // drop the extra low levels
 }
 
 std::uint32_t to_cell(double u) {  // u in [-1, 1]

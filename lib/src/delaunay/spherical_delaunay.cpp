@@ -47,7 +47,8 @@ SphericalDelaunay::SphericalDelaunay(const DelaunayOptions& options) : options_(
 inline bool SphericalDelaunay::in_conflict(TriId t, const Vec3& p, std::uint32_t prio) const {
   const SiteId* tri = triangles_.data() + 3 * t;
   const Vec3* s = sites_.data();
-  const int filtered = kernel::detail::in_sphere_filter_only(s[tri[0]], s[tri[1]], s[tri[2]], p);
+  // Sites and inserted points are unit vectors (checked on input): the static filter applies.
+  const int filtered = kernel::detail::in_sphere_unit_filter(s[tri[0]], s[tri[1]], s[tri[2]], p);
   if (filtered != 0) [[likely]]
     return filtered > 0;
   return in_conflict_exact(t, p, prio);

@@ -15,6 +15,31 @@ inline constexpr double kO3dErrBound = (7.0 + 56.0 * 0x1p-53) * 0x1p-53;
 /// The exact stage (CGAL), out of line: reached only when the filter cannot decide.
 Sign in_sphere_exact(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept;
 
+/// Static bound for points whose coordinates are at most 1 + 2^-40 in magnitude (unit vectors):
+/// the differences are below 2.0001, each product of two below 4.0005, so the permanent is below
+/// 3 * 2 * 4.0005 * 2.0001 < 48.01, and Shewchuk's bound below (7 + 56 eps) eps * 48.01 < 3.8e-14.
+inline constexpr double kUnitStaticBound = 3.8e-14;
+
+/// The filter for unit vectors: a static bound first (no permanent to compute: it decides every
+/// test but the nearly degenerate), then the semi-static one. +1 or -1 when certified, else 0.
+/// REQUIRES: every coordinate of p, q, r, s at most 1 + 2^-40 in magnitude.
+inline int in_sphere_unit_filter(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
+  const double bx = q.x - p.x, by = q.y - p.y, bz = q.z - p.z;
+  const double cx = r.x - p.x, cy = r.y - p.y, cz = r.z - p.z;
+  const double dx = s.x - p.x, dy = s.y - p.y, dz = s.z - p.z;
+  const double cydz = cy * dz, czdy = cz * dy;
+  const double czdx = cz * dx, cxdz = cx * dz;
+  const double cxdy = cx * dy, cydx = cy * dx;
+  const double det = bx * (cydz - czdy) + by * (czdx - cxdz) + bz * (cxdy - cydx);
+  if (det > kUnitStaticBound) return 1;
+  if (det < -kUnitStaticBound) return -1;
+  const double perm = (std::fabs(cydz) + std::fabs(czdy)) * std::fabs(bx) +
+                      (std::fabs(czdx) + std::fabs(cxdz)) * std::fabs(by) +
+                      (std::fabs(cxdy) + std::fabs(cydx)) * std::fabs(bz);
+  const double bound = kO3dErrBound * perm;
+  return (det > bound) - (-det > bound);
+}
+
 /// The filter alone: +1 or -1 when the double evaluation is certified, 0 when it cannot decide.
 inline int in_sphere_filter_only(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
   const double bx = q.x - p.x, by = q.y - p.y, bz = q.z - p.z;

@@ -1,0 +1,719 @@
+#include "geovor/io/geojson_writer.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <system_error>
+#include <type_traits>
+#include <utility>
+
+#include "geovor/core/error.hpp"
+
+namespace geovor {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// Numbers
+
+constexpr std::uint64_t kPow10[18] = {1ull,
+                                      10ull,
+                                      100ull,
+                                      1000ull,
+                                      10000ull,
+                                      100000ull,
+                                      1000000ull,
+                                      10000000ull,
+                                      100000000ull,
+                                      1000000000ull,
+                                      10000000000ull,
+                                      100000000000ull,
+                                      1000000000000ull,
+                                      10000000000000ull,
+                                      100000000000000ull,
+                                      1000000000000000ull,
+                                      10000000000000000ull,
+                                      100000000000000000ull};
+
+constexpr std::uint64_t pow5(int p) {
+  std::uint64_t r = 1;
+  for (int i = 0; i < p; ++i) r *= 5;
+  return r;
+}
+constexpr std::uint64_t kPow5[18] = {pow5(0),  pow5(1),  pow5(2),  pow5(3),  pow5(4),  pow5(5),
+                                     pow5(6),  pow5(7),  pow5(8),  pow5(9),  pow5(10), pow5(11),
+                                     pow5(12), pow5(13), pow5(14), pow5(15), pow5(16), pow5(17)};
+
+// Writes the decimal digits of v (no sign); returns one past the end.
+char* write_uint(char* out, std::uint64_t v) {
+  char tmp[20];
+  int n = 0;
+  do {
+    tmp[n++] = static_cast<char>('0' + v % 10);
+    v /= 10;
+  } while (v != 0);
+  while (n > 0) *out++ = tmp[--n];
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Longitude arcs, for bounding boxes
+
+struct Arc {
+  double west, east;  // west <= east, both in [-180, 180]
+};
+
+// Sorts and merges overlapping or touching intervals in place.
+void merge_arcs(std::vector<Arc>& arcs) {
+  if (arcs.empty()) return;
+  std::sort(arcs.begin(), arcs.end(), [](const Arc& a, const Arc& b) { return a.west < b.west; });
+  std::size_t n = 0;
+  for (std::size_t i = 1; i < arcs.size(); ++i) {
+    if (arcs[i].west <= arcs[n].east) {
+      arcs[n].east = std::max(arcs[n].east, arcs[i].east);
+    } else {
+      arcs[++n] = arcs[i];
+    }
+  }
+  arcs.resize(n + 1);
+}
+
+// The smallest arc containing every interval (merged: sorted, disjoint): the complement of the
+// largest gap between consecutive intervals on the circle, -180 and 180 being one meridian.
+// Ties go to the gap across the antimeridian, so that boxes do not cross it when they need not.
+void smallest_arc(const std::vector<Arc>& merged, double& west, double& east) {
+  double best_gap = (merged.front().west + 360.0) - merged.back().east;  // across +-180
+  west = merged.front().west;
+  east = merged.back().east;
+  for (std::size_t i = 0; i + 1 < merged.size(); ++i) {
+    const double gap = merged[i + 1].west - merged[i].east;
+    if (gap > best_gap) {
+      best_gap = gap;
+      west = merged[i + 1].west;
+      east = merged[i].east;
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Geometry checks
+
+std::string position_problem(const LonLat& p) {
+  if (!std::isfinite(p.lon_deg) || !std::isfinite(p.lat_deg)) return "a coordinate is not finite";
+  if (p.lon_deg < -180.0 || p.lon_deg > 180.0) {
+    return "longitude " + std::to_string(p.lon_deg) + " is outside [-180, 180]";
+  }
+  if (p.lat_deg < -90.0 || p.lat_deg > 90.0) {
+    return "latitude " + std::to_string(p.lat_deg) + " is outside [-90, 90]";
+  }
+  return "";
+}
+
+std::string positions_problem(const std::vector<LonLat>& ps) {
+  for (const LonLat& p : ps) {
+    if (auto why = position_problem(p); !why.empty()) return why;
+  }
+  return "";
+}
+
+std::string ring_problem(const Ring& ring) {
+  if (ring.size() < 4) {
+    return "a ring has " + std::to_string(ring.size()) + " positions, fewer than 4";
+  }
+  // Bit-exact closure (RFC 7946 §3.1.6: "MUST contain identical values").
+  if (std::memcmp(&ring.front(), &ring.back(), sizeof(LonLat)) != 0 &&
+      !(ring.front() == ring.back())) {
+    return "a ring is not closed (its last position differs from its first)";
+  }
+  return positions_problem(ring);
+}
+
+const char* geometry_type_name(GeometryType t) {
+  switch (t) {
+    case GeometryType::Point:
+      return "Point";
+    case GeometryType::MultiLineString:
+      return "MultiLineString";
+    case GeometryType::MultiPolygon:
+      return "MultiPolygon";
+  }
+  return "?";
+}
+
+GeometryType type_of(const Geometry& g) {
+  return static_cast<GeometryType>(g.index());  // variant order = enum order
+}
+static_assert(std::is_same_v<std::variant_alternative_t<0, Geometry>, LonLat> &&
+              std::is_same_v<std::variant_alternative_t<1, Geometry>, MultiLineString> &&
+              std::is_same_v<std::variant_alternative_t<2, Geometry>, MultiPolygon>);
+static_assert(static_cast<int>(GeometryType::Point) == 0 &&
+              static_cast<int>(GeometryType::MultiLineString) == 1 &&
+              static_cast<int>(GeometryType::MultiPolygon) == 2);
+
+// ---------------------------------------------------------------------------------------------
+// Output file handling
+
+std::atomic<unsigned> g_temp_counter{0};
+
+std::string errno_text(int err) { return std::strerror(err); }
+
+// Error(Io) if `path` exists and may not be replaced.
+void check_target(const std::string& path, bool overwrite) {
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(path, ec);
+  if (ec || !fs::exists(st)) return;
+  if (fs::is_directory(fs::status(path, ec))) throw Error(ErrorCode::Io, path + ": is a directory");
+  if (!overwrite) throw Error(ErrorCode::Io, path + ": exists; use --overwrite to replace it");
+}
+
+// Buffered output of one GeoJSON file (or stdout).
+class GeoJsonWriter final : public FeatureWriter {
+ public:
+  GeoJsonWriter(const std::string& path, GeoJsonFraming framing, GeometryType geometry_type,
+                const std::vector<Field>& schema, const WriterOptions& options)
+      : path_(path),
+        framing_(framing),
+        geometry_type_(geometry_type),
+        schema_(schema),
+        precision_(options.precision),
+        buffer_(new char[kBufferSize]) {
+    if (precision_ < 0 || precision_ > 17) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "coordinate precision " + std::to_string(precision_) + " is not within 0..17");
+    }
+    for (std::size_t i = 0; i < schema_.size(); ++i) {
+      if (schema_[i].name == options.id_field) id_index_ = static_cast<int>(i);
+    }
+    if (!options.id_field.empty() && id_index_ < 0) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "id field '" + options.id_field + "' is not a field of the schema");
+    }
+    // Property keys, escaped once.
+    for (std::size_t i = 0; i < schema_.size(); ++i) {
+      std::string key;
+      if (i > 0) key += ',';
+      append_json_string(key, schema_[i].name);
+      key += ':';
+      keys_.push_back(std::move(key));
+    }
+    if (path_ == "-") {
+      file_ = stdout;
+    } else {
+      check_target(path_, options.overwrite);
+      open_temporary();
+    }
+    if (framing_ == GeoJsonFraming::FeatureCollection) {
+      put("{\"type\":\"FeatureCollection\",\"name\":");
+      scratch_.clear();
+      append_json_string(scratch_, options.layer);
+      put(scratch_);
+      put(",\"features\":[\n");
+    }
+  }
+
+  ~GeoJsonWriter() override {
+    if (!finished_) discard();
+  }
+
+  void write(const Geometry& geometry, std::span<const FieldValue> values) override {
+    if (failed_) throw Error(ErrorCode::Io, path_ + ": the writer failed earlier");
+    if (finished_) throw Error(ErrorCode::InvalidArgument, path_ + ": write() after finish()");
+    if (values.size() != schema_.size()) {
+      throw Error(ErrorCode::InvalidArgument,
+                  path_ + ": feature " + std::to_string(count_ + 1) + " has " +
+                      std::to_string(values.size()) + " values for " +
+                      std::to_string(schema_.size()) + " fields");
+    }
+    if (type_of(geometry) != geometry_type_) {
+      throw Error(ErrorCode::InvalidArgument,
+                  path_ + ": feature " + std::to_string(count_ + 1) + " is a " +
+                      geometry_type_name(type_of(geometry)) + " in a " +
+                      geometry_type_name(geometry_type_) + " layer");
+    }
+    if (auto why = geometry_problem(geometry); !why.empty()) {
+      throw Error(ErrorCode::InvalidArgument,
+                  path_ + ": feature " + std::to_string(count_ + 1) + ": " + why);
+    }
+    const std::optional<BBox> box = geojson_bbox(geometry);
+    if (box) extent_.add(*box);
+
+    if (framing_ == GeoJsonFraming::RecordSeparated) put('\x1e');
+    if (framing_ == GeoJsonFraming::FeatureCollection && count_ > 0) put(",\n");
+    put("{\"type\":\"Feature\"");
+    if (id_index_ >= 0 && !std::holds_alternative<std::monostate>(values[id_index_])) {
+      put(",\"id\":");
+      put_value(values[id_index_]);
+    }
+    if (box) {
+      put(",\"bbox\":");
+      put_bbox(*box);
+    }
+    put(",\"properties\":{");
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      put(keys_[i]);
+      put_value(values[i]);
+    }
+    put("},\"geometry\":");
+    put_geometry(geometry);
+    put('}');
+    if (framing_ != GeoJsonFraming::FeatureCollection) put('\n');
+    ++count_;
+    if (used_ >= kFlushAt) flush();
+  }
+
+  void finish() override {
+    if (failed_) throw Error(ErrorCode::Io, path_ + ": the writer failed earlier");
+    if (finished_) return;
+    if (framing_ == GeoJsonFraming::FeatureCollection) {
+      put(count_ > 0 ? "\n]" : "]");
+      if (const std::optional<BBox> box = extent_.result()) {
+        put(",\"bbox\":");
+        put_bbox(*box);
+      }
+      put("}\n");
+    }
+    flush();
+    if (file_ == stdout) {
+      if (std::fflush(stdout) != 0) fail("cannot write to stdout", errno);
+      finished_ = true;
+      return;
+    }
+    // Durable before it becomes visible under its name; errors of a full disk can surface here.
+    if (std::fflush(file_) != 0) fail("cannot write", errno);
+    if (::fsync(::fileno(file_)) != 0 && errno != EINVAL && errno != EROFS) fail("cannot write", errno);
+    FILE* f = std::exchange(file_, nullptr);
+    if (std::fclose(f) != 0) fail("cannot write", errno);
+    if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
+      fail("cannot rename " + temp_path_ + " to it", errno);
+    }
+    finished_ = true;
+  }
+
+ private:
+  static constexpr std::size_t kBufferSize = std::size_t{1} << 20;
+  // Flush once a feature ends past this mark; a feature that does not fit is flushed in pieces.
+  static constexpr std::size_t kFlushAt = kBufferSize - (std::size_t{1} << 16);
+
+  void open_temporary() {
+    const fs::path target(path_);
+    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      const fs::path temp =
+          dir / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
+                 std::to_string(g_temp_counter.fetch_add(1)));
+      errno = 0;
+      // "x": O_EXCL, never reuse an existing file.
+      file_ = std::fopen(temp.c_str(), "wbx");
+      if (file_ != nullptr) {
+        temp_path_ = temp.string();
+        return;
+      }
+      if (errno != EEXIST) {
+        throw Error(ErrorCode::Io, path_ + ": cannot create the temporary file " + temp.string() +
+                                       ": " + errno_text(errno));
+      }
+    }
+    throw Error(ErrorCode::Io, path_ + ": cannot find a free temporary file name");
+  }
+
+  // Removes the temporary file; nothing under the final name was touched.
+  void discard() noexcept {
+    if (file_ != nullptr && file_ != stdout) std::fclose(file_);
+    file_ = nullptr;
+    if (!temp_path_.empty()) std::remove(temp_path_.c_str());
+    temp_path_.clear();
+  }
+
+  [[noreturn]] void fail(const std::string& what, int err) {
+    failed_ = true;
+    discard();
+    throw Error(ErrorCode::Io, path_ + ": " + what + (err != 0 ? ": " + errno_text(err) : ""));
+  }
+
+  void flush() {
+    if (used_ == 0) return;
+    errno = 0;
+    const std::size_t n = std::fwrite(buffer_.get(), 1, used_, file_);
+    if (n != used_) fail(file_ == stdout ? "cannot write to stdout" : "cannot write", errno);
+    used_ = 0;
+  }
+
+  // Room for n more characters (n <= kBufferSize).
+  char* room(std::size_t n) {
+    if (used_ + n > kBufferSize) flush();
+    return buffer_.get() + used_;
+  }
+  void put(char c) { *room(1) = c, ++used_; }
+  void put(std::string_view s) {
+    if (s.size() > kBufferSize / 2) {
+      flush();
+      errno = 0;
+      if (std::fwrite(s.data(), 1, s.size(), file_) != s.size()) {
+        fail(file_ == stdout ? "cannot write to stdout" : "cannot write", errno);
+      }
+      return;
+    }
+    std::memcpy(room(s.size()), s.data(), s.size());
+    used_ += s.size();
+  }
+
+  void put_number(double v) {
+    char* p = room(kMaxCoordinateChars);
+    used_ = static_cast<std::size_t>(format_coordinate(p, v, precision_) - buffer_.get());
+  }
+
+  void put_bbox(const BBox& b) {
+    char* p = room(4 * kMaxCoordinateChars + 8);
+    *p++ = '[';
+    p = format_coordinate(p, b.west, precision_);
+    *p++ = ',';
+    p = format_coordinate(p, b.south, precision_);
+    *p++ = ',';
+    p = format_coordinate(p, b.east, precision_);
+    *p++ = ',';
+    p = format_coordinate(p, b.north, precision_);
+    *p++ = ']';
+    used_ = static_cast<std::size_t>(p - buffer_.get());
+  }
+
+  void put_position(const LonLat& q) {
+    char* p = room(2 * kMaxCoordinateChars + 4);
+    *p++ = '[';
+    p = format_coordinate(p, q.lon_deg, precision_);
+    *p++ = ',';
+    p = format_coordinate(p, q.lat_deg, precision_);
+    *p++ = ']';
+    used_ = static_cast<std::size_t>(p - buffer_.get());
+  }
+
+  void put_positions(const std::vector<LonLat>& ps) {
+    put('[');
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      if (i > 0) put(',');
+      put_position(ps[i]);
+    }
+    put(']');
+  }
+
+  void put_geometry(const Geometry& g) {
+    if (const auto* pt = std::get_if<LonLat>(&g)) {
+      put("{\"type\":\"Point\",\"coordinates\":");
+      put_position(*pt);
+      put('}');
+    } else if (const auto* lines = std::get_if<MultiLineString>(&g)) {
+      put("{\"type\":\"MultiLineString\",\"coordinates\":[");
+      for (std::size_t i = 0; i < lines->size(); ++i) {
+        if (i > 0) put(',');
+        put_positions((*lines)[i]);
+      }
+      put("]}");
+    } else {
+      const auto& polys = std::get<MultiPolygon>(g);
+      put("{\"type\":\"MultiPolygon\",\"coordinates\":[");
+      for (std::size_t i = 0; i < polys.size(); ++i) {
+        if (i > 0) put(',');
+        put('[');
+        put_positions(polys[i].exterior);
+        for (const Ring& hole : polys[i].holes) {
+          put(',');
+          put_positions(hole);
+        }
+        put(']');
+      }
+      put("]}");
+    }
+  }
+
+  void put_value(const FieldValue& v) {
+    if (const auto* i = std::get_if<std::int64_t>(&v)) {
+      char* p = room(24);
+      used_ = static_cast<std::size_t>(std::to_chars(p, p + 24, *i).ptr - buffer_.get());
+    } else if (const auto* d = std::get_if<double>(&v)) {
+      if (!std::isfinite(*d)) {
+        put("null");  // JSON has no NaN or infinity (GDAL writes null too by default)
+        return;
+      }
+      char* p = room(kMaxRealChars);
+      used_ = static_cast<std::size_t>(format_real(p, *d) - buffer_.get());
+    } else if (const auto* s = std::get_if<std::string>(&v)) {
+      scratch_.clear();
+      append_json_string(scratch_, *s);
+      put(scratch_);
+    } else {
+      put("null");
+    }
+  }
+
+  std::string path_;
+  std::string temp_path_;
+  GeoJsonFraming framing_;
+  GeometryType geometry_type_;
+  std::vector<Field> schema_;
+  std::vector<std::string> keys_;  // ,"name":
+  int precision_;
+  int id_index_ = -1;
+  FILE* file_ = nullptr;
+  std::unique_ptr<char[]> buffer_;
+  std::size_t used_ = 0;
+  std::string scratch_;
+  BBoxUnion extent_;
+  std::uint64_t count_ = 0;
+  bool finished_ = false;
+  bool failed_ = false;
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+char* format_coordinate(char* out, double value, int precision) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  const bool negative = (bits >> 63) != 0;
+  const int biased = static_cast<int>((bits >> 52) & 0x7ff);
+  const std::uint64_t fraction = bits & ((std::uint64_t{1} << 52) - 1);
+  // value = m * 2^e exactly.
+  const std::uint64_t m = biased == 0 ? fraction : fraction | (std::uint64_t{1} << 52);
+  const int e = biased == 0 ? -1074 : biased - 1075;
+  if (biased == 0x7ff || e >= 0 || precision < 0 || precision > 17) {
+    // |value| >= 2^52 (an integer), not finite, or a bad precision: shortest round trip.
+    return std::to_chars(out, out + kMaxCoordinateChars, value).ptr;
+  }
+  // value * 10^p = m * 5^p * 2^(e + p); m * 5^p < 2^53 * 5^17 < 2^93.
+  const unsigned __int128 n = static_cast<unsigned __int128>(m) * kPow5[precision];
+  std::uint64_t q;
+  const int shift = -(e + precision);
+  if (shift <= 0) {
+    // Exact integer: m * 5^p * 2^-shift, with -shift = e + p < p <= 17, and |value| < 2^52.
+    q = static_cast<std::uint64_t>(n << (-shift));
+  } else if (shift >= 127) {
+    q = 0;  // n < 2^93 < half of 2^shift: rounds to 0
+  } else {
+    const unsigned __int128 one = 1;
+    const unsigned __int128 rem = n & ((one << shift) - 1);
+    const unsigned __int128 half = one << (shift - 1);
+    q = static_cast<std::uint64_t>(n >> shift);
+    if (rem > half || (rem == half && (q & 1) != 0)) ++q;  // ties to even, as printf
+  }
+  if (q == 0) {
+    *out++ = '0';
+    return out;
+  }
+  if (negative) *out++ = '-';
+  const std::uint64_t scale = kPow10[precision];
+  out = write_uint(out, q / scale);
+  std::uint64_t frac = q % scale;
+  if (frac != 0) {
+    int digits = precision;
+    while (frac % 10 == 0) {
+      frac /= 10;
+      --digits;
+    }
+    *out++ = '.';
+    char* end = out + digits;
+    for (char* p = end; p != out;) {
+      *--p = static_cast<char>('0' + frac % 10);
+      frac /= 10;
+    }
+    out = end;
+  }
+  return out;
+}
+
+char* format_real(char* out, double value) {
+  char* end = std::to_chars(out, out + kMaxRealChars, value).ptr;
+  if (std::isfinite(value) && std::find_if(out, end, [](char c) {
+                                return c == '.' || c == 'e' || c == 'E';
+                              }) == end) {
+    *end++ = '.';
+    *end++ = '0';
+  }
+  return end;
+}
+
+void append_json_string(std::string& out, std::string_view text) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  out += '"';
+  const auto* s = reinterpret_cast<const unsigned char*>(text.data());
+  const std::size_t n = text.size();
+  std::size_t i = 0;
+  std::size_t run = 0;  // start of the pending run of characters copied as they are
+  auto flush_run = [&](std::size_t end) {
+    out.append(text.data() + run, end - run);
+  };
+  while (i < n) {
+    const unsigned char c = s[i];
+    if (c >= 0x20 && c != '"' && c != '\\' && c < 0x80) {
+      ++i;
+      continue;
+    }
+    if (c >= 0x80) {
+      // Length and validity of a UTF-8 sequence (RFC 3629: no overlongs, no surrogates,
+      // nothing above U+10FFFF).
+      std::size_t len = 0;
+      if (c >= 0xC2 && c <= 0xDF) {
+        len = 2;
+      } else if (c >= 0xE0 && c <= 0xEF) {
+        len = 3;
+      } else if (c >= 0xF0 && c <= 0xF4) {
+        len = 4;
+      }
+      bool ok = len != 0 && i + len <= n;
+      for (std::size_t k = 1; ok && k < len; ++k) ok = (s[i + k] & 0xC0) == 0x80;
+      if (ok && len == 3) {
+        const unsigned char c1 = s[i + 1];
+        ok = !(c == 0xE0 && c1 < 0xA0) && !(c == 0xED && c1 >= 0xA0);
+      }
+      if (ok && len == 4) {
+        const unsigned char c1 = s[i + 1];
+        ok = !(c == 0xF0 && c1 < 0x90) && !(c == 0xF4 && c1 >= 0x90);
+      }
+      if (ok) {
+        i += len;
+        continue;
+      }
+      flush_run(i);
+      out += "\xEF\xBF\xBD";  // U+FFFD
+      run = ++i;
+      continue;
+    }
+    flush_run(i);
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\b':
+        out += "\\b";
+        break;
+      case '\f':
+        out += "\\f";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      default: {
+        const char esc[6] = {'\\', 'u', '0', '0', kHex[c >> 4], kHex[c & 15]};
+        out.append(esc, 6);
+      }
+    }
+    run = ++i;
+  }
+  flush_run(n);
+  out += '"';
+}
+
+std::string geometry_problem(const Geometry& geometry) {
+  if (const auto* p = std::get_if<LonLat>(&geometry)) return position_problem(*p);
+  if (const auto* lines = std::get_if<MultiLineString>(&geometry)) {
+    for (const LineString& line : *lines) {
+      if (line.size() < 2) {
+        return "a line string has " + std::to_string(line.size()) + " positions, fewer than 2";
+      }
+      if (auto why = positions_problem(line); !why.empty()) return why;
+    }
+    return "";
+  }
+  for (const Polygon& poly : std::get<MultiPolygon>(geometry)) {
+    if (auto why = ring_problem(poly.exterior); !why.empty()) return why;
+    for (const Ring& hole : poly.holes) {
+      if (auto why = ring_problem(hole); !why.empty()) return why;
+    }
+  }
+  return "";
+}
+
+std::optional<BBox> geojson_bbox(const Geometry& geometry) {
+  if (const auto* p = std::get_if<LonLat>(&geometry)) {
+    return BBox{p->lon_deg, p->lat_deg, p->lon_deg, p->lat_deg};
+  }
+  // One longitude interval per part; latitudes over everything.
+  std::vector<Arc> arcs;
+  double south = std::numeric_limits<double>::infinity();
+  double north = -south;
+  auto add_part = [&](const std::vector<LonLat>& ps) {
+    if (ps.empty()) return;
+    Arc arc{ps.front().lon_deg, ps.front().lon_deg};
+    for (const LonLat& q : ps) {
+      arc.west = std::min(arc.west, q.lon_deg);
+      arc.east = std::max(arc.east, q.lon_deg);
+      south = std::min(south, q.lat_deg);
+      north = std::max(north, q.lat_deg);
+    }
+    arcs.push_back(arc);
+  };
+  if (const auto* lines = std::get_if<MultiLineString>(&geometry)) {
+    for (const LineString& line : *lines) add_part(line);
+  } else {
+    // Holes lie inside their exterior ring: the exterior alone gives the box.
+    for (const Polygon& poly : std::get<MultiPolygon>(geometry)) add_part(poly.exterior);
+  }
+  if (arcs.empty()) return std::nullopt;
+  merge_arcs(arcs);
+  BBox box{0, south, 0, north};
+  smallest_arc(arcs, box.west, box.east);
+  return box;
+}
+
+void BBoxUnion::add(const BBox& box) {
+  if (empty_) {
+    south_ = box.south;
+    north_ = box.north;
+    empty_ = false;
+  } else {
+    south_ = std::min(south_, box.south);
+    north_ = std::max(north_, box.north);
+  }
+  if (box.west <= box.east) {
+    intervals_.push_back({box.west, box.east});
+  } else {  // crosses the antimeridian
+    intervals_.push_back({box.west, 180.0});
+    intervals_.push_back({-180.0, box.east});
+  }
+  if (intervals_.size() > 65536) compact();
+}
+
+void BBoxUnion::compact() const {
+  std::vector<Arc> arcs;
+  arcs.reserve(intervals_.size());
+  for (const Interval& i : intervals_) arcs.push_back({i.west, i.east});
+  merge_arcs(arcs);
+  intervals_.clear();
+  for (const Arc& a : arcs) intervals_.push_back({a.west, a.east});
+}
+
+std::optional<BBox> BBoxUnion::result() const {
+  if (empty_) return std::nullopt;
+  compact();
+  std::vector<Arc> arcs;
+  for (const Interval& i : intervals_) arcs.push_back({i.west, i.east});
+  BBox box{0, south_, 0, north_};
+  smallest_arc(arcs, box.west, box.east);
+  return box;
+}
+
+std::unique_ptr<FeatureWriter> open_geojson_writer(const std::string& path, GeoJsonFraming framing,
+                                                   GeometryType geometry_type,
+                                                   const std::vector<Field>& schema,
+                                                   const WriterOptions& options) {
+  return std::make_unique<GeoJsonWriter>(path, framing, geometry_type, schema, options);
+}
+
+}  // namespace geovor
