@@ -72,25 +72,28 @@ struct Keyed {
   std::uint32_t index;
 };
 
-// Stable LSD radix sort on the low `bits` bits of the keys, 11 bits per pass (2048 buckets keep
-// the scatter cache-friendly); about 5x faster than std::sort here. Passes where every key has
-// the same digit are skipped.
+// Stable LSD radix sort on the low `bits` bits of the keys, in as few passes of at most 12 bits
+// as possible (4096 buckets keep the scatter cache-friendly), all histograms in one read; about
+// 5x faster than std::sort here. A pass where every key has the same digit is skipped.
 void radix_sort(std::vector<Keyed>& a, int bits) {
-  constexpr int kDigit = 11;
-  constexpr std::size_t kBuckets = std::size_t{1} << kDigit;
+  const int passes = std::max(1, (bits + 11) / 12);
+  const int digit = (bits + passes - 1) / passes;
+  const std::size_t buckets = std::size_t{1} << digit;
+  std::vector<std::size_t> count(buckets * static_cast<std::size_t>(passes), 0);
+  for (const Keyed& x : a)
+    for (int p = 0; p < passes; ++p) ++count[p * buckets + ((x.key >> (p * digit)) & (buckets - 1))];
   std::vector<Keyed> tmp(a.size());
-  std::vector<std::size_t> count(kBuckets);
-  for (int shift = 0; shift < bits; shift += kDigit) {
-    std::fill(count.begin(), count.end(), 0);
-    for (const Keyed& x : a) ++count[(x.key >> shift) & (kBuckets - 1)];
-    if (std::find(count.begin(), count.end(), a.size()) != count.end()) continue;
+  for (int p = 0; p < passes; ++p) {
+    std::size_t* c = count.data() + p * buckets;
+    if (std::find(c, c + buckets, a.size()) != c + buckets) continue;
     std::size_t sum = 0;
-    for (std::size_t& c : count) {
-      const std::size_t here = c;
-      c = sum;
+    for (std::size_t b = 0; b < buckets; ++b) {
+      const std::size_t here = c[b];
+      c[b] = sum;
       sum += here;
     }
-    for (const Keyed& x : a) tmp[count[(x.key >> shift) & (kBuckets - 1)]++] = x;
+    const int shift = p * digit;
+    for (const Keyed& x : a) tmp[c[(x.key >> shift) & (buckets - 1)]++] = x;
     a.swap(tmp);
   }
 }

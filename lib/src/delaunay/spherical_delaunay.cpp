@@ -92,10 +92,11 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
   // During the build, slot k holds the k-th point inserted, so that sites inserted together sit
   // together in memory; its priority is its input index, and the final ids follow input order.
   dt.sites_.resize(n);
-  dt.priority_.resize(n);
+  dt.priority_ = order;
+  constexpr std::size_t kAhead = 16;  // the reads are random: prefetch them
   for (std::size_t k = 0; k < n; ++k) {
+    if (k + kAhead < n) __builtin_prefetch(&points[order[k + kAhead]]);
     dt.sites_[k] = points[order[k]];
-    dt.priority_[k] = order[k];
   }
   dt.site_edge_.assign(n, kRemoved);  // not inserted yet
   const std::size_t max_tris = n >= 3 ? 2 * n - 4 : 0;
@@ -138,6 +139,10 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
     std::vector<Vec3> sites(next);
     std::vector<HalfedgeId> site_edge(next);
     for (std::size_t k = 0; k < n; ++k) {
+      if (k + kAhead < n && new_id[k + kAhead] != kNoIndex) {
+        __builtin_prefetch(&sites[new_id[k + kAhead]], 1);
+        __builtin_prefetch(&site_edge[new_id[k + kAhead]], 1);
+      }
       if (new_id[k] == kNoIndex) continue;
       sites[new_id[k]] = dt.sites_[k];
       site_edge[new_id[k]] = dt.site_edge_[k];
@@ -290,19 +295,26 @@ TriId SphericalDelaunay::find_conflict(const Vec3& p, std::uint32_t prio, SiteId
 }
 
 SphericalDelaunay::Placement SphericalDelaunay::place(const Vec3& p, std::uint32_t prio,
-                                                      SiteId hint) const {
+                                                      SiteId hint) {
   Placement where;
   // Fast path: consecutive sites in a spatial order are near, so the triangles around the last
-  // site are often in conflict already.
+  // site are often in conflict already. Those found not in conflict stay marked as tested, so
+  // the cavity search does not test them again.
+  tested_.clear();
   const HalfedgeId e0 = site_edge_[hint];
   HalfedgeId e = e0;
   do {
-    if (in_conflict(tri_of(e), p, prio)) {
-      where.conflict = tri_of(e);
+    const TriId t = tri_of(e);
+    if (in_conflict(t, p, prio)) {
+      where.conflict = t;
       return where;
     }
+    triangles_[3 * t + 1] |= kMark;
+    tested_.push_back(t);
     e = next_around_site(e);
   } while (e != e0);
+  for (const TriId t : tested_) triangles_[3 * t + 1] &= ~kMark;
+  tested_.clear();
   // Slow path: walk to the nearest site; a point on or next to it merges before any exhaustive
   // search (a duplicate can be hidden inside the hull).
   const Placement near = nearest_site(p, hint);
@@ -350,8 +362,8 @@ void SphericalDelaunay::make_first_triangles(SiteId a, SiteId b, SiteId c) {
 }
 
 void SphericalDelaunay::find_cavity(const Vec3& p, std::uint32_t prio, TriId seed) {
+  // tested_ holds the triangles place() found not in conflict; they are still marked.
   cavity_.clear();
-  tested_.clear();
   boundary_.clear();
   // Grow the set of triangles in conflict with p (connected: the faces of the hull visible from
   // p), breadth first with cavity_ as the queue, marking faces so each is tested once.

@@ -156,7 +156,8 @@ class SphericalDelaunay {
   bool in_conflict_exact(TriId t, const Vec3& p, std::uint32_t prio) const;
   SiteId walk_to_nearest(const Vec3& p, SiteId start) const;
   TriId find_conflict(const Vec3& p, std::uint32_t prio, SiteId near) const;
-  Placement place(const Vec3& p, std::uint32_t prio, SiteId hint) const;
+  // Leaves the triangles it found not in conflict marked in tested_ for find_cavity().
+  Placement place(const Vec3& p, std::uint32_t prio, SiteId hint);
   // The site p merges into (merged_into set) if any lies within the merge distance.
   Placement nearest_site(const Vec3& p, SiteId hint) const;
   void make_first_triangles(SiteId a, SiteId b, SiteId c);
