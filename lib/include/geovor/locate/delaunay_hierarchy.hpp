@@ -1,0 +1,72 @@
+/// \file delaunay_hierarchy.hpp
+/// \brief The Delaunay hierarchy on the sphere (Devillers 2002; thesis §7.3.3): nested random
+/// samples of the sites, each triangulated, with links between a site's copies on adjacent levels.
+///
+/// Level 0 holds every site; a site of level l is also on level l+1 with probability 1/ratio
+/// (drawn from a hash of its id and the seed, so the levels do not depend on insertion order).
+/// Each level is a SphericalDelaunay whose priorities follow the level-0 ids. Walks at level l+1
+/// are O(ratio) steps from the answer at level l, so descending costs O(log n).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "geovor/core/types.hpp"
+#include "geovor/delaunay/spherical_delaunay.hpp"
+
+namespace geovor {
+
+/// Options of DelaunayHierarchy; every default is documented.
+struct HierarchyOptions {
+  /// A site of level l is also on level l+1 with probability 1 / ratio. DEFAULT: 30 (CGAL's).
+  /// REQUIRES: ratio >= 2.
+  std::uint32_t ratio = 30;
+  /// At most this many levels, the base included. DEFAULT: 5 (CGAL's), enough for 30^4 = 810,000
+  /// sites per top-level site... of which there are then few. REQUIRES: 1 <= max_levels <= 16.
+  std::uint32_t max_levels = 5;
+  /// Seed of the level draw. DEFAULT: 1.
+  std::uint64_t seed = 1;
+};
+
+class DelaunayHierarchy {
+ public:
+  DelaunayHierarchy() = default;
+
+  /// Builds level 0 from `points` (see SphericalDelaunay::build) and the levels above it.
+  /// @exception Error(InvalidArgument) as SphericalDelaunay::build, or for invalid options.
+  static DelaunayHierarchy build(std::span<const Vec3> points, const DelaunayOptions& options = {},
+                                 const HierarchyOptions& hierarchy = {}, BuildReport* report = nullptr);
+
+  /// Inserts a site at level 0 and at the levels its draw gives; see SphericalDelaunay::insert.
+  InsertResult insert(const Vec3& p);
+  /// Removes a live level-0 site from every level it is on.
+  void remove(SiteId s);
+
+  /// \name Inspectors
+  ///@{
+  int num_levels() const { return static_cast<int>(levels_.size()); }
+  const SphericalDelaunay& level(int l) const { return levels_[static_cast<std::size_t>(l)]; }
+  const SphericalDelaunay& base() const { return levels_.front(); }
+  /// The copy of level-l site s on level l+1, or kNoIndex.
+  SiteId up(int l, SiteId s) const { return up_[static_cast<std::size_t>(l)][s]; }
+  /// The copy of level-l site s (l >= 1) on level l-1.
+  SiteId down(int l, SiteId s) const { return down_[static_cast<std::size_t>(l)][s]; }
+  /// The highest level of a level-0 site with this id, from its draw.
+  int drawn_level(SiteId s) const;
+  const HierarchyOptions& options() const { return options_; }
+  std::size_t memory_bytes() const;
+  ///@}
+
+  /// validate() of every level, plus the links: up and down are inverse, every copy is the same
+  /// point, and every level-0 site of drawn level l has copies on levels 1..l.
+  Validation validate() const;
+
+ private:
+  HierarchyOptions options_;
+  std::vector<SphericalDelaunay> levels_;
+  std::vector<std::vector<SiteId>> up_;    // up_[l][s]: level l -> level l+1 (last level: none)
+  std::vector<std::vector<SiteId>> down_;  // down_[l][s]: level l -> level l-1 (down_[0] empty)
+};
+
+}  // namespace geovor

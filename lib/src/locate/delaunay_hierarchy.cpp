@@ -1,0 +1,155 @@
+#include "geovor/locate/delaunay_hierarchy.hpp"
+
+#include <string>
+
+#include "geovor/core/assert.hpp"
+#include "geovor/core/error.hpp"
+
+namespace geovor {
+namespace {
+
+std::uint64_t mix(std::uint64_t z) {  // splitmix64's finaliser
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+}  // namespace
+
+int DelaunayHierarchy::drawn_level(SiteId s) const {
+  std::uint64_t h = mix(options_.seed * 0x9e3779b97f4a7c15ULL + s + 1);
+  int l = 0;
+  while (l + 1 < static_cast<int>(options_.max_levels)) {
+    if (h % options_.ratio != 0) break;
+    h = mix(h);
+    ++l;
+  }
+  return l;
+}
+
+DelaunayHierarchy DelaunayHierarchy::build(std::span<const Vec3> points, const DelaunayOptions& options,
+                                           const HierarchyOptions& hierarchy, BuildReport* report) {
+  if (hierarchy.ratio < 2 || hierarchy.max_levels < 1 || hierarchy.max_levels > 16)
+    throw Error(ErrorCode::InvalidArgument, "hierarchy: ratio must be >= 2 and max_levels in 1..16");
+  DelaunayHierarchy h;
+  h.options_ = hierarchy;
+  h.levels_.push_back(SphericalDelaunay::build(points, options, report));
+  // Level l+1 holds the level-l sites drawn that high, in level-0 id order, so that its
+  // perturbation priorities follow the level-0 ids.
+  std::vector<SiteId> base_of;  // level-l site -> level-0 id
+  base_of.resize(h.base().site_capacity());
+  for (SiteId s = 0; s < base_of.size(); ++s) base_of[s] = s;
+  h.down_.emplace_back();
+  for (int l = 0; l + 1 < static_cast<int>(hierarchy.max_levels); ++l) {
+    std::vector<Vec3> pts;
+    std::vector<SiteId> picked;  // level-l ids going up
+    const std::size_t below_capacity = h.levels_.back().site_capacity();
+    {
+      const SphericalDelaunay& below = h.levels_.back();  // not used past the push_back below
+      for (SiteId s = 0; s < below_capacity; ++s)
+        if (below.is_live(s) && h.drawn_level(base_of[s]) > l) picked.push_back(s), pts.push_back(below.site(s));
+    }
+    if (pts.empty()) break;
+    BuildReport level_report;
+    h.levels_.push_back(SphericalDelaunay::build(pts, options, &level_report));
+    GEOVOR_ASSERT(level_report.merges.empty());  // a subset of separated sites stays separated
+    std::vector<SiteId> up(below_capacity, kNoIndex), down(pts.size());
+    std::vector<SiteId> next_base(pts.size());
+    for (SiteId i = 0; i < pts.size(); ++i) {
+      up[picked[i]] = i;
+      down[i] = picked[i];
+      next_base[i] = base_of[picked[i]];
+    }
+    h.up_.push_back(std::move(up));
+    h.down_.push_back(std::move(down));
+    base_of = std::move(next_base);
+  }
+  h.up_.emplace_back(h.levels_.back().site_capacity(), kNoIndex);
+  return h;
+}
+
+InsertResult DelaunayHierarchy::insert(const Vec3& p) {
+  const InsertResult r = levels_[0].insert(p);
+  if (r.merged) return r;
+  up_[0].push_back(kNoIndex);
+  const int top = drawn_level(r.site);
+  SiteId below = r.site;
+  for (int l = 1; l <= top; ++l) {
+    if (l == num_levels()) {  // a new level: its only site so far
+      levels_.emplace_back(levels_[0].options());
+      up_.emplace_back();
+      down_.emplace_back();
+    }
+    const InsertResult rl = levels_[static_cast<std::size_t>(l)].insert(p);
+    GEOVOR_ASSERT(!rl.merged);
+    auto& up_below = up_[static_cast<std::size_t>(l - 1)];
+    up_below[below] = rl.site;
+    auto& down_here = down_[static_cast<std::size_t>(l)];
+    if (down_here.size() <= rl.site) down_here.resize(rl.site + 1, kNoIndex);
+    down_here[rl.site] = below;
+    auto& up_here = up_[static_cast<std::size_t>(l)];
+    if (up_here.size() <= rl.site) up_here.resize(rl.site + 1, kNoIndex);
+    below = rl.site;
+  }
+  return r;
+}
+
+void DelaunayHierarchy::remove(SiteId s) {
+  levels_[0].remove(s);  // throws if s is not live
+  for (int l = 0; l + 1 < num_levels(); ++l) {
+    const SiteId u = up_[static_cast<std::size_t>(l)][s];
+    if (u == kNoIndex) break;
+    up_[static_cast<std::size_t>(l)][s] = kNoIndex;
+    levels_[static_cast<std::size_t>(l + 1)].remove(u);
+    s = u;
+  }
+}
+
+std::size_t DelaunayHierarchy::memory_bytes() const {
+  std::size_t bytes = 0;
+  for (const auto& level : levels_) bytes += level.memory_bytes();
+  for (const auto& v : up_) bytes += v.capacity() * sizeof(SiteId);
+  for (const auto& v : down_) bytes += v.capacity() * sizeof(SiteId);
+  return bytes;
+}
+
+Validation DelaunayHierarchy::validate() const {
+  Validation v;
+  for (int l = 0; l < num_levels(); ++l) {
+    const Validation vl = level(l).validate();
+    for (const auto& e : vl.errors) v.errors.push_back("level " + std::to_string(l) + ": " + e);
+  }
+  for (int l = 0; l + 1 < num_levels(); ++l) {
+    const SphericalDelaunay& lo = level(l);
+    const SphericalDelaunay& hi = level(l + 1);
+    for (SiteId s = 0; s < lo.site_capacity(); ++s) {
+      const SiteId u = up(l, s);
+      if (u == kNoIndex) continue;
+      if (!lo.is_live(s) || u >= hi.site_capacity() || !hi.is_live(u) || down(l + 1, u) != s ||
+          !(hi.site(u) == lo.site(s)))
+        v.errors.push_back("level " + std::to_string(l) + " site " + std::to_string(s) + ": bad up link");
+    }
+    std::size_t live_hi = 0;
+    for (SiteId u = 0; u < hi.site_capacity(); ++u) {
+      if (!hi.is_live(u)) continue;
+      ++live_hi;
+      const SiteId d = down(l + 1, u);
+      if (d >= lo.site_capacity() || up(l, d) != u)
+        v.errors.push_back("level " + std::to_string(l + 1) + " site " + std::to_string(u) + ": bad down link");
+    }
+    if (live_hi != hi.num_sites()) v.errors.push_back("level " + std::to_string(l + 1) + ": live count");
+  }
+  // Every live level-0 site is on the levels its draw gives (up to the levels that exist).
+  for (SiteId s = 0; s < base().site_capacity(); ++s) {
+    if (!base().is_live(s)) continue;
+    int l = 0;
+    SiteId c = s;
+    while (l + 1 < num_levels() && up(l, c) != kNoIndex) c = up(l, c), ++l;
+    if (l != std::min(drawn_level(s), num_levels() - 1))
+      v.errors.push_back("site " + std::to_string(s) + " is on " + std::to_string(l + 1) + " levels, drawn " +
+                         std::to_string(drawn_level(s) + 1));
+  }
+  return v;
+}
+
+}  // namespace geovor
