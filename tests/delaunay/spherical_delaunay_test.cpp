@@ -260,14 +260,17 @@ TEST(SphericalDelaunay, DynamicInsertAndRemoveEqualAFreshBuild) {
       if (removed[s]) continue;
       dt.remove(s);
       removed[s] = 1;
-      if (k % 97 == 0) ASSERT_TRUE(dt.validate().ok());
+      if (k % 97 == 0) {
+        ASSERT_TRUE(dt.validate().ok());
+      }
     }
     ASSERT_TRUE(dt.validate(nullptr, set.size() < 1000).ok());
     // A fresh build of the survivors, in id order, has the same priorities: identical triangles.
     std::vector<Vec3> rest;
     std::vector<std::uint32_t> label;
-    for (SiteId s = 0; s < set.size(); ++s)
+    for (SiteId s = 0; s < set.size(); ++s) {
       if (!removed[s]) rest.push_back(set[s]), label.push_back(s);
+    }
     EXPECT_EQ(our_triangles(dt), our_triangles(build_checked(rest), label));
     // Stations come back online: new ids, the triangulation stays valid.
     for (SiteId s = 0; s < set.size(); s += 3) {
@@ -382,6 +385,46 @@ TEST(SphericalDelaunay, LongitudesAtTheAntimeridianAndPoles) {
   }
   EXPECT_EQ(exact, 3 * 2 + 2);  // -180 and 540 equal 180 bit for bit; the pole thrice
   EXPECT_EQ(near, 3);           // 179.9999999 at each latitude
+}
+
+}  // namespace
+}  // namespace geovor
+
+namespace geovor {
+namespace {
+
+TEST(SphericalDelaunay, ArraysRoundTripAndCorruptionIsAnError) {
+  const auto pts = testing::uniform_on_sphere(2000, 51);
+  SphericalDelaunay dt = SphericalDelaunay::build(pts);
+  for (SiteId s = 0; s < 100; s += 3) dt.remove(s);
+  const SphericalDelaunay back = SphericalDelaunay::from_arrays(dt.arrays());
+  EXPECT_EQ(our_triangles(back), our_triangles(dt));
+  EXPECT_EQ(back.num_sites(), dt.num_sites());
+  EXPECT_TRUE(back.validate().ok());
+  // Corrupt one entry at a time: from_arrays throws Error, or (harmless change) gives a structure
+  // whose validate() is decided without crashing. Never a crash.
+  std::mt19937_64 rng(3);
+  int thrown = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    SphericalDelaunay::Arrays a = dt.arrays();
+    switch (trial % 4) {
+      case 0: a.triangles[rng() % a.triangles.size()] = static_cast<SiteId>(rng() % (a.sites.size() + 5)); break;
+      case 1: a.halfedges[rng() % a.halfedges.size()] = static_cast<HalfedgeId>(rng() % (a.halfedges.size() + 5)); break;
+      case 2: a.site_edge[rng() % a.site_edge.size()] = static_cast<HalfedgeId>(rng()); break;
+      default: a.sites[rng() % a.sites.size()].x += 1e-3; break;
+    }
+    try {
+      const SphericalDelaunay t = SphericalDelaunay::from_arrays(std::move(a));
+      (void)t.validate();
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::BadData);
+      ++thrown;
+    }
+  }
+  EXPECT_GT(thrown, 250);
+  SphericalDelaunay::Arrays truncated = dt.arrays();
+  truncated.halfedges.pop_back();
+  EXPECT_THROW(SphericalDelaunay::from_arrays(std::move(truncated)), Error);
 }
 
 }  // namespace

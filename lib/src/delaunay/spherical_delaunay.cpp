@@ -562,7 +562,43 @@ std::size_t SphericalDelaunay::memory_bytes() const {
          bytes_of(boundary_);
 }
 
-Validation SphericalDelaunay::validate(const BuildReport* report, bool global) const {
+SphericalDelaunay::Arrays SphericalDelaunay::arrays() const {
+  return {sites_, triangles_, halfedges_, site_edge_};
+}
+
+SphericalDelaunay SphericalDelaunay::from_arrays(Arrays arrays, const DelaunayOptions& options) {
+  SphericalDelaunay dt(options);
+  auto fail = [](const std::string& why) { throw Error(ErrorCode::BadData, "triangulation: " + why); };
+  if (arrays.site_edge.size() != arrays.sites.size()) fail("site arrays differ in size");
+  if (arrays.triangles.size() != arrays.halfedges.size() || arrays.triangles.size() % 3 != 0)
+    fail("triangle arrays differ in size");
+  if (arrays.sites.size() >= kMaxSites) fail("too many sites");
+  for (std::size_t i = 0; i < arrays.sites.size(); ++i) {
+    const double r2 = norm2(arrays.sites[i]);
+    if (!std::isfinite(r2) || std::fabs(r2 - 1.0) > 0x1p-49) fail("site " + std::to_string(i) + " is not a unit vector");
+  }
+  for (const SiteId s : arrays.triangles)
+    if (s >= arrays.sites.size()) fail("a triangle names an unknown site");
+  for (const HalfedgeId e : arrays.halfedges)
+    if (e >= arrays.halfedges.size()) fail("a half-edge's twin is out of range");
+  std::size_t live = 0;
+  for (const HalfedgeId e : arrays.site_edge) {
+    if (e == kRemoved) continue;
+    ++live;
+    if (e != kNoIndex && e >= arrays.halfedges.size()) fail("a site's half-edge is out of range");
+  }
+  dt.sites_ = std::move(arrays.sites);
+  dt.triangles_ = std::move(arrays.triangles);
+  dt.halfedges_ = std::move(arrays.halfedges);
+  dt.site_edge_ = std::move(arrays.site_edge);
+  dt.num_live_ = live;
+  const Validation v = dt.validate_structure();
+  if (!v.ok()) fail(v.errors.front());
+  dt.last_site_ = dt.any_live_site();
+  return dt;
+}
+
+Validation SphericalDelaunay::validate_structure() const {
   Validation v;
   auto fail = [&v](std::string msg) {
     if (v.errors.size() < 50) v.errors.push_back(std::move(msg));
@@ -621,7 +657,17 @@ Validation SphericalDelaunay::validate(const BuildReport* report, bool global) c
     visited += degree;
   }
   if (live >= 3 && visited != nh) fail("vertex stars do not cover every half-edge once");
+  return v;
+}
+
+Validation SphericalDelaunay::validate(const BuildReport* report, bool global) const {
+  Validation v = validate_structure();
   if (!v.ok()) return v;
+  auto fail = [&v](std::string msg) {
+    if (v.errors.size() < 50) v.errors.push_back(std::move(msg));
+  };
+  const std::size_t nh = halfedges_.size(), nt = num_triangles();
+  const std::size_t live = num_live_;
 
   // Local Delaunay under the perturbation: across every edge, the opposite site is outside the
   // circumcircle. (The test is the same from both sides: an even permutation.)

@@ -102,6 +102,20 @@ class SphericalDelaunay {
   static SphericalDelaunay build(std::span<const Vec3> points, const DelaunayOptions& options = {},
                                  BuildReport* report = nullptr);
 
+  /// The raw arrays of a triangulation, as saved in an index file.
+  struct Arrays {
+    std::vector<Vec3> sites;
+    std::vector<SiteId> triangles;
+    std::vector<HalfedgeId> halfedges;
+    std::vector<HalfedgeId> site_edge;  ///< kNoIndex - 1 marks a removed site
+  };
+  /// A copy of the arrays (site_edge with removed sites marked).
+  Arrays arrays() const;
+  /// Rebuilds a triangulation from arrays() output. Checks every index and the structure
+  /// (everything validate() checks but the geometric predicates, in O(n)), so a corrupted input
+  /// is an error and never a crash. @exception Error(BadData) naming the first broken invariant.
+  static SphericalDelaunay from_arrays(Arrays arrays, const DelaunayOptions& options = {});
+
   /// Inserts one site (stations going online). A point closer than merge_distance to a site is
   /// merged into it instead. New sites get the next id, so existing ids never change.
   InsertResult insert(const Vec3& p);
@@ -140,6 +154,8 @@ class SphericalDelaunay {
   /// site or merged into one, and every merge is listed. With `global`, also checks each triangle
   /// against every site (O(n^2): small inputs only).
   Validation validate(const BuildReport* report = nullptr, bool global = false) const;
+  /// The combinatorial part of validate() only (no predicate): O(n), for loading files.
+  Validation validate_structure() const;
 
  private:
   static constexpr HalfedgeId kRemoved = kNoIndex - 1;  // site_edge_ of a removed site
