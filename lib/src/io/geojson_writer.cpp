@@ -25,24 +25,9 @@ namespace fs = std::filesystem;
 // ---------------------------------------------------------------------------------------------
 // Numbers
 
-constexpr std::uint64_t kPow10[18] = {1ull,
-                                      10ull,
-                                      100ull,
-                                      1000ull,
-                                      10000ull,
-                                      100000ull,
-                                      1000000ull,
-                                      10000000ull,
-                                      100000000ull,
-                                      1000000000ull,
-                                      10000000000ull,
-                                      100000000000ull,
-                                      1000000000000ull,
-                                      10000000000000ull,
-                                      100000000000000ull,
-                                      1000000000000000ull,
-                                      10000000000000000ull,
-                                      100000000000000000ull};
+constexpr double kPow10d[10] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+
+char* write_scaled(char* out, bool negative, std::uint64_t digits_value, int precision);
 
 constexpr std::uint64_t pow5(int p) {
   std::uint64_t r = 1;
@@ -52,18 +37,6 @@ constexpr std::uint64_t pow5(int p) {
 constexpr std::uint64_t kPow5[18] = {pow5(0),  pow5(1),  pow5(2),  pow5(3),  pow5(4),  pow5(5),
                                      pow5(6),  pow5(7),  pow5(8),  pow5(9),  pow5(10), pow5(11),
                                      pow5(12), pow5(13), pow5(14), pow5(15), pow5(16), pow5(17)};
-
-// Writes the decimal digits of v (no sign); returns one past the end.
-char* write_uint(char* out, std::uint64_t v) {
-  char tmp[20];
-  int n = 0;
-  do {
-    tmp[n++] = static_cast<char>('0' + v % 10);
-    v /= 10;
-  } while (v != 0);
-  while (n > 0) *out++ = tmp[--n];
-  return out;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Longitude arcs, for bounding boxes
@@ -119,6 +92,12 @@ std::string position_problem(const LonLat& p) {
 }
 
 std::string positions_problem(const std::vector<LonLat>& ps) {
+  // One branch-free pass first (NaN fails every comparison); the message only on failure.
+  bool ok = true;
+  for (const LonLat& p : ps) {
+    ok &= (p.lon_deg >= -180.0) & (p.lon_deg <= 180.0) & (p.lat_deg >= -90.0) & (p.lat_deg <= 90.0);
+  }
+  if (ok) return "";
   for (const LonLat& p : ps) {
     if (auto why = position_problem(p); !why.empty()) return why;
   }
@@ -129,12 +108,12 @@ std::string ring_problem(const Ring& ring) {
   if (ring.size() < 4) {
     return "a ring has " + std::to_string(ring.size()) + " positions, fewer than 4";
   }
-  // Bit-exact closure (RFC 7946 §3.1.6: "MUST contain identical values").
-  if (std::memcmp(&ring.front(), &ring.back(), sizeof(LonLat)) != 0 &&
-      !(ring.front() == ring.back())) {
+  if (auto why = positions_problem(ring); !why.empty()) return why;
+  // RFC 7946 §3.1.6: the first and last positions "MUST contain identical values".
+  if (!(ring.front() == ring.back())) {
     return "a ring is not closed (its last position differs from its first)";
   }
-  return positions_problem(ring);
+  return "";
 }
 
 const char* geometry_type_name(GeometryType t) {
@@ -307,9 +286,11 @@ class GeoJsonWriter final : public FeatureWriter {
     const fs::path target(path_);
     const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
     for (int attempt = 0; attempt < 100; ++attempt) {
-      const fs::path temp =
-          dir / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                 std::to_string(g_temp_counter.fetch_add(1)));
+      std::string name(".");  // (not "." + string: GCC 12 warns wrongly, -Wrestrict)
+      name += target.filename().string();
+      name += ".tmp-" + std::to_string(::getpid()) + "-" +
+              std::to_string(g_temp_counter.fetch_add(1));
+      const fs::path temp = dir / name;
       errno = 0;
       // "x": O_EXCL, never reuse an existing file.
       file_ = std::fopen(temp.c_str(), "wbx");
@@ -317,9 +298,10 @@ class GeoJsonWriter final : public FeatureWriter {
         temp_path_ = temp.string();
         return;
       }
-      if (errno != EEXIST) {
+      const int err = errno;
+      if (err != EEXIST) {
         throw Error(ErrorCode::Io, path_ + ": cannot create the temporary file " + temp.string() +
-                                       ": " + errno_text(errno));
+                                       ": " + errno_text(err));
       }
     }
     throw Error(ErrorCode::Io, path_ + ": cannot find a free temporary file name");
@@ -488,46 +470,86 @@ char* format_coordinate(char* out, double value, int precision) {
     // |value| >= 2^52 (an integer), not finite, or a bad precision: shortest round trip.
     return std::to_chars(out, out + kMaxCoordinateChars, value).ptr;
   }
-  // value * 10^p = m * 5^p * 2^(e + p); m * 5^p < 2^53 * 5^17 < 2^93.
+  // Fast path: t = fl(value * 10^p) is within half an ulp of the exact product X; with
+  // |t| < 2^31 that is at most 2^-22. Unless t lies within 1e-6 of a half-integer, X rounds to
+  // the same integer as t, so rounding t (to nearest, with the 1.5 * 2^52 trick) is exact.
+  if (precision <= 9) {
+    const double t = std::abs(value) * kPow10d[precision];
+    if (t < 2147483648.0) {
+      volatile double big = 6755399441055744.0;  // 1.5 * 2^52; volatile: never folded away
+      const double r = (t + big) - big;
+      const double dist = std::abs(t - r);
+      if (std::abs(dist - 0.5) > 1e-6) {
+        return write_scaled(out, negative, static_cast<std::uint64_t>(r), precision);
+      }
+    }
+  }
+  // value * 10^p = m * 5^p * 2^(e + p), and m * 5^p < 2^53 * 5^17 < 2^93.
+  const unsigned __int128 one = 1;
   const unsigned __int128 n = static_cast<unsigned __int128>(m) * kPow5[precision];
-  std::uint64_t q;
   const int shift = -(e + precision);
+  unsigned __int128 q;
   if (shift <= 0) {
-    // Exact integer: m * 5^p * 2^-shift, with -shift = e + p < p <= 17, and |value| < 2^52.
-    q = static_cast<std::uint64_t>(n << (-shift));
+    q = n << (-shift);  // -shift = e + p < p <= 17, so q < 2^110: exact
   } else if (shift >= 127) {
     q = 0;  // n < 2^93 < half of 2^shift: rounds to 0
   } else {
-    const unsigned __int128 one = 1;
     const unsigned __int128 rem = n & ((one << shift) - 1);
     const unsigned __int128 half = one << (shift - 1);
-    q = static_cast<std::uint64_t>(n >> shift);
+    q = n >> shift;
     if (rem > half || (rem == half && (q & 1) != 0)) ++q;  // ties to even, as printf
   }
-  if (q == 0) {
+  if (q >= (one << 63)) {
+    // |value| * 10^p beyond 2^63 (|value| < 2^52 here, so at most 36 characters).
+    char tmp[64];
+    char* end = std::to_chars(tmp, tmp + sizeof tmp, value, std::chars_format::fixed, precision).ptr;
+    if (std::find(tmp, end, '.') != end) {
+      while (end[-1] == '0') --end;
+      if (end[-1] == '.') --end;
+    }
+    char* begin = tmp;
+    if (end - begin == 2 && tmp[0] == '-' && tmp[1] == '0') ++begin;
+    return std::copy(begin, end, out);
+  }
+  return write_scaled(out, negative, static_cast<std::uint64_t>(q), precision);
+}
+
+namespace {
+
+// Writes +-q / 10^precision with trailing zeros trimmed; "0" (never "-0") for q == 0.
+char* write_scaled(char* out, bool negative, std::uint64_t digits_value, int precision) {
+  if (digits_value == 0) {
     *out++ = '0';
     return out;
   }
   if (negative) *out++ = '-';
-  const std::uint64_t scale = kPow10[precision];
-  out = write_uint(out, q / scale);
-  std::uint64_t frac = q % scale;
-  if (frac != 0) {
-    int digits = precision;
-    while (frac % 10 == 0) {
-      frac /= 10;
-      --digits;
+  // The digits of q; the last `precision` of them are the decimals. Trailing zeros go.
+  char digits[24] = {};
+  const char* end = std::to_chars(digits, digits + sizeof digits, digits_value).ptr;
+  int len = static_cast<int>(end - digits);
+  int decimals = precision;
+  while (decimals > 0 && digits[len - 1] == '0') --len, --decimals;
+  if (len > decimals) {
+    const int whole = len - decimals;
+    std::memcpy(out, digits, static_cast<std::size_t>(whole));
+    out += whole;
+    if (decimals > 0) {
+      *out++ = '.';
+      std::memcpy(out, digits + whole, static_cast<std::size_t>(decimals));
+      out += decimals;
     }
+  } else {  // |value| < 1: "0." then zeros then the digits
+    *out++ = '0';
     *out++ = '.';
-    char* end = out + digits;
-    for (char* p = end; p != out;) {
-      *--p = static_cast<char>('0' + frac % 10);
-      frac /= 10;
-    }
-    out = end;
+    std::memset(out, '0', static_cast<std::size_t>(decimals - len));
+    out += decimals - len;
+    std::memcpy(out, digits, static_cast<std::size_t>(len));
+    out += len;
   }
   return out;
 }
+
+}  // namespace
 
 char* format_real(char* out, double value) {
   char* end = std::to_chars(out, out + kMaxRealChars, value).ptr;
@@ -644,7 +666,10 @@ std::optional<BBox> geojson_bbox(const Geometry& geometry) {
   if (const auto* p = std::get_if<LonLat>(&geometry)) {
     return BBox{p->lon_deg, p->lat_deg, p->lon_deg, p->lat_deg};
   }
-  // One longitude interval per part; latitudes over everything.
+  // One longitude interval per part; latitudes over everything. The first part is kept aside
+  // so that the common single-part geometry allocates nothing.
+  Arc first{0, 0};
+  std::size_t parts = 0;
   std::vector<Arc> arcs;
   double south = std::numeric_limits<double>::infinity();
   double north = -south;
@@ -657,7 +682,12 @@ std::optional<BBox> geojson_bbox(const Geometry& geometry) {
       south = std::min(south, q.lat_deg);
       north = std::max(north, q.lat_deg);
     }
-    arcs.push_back(arc);
+    if (++parts == 1) {
+      first = arc;
+    } else {
+      if (parts == 2) arcs.push_back(first);
+      arcs.push_back(arc);
+    }
   };
   if (const auto* lines = std::get_if<MultiLineString>(&geometry)) {
     for (const LineString& line : *lines) add_part(line);
@@ -665,7 +695,8 @@ std::optional<BBox> geojson_bbox(const Geometry& geometry) {
     // Holes lie inside their exterior ring: the exterior alone gives the box.
     for (const Polygon& poly : std::get<MultiPolygon>(geometry)) add_part(poly.exterior);
   }
-  if (arcs.empty()) return std::nullopt;
+  if (parts == 0) return std::nullopt;
+  if (parts == 1) return BBox{first.west, south, first.east, north};
   merge_arcs(arcs);
   BBox box{0, south, 0, north};
   smallest_arc(arcs, box.west, box.east);

@@ -1,6 +1,25 @@
 /// \file feature_writer.hpp
 /// \brief Writing features (geometry + attributes) to GIS files: a native streaming GeoJSON /
 /// GeoJSONSeq writer, and every other OGR vector driver through GDAL.
+///
+/// What each format does with the features (details in geojson_writer.hpp and
+/// lib/src/io/gdal_writer.hpp):
+/// - GeoJSON / GeoJSONSeq (native): RFC 7946, coordinates with WriterOptions::precision
+///   decimals, a per-feature and per-collection "bbox", no "crs"; GeoJSONSeq is RFC 8142
+///   (RS-separated) for ".geojsons" and newline-delimited otherwise.
+/// - GDAL drivers: EPSG:4326 with the traditional GIS axis order (longitude first), layer type
+///   wkbPoint / wkbMultiLineString / wkbMultiPolygon, Integer fields as Integer64, one
+///   transaction when the driver has them (GPKG). Coordinates are stored as doubles (the CSV
+///   driver writes WKT with GDAL's own 15 significant digits; precision does not apply).
+///   - ESRI Shapefile: field names cut to 10 bytes and made unique ("population_2020" ->
+///     "population", "population_2021" -> "populati_1"), UTF-8 with a .cpg, widths shrunk to
+///     the data (RESIZE=YES), Integer64 fields up to 20 characters wide (GDAL reads fields
+///     wider than 18 back as Real), Real fields 33 wide with 15 decimals (values from 1e17 on
+///     cannot be written: GDAL warns); the layer is named after the file, not
+///     WriterOptions::layer; the driver rewinds exterior rings clockwise.
+///   - FlatGeobuf: written with its spatial index, so readers get the features in the index's
+///     (Hilbert) order, not in the order written.
+///   - CSV: GEOMETRY=AS_WKT, the WKT in the first column.
 #pragma once
 
 #include <cstdint>
@@ -29,24 +48,39 @@ enum class GeometryType { Point, MultiLineString, MultiPolygon };
 /// Options of a writer; every default is documented.
 struct WriterOptions {
   /// OGR driver name ("GeoJSON", "GeoJSONSeq", "GPKG", "FlatGeobuf", "ESRI Shapefile", "CSV",
-  /// ...). DEFAULT: empty, chosen from the file extension.
+  /// ...; case-insensitive). GeoJSON and GeoJSONSeq are always written natively, GDAL's own
+  /// drivers of those names are never used. DEFAULT: empty, chosen from the file extension
+  /// (format_from_extension(), else the one GDAL driver that lists the extension, e.g. .sqlite);
+  /// GeoJSON for "-".
   std::string format;
-  /// Name of the layer. DEFAULT: "cells".
+  /// Name of the layer (GeoJSON: the collection's "name" member). DEFAULT: "cells".
   std::string layer = "cells";
-  /// Decimal digits of coordinates in text formats. DEFAULT: 7 (about 1.1 cm), RFC 7946 §11.2.
+  /// Decimal digits of coordinates in GeoJSON/GeoJSONSeq, 0..17. DEFAULT: 7 (about 1.1 cm),
+  /// RFC 7946 §11.2.
   int precision = 7;
-  /// Replace an existing output. DEFAULT: false (an existing file is an error).
+  /// Replace an existing output (for Shapefile: any of its .shp/.shx/.dbf/.prj/.cpg/... files).
+  /// The old output stays in place until finish() renames the new one over it. A directory is
+  /// never replaced. DEFAULT: false (an existing file is an error).
   bool overwrite = false;
-  /// The field whose value becomes the feature id (GeoJSON "id"). DEFAULT: none.
+  /// The field whose value becomes the feature id (GeoJSON "id"; the field also stays in
+  /// "properties"; other formats ignore it). DEFAULT: none.
   std::string id_field;
 };
 
 /// Streams features to a file. The output appears under its final name only when finish()
-/// succeeds (written to a temporary file, then renamed); a failure leaves no partial file.
+/// succeeds (written to a temporary file or directory ".NAME.tmp-PID-N" next to it, then
+/// renamed); a failure, or destruction without finish(), removes the temporary files, so no
+/// partial output is ever left (a process killed by a signal can leave the hidden temporary).
+/// After an Error(Io) the writer is dead: every later call throws. A feature refused with
+/// Error(InvalidArgument) (checked before anything is written) leaves the writer usable.
 class FeatureWriter {
  public:
   virtual ~FeatureWriter() = default;
-  /// Writes one feature; `values` follows the schema given to open_feature_writer().
+  /// Writes one feature; `values` follows the schema given to open_feature_writer() (any
+  /// alternative is accepted for any field type; monostate is null).
+  /// @exception Error(InvalidArgument) when the geometry is not of the layer's type, the number
+  ///   of values differs from the schema, or geometry_problem() (geojson_writer.hpp) finds a
+  ///   non-finite or out-of-range coordinate, an unclosed ring or a too short ring/line.
   /// @exception Error(Io) when the output cannot be written.
   virtual void write(const Geometry& geometry, std::span<const FieldValue> values) = 0;
   /// Completes the file and moves it into place. @exception Error(Io).
@@ -56,15 +90,18 @@ class FeatureWriter {
 /// Opens `path` ("-" = stdout, GeoJSON/GeoJSONSeq only) for features of `geometry_type` with the
 /// given schema. GeoJSON and GeoJSONSeq are written natively (RFC 7946 / RFC 8142, std::to_chars);
 /// other formats through GDAL/OGR in EPSG:4326 with the traditional GIS axis order.
-/// @exception Error(InvalidArgument) for an unknown format; Error(Io) if the path exists and
-///   overwrite is false, or cannot be created.
+/// @exception Error(InvalidArgument) for an unknown format, a format other than GeoJSON or
+///   GeoJSONSeq with "-", an empty or duplicate (case-insensitively) field name, an id_field not
+///   in the schema, a precision outside 0..17; Error(Io) if the path exists and overwrite is
+///   false, or cannot be created.
 std::unique_ptr<FeatureWriter> open_feature_writer(const std::string& path, GeometryType geometry_type,
                                                    const std::vector<Field>& schema,
                                                    const WriterOptions& options = {});
 
-/// The OGR driver name for a path's extension (".geojson" -> "GeoJSON", ".geojsons"/".geojsonl"
-/// -> "GeoJSONSeq", ".gpkg" -> "GPKG", ".fgb" -> "FlatGeobuf", ".shp" -> "ESRI Shapefile",
-/// ".csv" -> "CSV"), or "" if unknown.
+/// The OGR driver name for a path's extension, case-insensitively (".geojson"/".json" ->
+/// "GeoJSON", ".geojsons"/".geojsonl"/".geojsonseq" -> "GeoJSONSeq", ".gpkg" -> "GPKG", ".fgb" ->
+/// "FlatGeobuf", ".shp" -> "ESRI Shapefile", ".csv" -> "CSV"), or "" if unknown. (".json" is
+/// added because GDAL reads it as GeoJSON too.)
 std::string format_from_extension(const std::string& path);
 
 }  // namespace geovor

@@ -95,7 +95,7 @@ inline constexpr int kMaxRealChars = 32;
 /// digits as std::to_chars(fixed, precision)), then trims trailing zeros and a trailing '.';
 /// "-0" becomes "0". It computes round(value * 10^precision) exactly in 128-bit integers, which
 /// is several times faster than std::to_chars and matters for large outputs. Values of magnitude
-/// >= 2^53 (never a coordinate) are written in shortest round-trip form instead.
+/// >= 2^52 (never a coordinate) are written in shortest round-trip form instead.
 /// `value` must be finite and 0 <= precision <= 17.
 /// @return one past the last character written (at most kMaxCoordinateChars).
 char* format_coordinate(char* out, double value, int precision);

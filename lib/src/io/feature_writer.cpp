@@ -1,0 +1,79 @@
+// open_feature_writer: the schema check and the choice of writer. GeoJSON and GeoJSONSeq are
+// written natively (geojson_writer.cpp); every other format through GDAL (gdal_writer.cpp).
+#include "geovor/io/feature_writer.hpp"
+
+#include <filesystem>
+#include <set>
+
+#include "geovor/core/error.hpp"
+#include "geovor/io/geojson_writer.hpp"
+#include "io/gdal_writer.hpp"
+
+namespace geovor {
+namespace {
+
+std::string lower(std::string s) {
+  for (char& c : s) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  return s;
+}
+
+std::string extension(const std::string& path) {
+  return lower(std::filesystem::path(path).extension().string());
+}
+
+// Field names must be non-empty and unique; case-insensitively, because GPKG (SQLite), DBF and
+// most other formats compare column names that way.
+void check_schema(const std::vector<Field>& schema) {
+  std::set<std::string> seen;
+  for (const Field& f : schema) {
+    if (f.name.empty()) throw Error(ErrorCode::InvalidArgument, "a field has an empty name");
+    if (!seen.insert(lower(f.name)).second) {
+      throw Error(ErrorCode::InvalidArgument, "field name '" + f.name + "' is used twice");
+    }
+  }
+}
+
+}  // namespace
+
+std::string format_from_extension(const std::string& path) {
+  const std::string ext = extension(path);
+  if (ext == ".geojson" || ext == ".json") return "GeoJSON";
+  if (ext == ".geojsons" || ext == ".geojsonl" || ext == ".geojsonseq") return "GeoJSONSeq";
+  if (ext == ".gpkg") return "GPKG";
+  if (ext == ".fgb") return "FlatGeobuf";
+  if (ext == ".shp") return "ESRI Shapefile";
+  if (ext == ".csv") return "CSV";
+  return "";
+}
+
+std::unique_ptr<FeatureWriter> open_feature_writer(const std::string& path, GeometryType geometry_type,
+                                                   const std::vector<Field>& schema,
+                                                   const WriterOptions& options) {
+  if (path.empty()) throw Error(ErrorCode::InvalidArgument, "empty output path");
+  check_schema(schema);
+  std::string format = options.format;
+  if (format.empty()) {
+    format = path == "-" ? "GeoJSON" : format_from_extension(path);
+    if (format.empty()) format = gdal_detail::driver_for_extension(path);
+    if (format.empty()) {
+      throw Error(ErrorCode::InvalidArgument,
+                  path + ": cannot tell the output format from the extension; use --format");
+    }
+  }
+  const std::string f = lower(format);
+  if (f == "geojson") {
+    return open_geojson_writer(path, GeoJsonFraming::FeatureCollection, geometry_type, schema,
+                               options);
+  }
+  if (f == "geojsonseq") {
+    // RFC 8142 record separators for ".geojsons" (GDAL's rule); newline-delimited otherwise.
+    const GeoJsonFraming framing = extension(path) == ".geojsons" ? GeoJsonFraming::RecordSeparated
+                                                                  : GeoJsonFraming::NewlineDelimited;
+    return open_geojson_writer(path, framing, geometry_type, schema, options);
+  }
+  return gdal_detail::open_gdal_writer(path, format, geometry_type, schema, options);
+}
+
+}  // namespace geovor

@@ -1,0 +1,310 @@
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <gdal_priv.h>
+#include <ogr_feature.h>
+#include <ogr_geometry.h>
+#include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
+
+#include <array>
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string_view>
+#include <system_error>
+
+#include "geovor/core/error.hpp"
+#include "geovor/geo/lat_lon.hpp"
+#include "geovor/geo/site_encoder.hpp"
+#include "geovor/io/ogr_site_reader.hpp"
+#include "io/gdal_writer.hpp"
+
+namespace geovor {
+namespace {
+
+namespace fs = std::filesystem;
+using gdal_detail::ErrorCapture;
+
+constexpr std::array<std::string_view, 4> kIdNames = {"id", "icao", "code", "name"};
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  return out;
+}
+
+std::string_view trim(std::string_view s) {
+  constexpr std::string_view kSpace = " \t\r\n\v\f";
+  const auto first = s.find_first_not_of(kSpace);
+  if (first == std::string_view::npos) return {};
+  return s.substr(first, s.find_last_not_of(kSpace) - first + 1);
+}
+
+// As the CSV reader: names compared trimmed and case-insensitively.
+int find_column(const std::vector<std::string>& columns, std::string_view name) {
+  const std::string wanted = lower(trim(name));
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    if (lower(trim(columns[i])) == wanted) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+std::string list_names(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+// A field's value as text; "" when null or unset.
+std::string field_text(const OGRFeature& f, int i) {
+  if (!f.IsFieldSetAndNotNull(i)) return "";
+  const OGRFieldDefn* defn = f.GetFieldDefnRef(i);
+  switch (defn->GetType()) {
+    case OFTInteger:
+    case OFTInteger64:
+      return std::to_string(f.GetFieldAsInteger64(i));
+    case OFTReal: {
+      char buf[32];
+      const double v = f.GetFieldAsDouble(i);
+      return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+    }
+    default:
+      return f.GetFieldAsString(i);
+  }
+}
+
+// RFC 4180 field for the CSV reader.
+void append_csv(std::string& out, const std::string& value) {
+  if (value.find_first_of(",\"\r\n") == std::string::npos && trim(value) == value) {
+    out += value;
+    return;
+  }
+  out += '"';
+  for (char c : value) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  out += '"';
+}
+
+std::string feature_name(std::uint64_t row, GIntBig fid) {
+  std::string s = "feature " + std::to_string(row);
+  if (fid != OGRNullFID) s += " (FID " + std::to_string(fid) + ")";
+  return s;
+}
+
+// Positions from attribute columns: the attributes become CSV text for read_sites_csv, so that
+// detection and reasons are exactly the CSV reader's.
+SiteTable read_attribute_positions(OGRLayer& layer, const std::string& source,
+                                   const std::vector<std::string>& columns,
+                                   const SiteReaderOptions& options, ErrorCapture& capture) {
+  std::string csv;
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    if (i > 0) csv += ',';
+    append_csv(csv, columns[i]);
+  }
+  csv += '\n';
+  std::vector<GIntBig> fids;
+  layer.ResetReading();
+  for (const auto& feature : layer) {
+    fids.push_back(feature->GetFID());
+    for (int i = 0; i < static_cast<int>(columns.size()); ++i) {
+      if (i > 0) csv += ',';
+      append_csv(csv, field_text(*feature, i));
+    }
+    csv += '\n';
+  }
+  if (capture.failed()) {
+    throw Error(ErrorCode::Io, source + ": cannot read feature " +
+                                   std::to_string(fids.size() + 1) + capture.detail());
+  }
+  std::istringstream in(csv);
+  SiteTable table = read_sites_csv(in, source, options);
+  for (InputSite& s : table.sites) s.line = 0;
+  for (RejectedRow& r : table.rejected) {
+    r.reason = feature_name(r.row, r.row - 1 < fids.size() ? fids[r.row - 1] : OGRNullFID) +
+               ": " + r.reason;
+    r.line = 0;
+  }
+  return table;
+}
+
+}  // namespace
+
+bool is_csv_site_path(const std::string& path) {
+  if (path == "-") return true;
+  const std::string ext = lower(fs::path(path).extension().string());
+  return ext == ".csv" || ext == ".txt";
+}
+
+SiteTable read_sites(const std::string& path, const SiteReaderOptions& options) {
+  return is_csv_site_path(path) ? read_sites_csv_file(path, options)
+                                : read_sites_ogr(path, options);
+}
+
+SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& options,
+                         const std::string& layer_name) {
+  if (!options.ecef_fields.empty() && options.ecef_fields.size() != 3) {
+    throw Error(ErrorCode::InvalidArgument, "ECEF input needs exactly 3 columns (X, Y, Z), got " +
+                                                std::to_string(options.ecef_fields.size()));
+  }
+  gdal_detail::register_gdal();
+  // A plain file name that does not exist: say so as the CSV reader does. GDAL's virtual file
+  // systems (/vsizip/...) and connection strings ("PG:...") are left to GDAL.
+  std::error_code ec;
+  const bool special = path.rfind("/vsi", 0) == 0 || path.find(':') != std::string::npos;
+  if (!special && !fs::exists(path, ec)) {
+    throw Error(ErrorCode::Io, path + ": cannot open: " + std::strerror(ENOENT));
+  }
+  ErrorCapture capture;
+  GDALDatasetUniquePtr dataset(
+      GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR));
+  if (!dataset) {
+    throw Error(special ? ErrorCode::Io : ErrorCode::BadData,
+                path + ": not a vector data source GDAL can read" + capture.detail());
+  }
+  OGRLayer* layer = nullptr;
+  std::vector<std::string> layer_names;
+  for (int i = 0; i < dataset->GetLayerCount(); ++i) {
+    layer_names.emplace_back(dataset->GetLayer(i)->GetName());
+  }
+  if (!layer_name.empty()) {
+    layer = dataset->GetLayerByName(layer_name.c_str());
+    if (layer == nullptr) {
+      throw Error(ErrorCode::InvalidArgument, path + ": no layer '" + layer_name +
+                                                  "'; layers: " + list_names(layer_names));
+    }
+  } else if (layer_names.empty()) {
+    throw Error(ErrorCode::BadData, path + ": no layer");
+  } else if (layer_names.size() > 1) {
+    throw Error(ErrorCode::InvalidArgument,
+                path + ": " + std::to_string(layer_names.size()) +
+                    " layers; choose one of: " + list_names(layer_names));
+  } else {
+    layer = dataset->GetLayer(0);
+  }
+
+  SiteTable table;
+  table.source = path;
+  OGRFeatureDefn* defn = layer->GetLayerDefn();
+  for (int i = 0; i < defn->GetFieldCount(); ++i) {
+    table.columns.emplace_back(defn->GetFieldDefn(i)->GetNameRef());
+  }
+  const bool attribute_positions = !options.lat_field.empty() || !options.lon_field.empty() ||
+                                   !options.ecef_fields.empty() || defn->GetGeomFieldCount() == 0;
+  if (attribute_positions) {
+    return read_attribute_positions(*layer, path, table.columns, options, capture);
+  }
+
+  if (!options.id_field.empty()) {
+    table.id_column = find_column(table.columns, options.id_field);
+    if (table.id_column < 0) {
+      throw Error(ErrorCode::InvalidArgument, path + ": id field '" + options.id_field +
+                                                  "' is not a column; found columns: " +
+                                                  list_names(table.columns));
+    }
+  } else {
+    for (const auto name : kIdNames) {
+      if ((table.id_column = find_column(table.columns, name)) >= 0) break;
+    }
+  }
+
+  // The transformation to EPSG:4326, longitude first; none when the layer is already in it.
+  OGRSpatialReference wgs84;
+  wgs84.importFromEPSG(4326);
+  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  std::unique_ptr<OGRCoordinateTransformation> transform;
+  std::string srs_name;
+  if (const OGRSpatialReference* layer_srs = layer->GetSpatialRef()) {
+    OGRSpatialReference source_srs(*layer_srs);
+    source_srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    const char* same_options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES",
+                                  "CRITERION=EQUIVALENT_EXCEPT_AXIS_ORDER_GEOGCRS", nullptr};
+    if (!source_srs.IsSame(&wgs84, same_options)) {
+      srs_name = source_srs.GetName() != nullptr ? source_srs.GetName() : "the layer's SRS";
+      if (const char* code = source_srs.GetAuthorityCode(nullptr)) {
+        const char* auth = source_srs.GetAuthorityName(nullptr);
+        srs_name += std::string(" (") + (auth != nullptr ? auth : "") + ":" + code + ")";
+      }
+      transform.reset(OGRCreateCoordinateTransformation(&source_srs, &wgs84));
+      if (!transform) {
+        throw Error(ErrorCode::BadData, path + ": cannot transform " + srs_name +
+                                            " to EPSG:4326" + capture.detail());
+      }
+    }
+  }
+
+  const int field_count = defn->GetFieldCount();
+  layer->ResetReading();
+  for (const auto& feature : *layer) {
+    ++table.rows_read;
+    const std::uint64_t row = table.rows_read;
+    auto reject = [&](const std::string& reason) {
+      table.rejected.push_back(
+          RejectedRow{row, 0, feature_name(row, feature->GetFID()) + ": " + reason});
+    };
+    const OGRGeometry* g = feature->GetGeometryRef();
+    if (g == nullptr) {
+      reject("geometry is null");
+      continue;
+    }
+    if (g->IsEmpty()) {
+      reject("geometry is empty (" + std::string(OGRGeometryTypeToName(g->getGeometryType())) +
+             ")");
+      continue;
+    }
+    const OGRPoint* point = nullptr;
+    const OGRwkbGeometryType type = wkbFlatten(g->getGeometryType());
+    if (type == wkbPoint) {
+      point = g->toPoint();
+    } else if (type == wkbMultiPoint && g->toMultiPoint()->getNumGeometries() == 1) {
+      point = g->toMultiPoint()->getGeometryRef(0);
+    } else if (type == wkbMultiPoint) {
+      reject("geometry is a MultiPoint of " +
+             std::to_string(g->toMultiPoint()->getNumGeometries()) + " points, not a Point");
+      continue;
+    } else {
+      reject("geometry is a " + std::string(OGRGeometryTypeToName(type)) + ", not a Point");
+      continue;
+    }
+    double x = point->getX();
+    double y = point->getY();
+    if (transform) {
+      int ok = 0;
+      if (!transform->Transform(1, &x, &y, nullptr, &ok) || !ok) {
+        capture.clear();  // PROJ's message for this point is handled by the rejection
+        reject("point (" + std::to_string(point->getX()) + ", " + std::to_string(point->getY()) +
+               ") cannot be transformed from " + srs_name + " to EPSG:4326");
+        continue;
+      }
+    }
+    InputSite site;
+    site.row = row;
+    site.line = 0;
+    site.lat_deg = y;
+    site.lon_deg = x;
+    if (auto reason = normalize_lat_lon(site.lat_deg, site.lon_deg); !reason.empty()) {
+      reject(reason);
+      continue;
+    }
+    site.unit = SiteEncoder::from_lat_lon(site.lat_deg, site.lon_deg);
+    site.fields.reserve(static_cast<std::size_t>(field_count));
+    for (int i = 0; i < field_count; ++i) site.fields.push_back(field_text(*feature, i));
+    site.id = table.id_column >= 0 ? site.fields[static_cast<std::size_t>(table.id_column)]
+                                   : std::to_string(row);
+    table.sites.push_back(std::move(site));
+  }
+  // A read error ends GDAL's iteration early; it must not pass for the end of the layer.
+  if (capture.failed()) {
+    throw Error(ErrorCode::Io, path + ": cannot read feature " +
+                                   std::to_string(table.rows_read + 1) + capture.detail());
+  }
+  return table;
+}
+
+}  // namespace geovor

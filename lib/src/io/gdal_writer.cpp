@@ -1,0 +1,498 @@
+#include "io/gdal_writer.hpp"
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <gdal.h>
+#include <gdal_priv.h>
+#include <ogr_core.h>
+#include <ogr_feature.h>
+#include <ogr_geometry.h>
+#include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <set>
+#include <system_error>
+#include <utility>
+
+#include "geovor/core/error.hpp"
+#include "geovor/io/geojson_writer.hpp"
+
+namespace geovor::gdal_detail {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::atomic<unsigned> g_temp_counter{0};
+
+void CPL_STDCALL capture_handler(CPLErr error_class, CPLErrorNum number, const char* message) {
+  auto* capture = static_cast<ErrorCapture*>(CPLGetErrorHandlerUserData());
+  if (error_class == CE_Warning) {
+    CPLDefaultErrorHandler(error_class, number, message);
+    return;
+  }
+  if (capture != nullptr) capture->record(static_cast<int>(error_class), message);
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  return s;
+}
+
+bool iequals(const std::string& a, const std::string& b) { return lower(a) == lower(b); }
+
+// Sidecar extensions that a previous output of the same name may have left and that would be
+// read together with the new one; removed when it is replaced (--overwrite).
+std::vector<std::string> stale_sidecars(const std::string& driver) {
+  if (iequals(driver, "ESRI Shapefile")) {
+    return {"shp", "shx", "dbf", "prj", "cpg", "qix", "sbn", "sbx", "qpj"};
+  }
+  if (iequals(driver, "CSV")) return {"csvt"};  // types GDAL would apply on reading
+  if (iequals(driver, "MapInfo File")) return {"tab", "dat", "map", "id", "ind", "mif", "mid"};
+  return {};
+}
+
+const char* type_name(GeometryType t) {
+  switch (t) {
+    case GeometryType::Point:
+      return "Point";
+    case GeometryType::MultiLineString:
+      return "MultiLineString";
+    case GeometryType::MultiPolygon:
+      return "MultiPolygon";
+  }
+  return "?";
+}
+
+class GdalWriter final : public FeatureWriter {
+ public:
+  GdalWriter(const std::string& path, const std::string& driver_name, GeometryType geometry_type,
+             const std::vector<Field>& schema, const WriterOptions& options)
+      : path_(path),
+        geometry_type_(geometry_type),
+        field_count_(schema.size()),
+        overwrite_(options.overwrite) {
+    register_gdal();
+    ErrorCapture capture;
+    GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name.c_str());
+    if (driver == nullptr || driver->GetMetadataItem(GDAL_DCAP_VECTOR) == nullptr ||
+        driver->GetMetadataItem(GDAL_DCAP_CREATE) == nullptr) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "unknown output format '" + driver_name +
+                      "': not a GDAL vector driver that can create files (see ogrinfo --formats)");
+    }
+    driver_ = driver->GetDescription();
+    if (path_ == "-") {
+      throw Error(ErrorCode::InvalidArgument,
+                  "format " + driver_ + " cannot be written to stdout; only GeoJSON and GeoJSONSeq can");
+    }
+    const fs::path target(path_);
+    if (!target.has_filename()) throw Error(ErrorCode::InvalidArgument, path_ + ": not a file name");
+    check_targets(target, options.overwrite);
+
+    // The private temporary directory, next to the target (same file system: rename works).
+    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    for (int attempt = 0;; ++attempt) {
+      std::string name(".");  // (not "." + string: GCC 12 warns wrongly, -Wrestrict)
+      name += target.filename().string();
+      name += ".tmp-" + std::to_string(::getpid()) + "-" +
+              std::to_string(g_temp_counter.fetch_add(1));
+      const fs::path temp = dir / name;
+      if (::mkdir(temp.c_str(), 0700) == 0) {
+        temp_dir_ = temp;
+        break;
+      }
+      const int err = errno;
+      if (err != EEXIST || attempt >= 100) {
+        throw Error(ErrorCode::Io, path_ + ": cannot create the temporary directory " +
+                                       temp.string() + ": " + std::strerror(err));
+      }
+    }
+    try {
+      create(driver, target.filename().string(), schema, options);
+    } catch (...) {
+      discard();
+      throw;
+    }
+  }
+
+  ~GdalWriter() override {
+    if (!finished_) {
+      ErrorCapture capture;  // errors while abandoning the output are of no interest
+      discard();
+    }
+  }
+
+  void write(const Geometry& geometry, std::span<const FieldValue> values) override {
+    if (failed_) throw Error(ErrorCode::Io, path_ + ": the writer failed earlier");
+    if (finished_) throw Error(ErrorCode::InvalidArgument, path_ + ": write() after finish()");
+    auto feature = [&] { return "feature " + std::to_string(count_ + 1); };
+    if (values.size() != field_count_) {
+      throw Error(ErrorCode::InvalidArgument,
+                  path_ + ": " + feature() + " has " + std::to_string(values.size()) +
+                      " values for " + std::to_string(field_count_) + " fields");
+    }
+    if (static_cast<GeometryType>(geometry.index()) != geometry_type_) {
+      throw Error(ErrorCode::InvalidArgument,
+                  path_ + ": " + feature() + " is a " +
+                      type_name(static_cast<GeometryType>(geometry.index())) + " in a " +
+                      type_name(geometry_type_) + " layer");
+    }
+    if (auto why = geometry_problem(geometry); !why.empty()) {
+      throw Error(ErrorCode::InvalidArgument, path_ + ": " + feature() + ": " + why);
+    }
+    ErrorCapture capture;
+    OGRFeature& f = *feature_;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const int index = field_index_[i];
+      const FieldValue& v = values[i];
+      if (const auto* n = std::get_if<std::int64_t>(&v)) {
+        f.SetField(index, static_cast<GIntBig>(*n));
+      } else if (const auto* d = std::get_if<double>(&v)) {
+        f.SetField(index, *d);
+      } else if (const auto* s = std::get_if<std::string>(&v)) {
+        f.SetField(index, s->c_str());
+      } else {
+        f.SetFieldNull(index);
+      }
+    }
+    f.SetGeometryDirectly(to_ogr(geometry));
+    f.SetFID(OGRNullFID);
+    errno = 0;
+    if (layer_->CreateFeature(&f) != OGRERR_NONE || capture.failed()) {
+      fail("cannot write " + feature() + detail(capture));
+    }
+    ++count_;
+  }
+
+  void finish() override {
+    if (failed_) throw Error(ErrorCode::Io, path_ + ": the writer failed earlier");
+    if (finished_) return;
+    ErrorCapture capture;
+    if (transaction_ && dataset_->CommitTransaction() != OGRERR_NONE) {
+      fail("cannot commit" + capture.detail());
+    }
+    transaction_ = false;
+    feature_.reset();
+    // Closing writes what the driver buffered (FlatGeobuf writes its whole file here).
+    errno = 0;
+    GDALClose(GDALDataset::ToHandle(std::exchange(dataset_, nullptr)));
+    layer_ = nullptr;
+    if (capture.failed()) fail("cannot write" + detail(capture));
+    move_into_place();
+    finished_ = true;
+  }
+
+ private:
+  // Error(Io) when the output or, for multi-file formats, one of its sidecars exists and may
+  // not be replaced.
+  void check_targets(const fs::path& target, bool overwrite) const {
+    std::vector<fs::path> paths{target};
+    for (const std::string& ext : stale_sidecars(driver_)) {
+      fs::path p = target;
+      paths.push_back(p.replace_extension(ext));
+    }
+    for (const fs::path& p : paths) {
+      std::error_code ec;
+      if (!fs::exists(fs::symlink_status(p, ec))) continue;
+      if (fs::is_directory(fs::status(p, ec))) {
+        throw Error(ErrorCode::Io, p.string() + ": is a directory");
+      }
+      if (!overwrite) {
+        throw Error(ErrorCode::Io, p.string() + ": exists; use --overwrite to replace it");
+      }
+    }
+  }
+
+  void create(GDALDriver* driver, const std::string& filename, const std::vector<Field>& schema,
+              const WriterOptions& options) {
+    ErrorCapture capture;
+    const std::string temp_file = (temp_dir_ / filename).string();
+    dataset_ = driver->Create(temp_file.c_str(), 0, 0, 0, GDT_Unknown, nullptr);
+    if (dataset_ == nullptr) fail("cannot create" + capture.detail());
+
+    OGRSpatialReference srs;
+    srs.importFromEPSG(4326);
+    srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    CPLStringList lco;
+    const bool shapefile = iequals(driver_, "ESRI Shapefile");
+    if (iequals(driver_, "CSV")) lco.SetNameValue("GEOMETRY", "AS_WKT");
+    if (shapefile) {
+      lco.SetNameValue("ENCODING", "UTF-8");  // writes a .cpg; our strings are UTF-8
+      lco.SetNameValue("RESIZE", "YES");      // string widths shrunk to the longest value
+    }
+    const OGRwkbGeometryType gtype = geometry_type_ == GeometryType::Point ? wkbPoint
+                                     : geometry_type_ == GeometryType::MultiLineString
+                                         ? wkbMultiLineString
+                                         : wkbMultiPolygon;
+    layer_ = dataset_->CreateLayer(options.layer.c_str(), &srs, gtype, lco.List());
+    if (layer_ == nullptr) fail("cannot create layer '" + options.layer + "'" + capture.detail());
+
+    const std::vector<std::string> names =
+        shapefile ? shapefile_field_names(schema) : [&] {
+          std::vector<std::string> n;
+          for (const Field& f : schema) n.push_back(f.name);
+          return n;
+        }();
+    for (std::size_t i = 0; i < schema.size(); ++i) {
+      const OGRFieldType type = schema[i].type == FieldType::Integer ? OFTInteger64
+                                : schema[i].type == FieldType::Real  ? OFTReal
+                                                                     : OFTString;
+      OGRFieldDefn defn(names[i].c_str(), type);
+      // DBF fields have a fixed width: give room for the widest values (RESIZE=YES shrinks
+      // them to the data). GDAL's defaults lose values: Integer64 (18 characters) cannot hold
+      // 19 digits, Real (24.15) nothing from 1e8 on (areas in m2!).
+      if (shapefile && type == OFTString) defn.SetWidth(254);
+      if (shapefile && type == OFTInteger64) defn.SetWidth(20);
+      if (shapefile && type == OFTReal) {
+        defn.SetWidth(33);  // up to 1e17 with 15 decimals
+        defn.SetPrecision(15);
+      }
+      if (layer_->CreateField(&defn, TRUE) != OGRERR_NONE) {
+        fail("cannot create field '" + schema[i].name + "'" + capture.detail());
+      }
+      // Drivers may rename a field (laundering); it is the last one created either way.
+      field_index_.push_back(layer_->GetLayerDefn()->GetFieldCount() - 1);
+    }
+    if (dataset_->TestCapability(ODsCTransactions)) {
+      if (dataset_->StartTransaction() != OGRERR_NONE) fail("cannot start a transaction" + capture.detail());
+      transaction_ = true;
+    }
+    feature_.reset(OGRFeature::CreateFeature(layer_->GetLayerDefn()));
+    if (capture.failed()) fail("cannot create" + capture.detail());
+  }
+
+  OGRGeometry* to_ogr(const Geometry& g) {
+    if (const auto* p = std::get_if<LonLat>(&g)) return new OGRPoint(p->lon_deg, p->lat_deg);
+    auto fill = [&](OGRSimpleCurve& curve, const std::vector<LonLat>& ps) {
+      raw_.resize(ps.size());
+      for (std::size_t i = 0; i < ps.size(); ++i) raw_[i] = OGRRawPoint(ps[i].lon_deg, ps[i].lat_deg);
+      curve.setPoints(static_cast<int>(raw_.size()), raw_.data());
+    };
+    if (const auto* lines = std::get_if<MultiLineString>(&g)) {
+      auto* mls = new OGRMultiLineString;
+      for (const LineString& line : *lines) {
+        auto* ls = new OGRLineString;
+        fill(*ls, line);
+        mls->addGeometryDirectly(ls);
+      }
+      return mls;
+    }
+    auto* mp = new OGRMultiPolygon;
+    for (const Polygon& poly : std::get<MultiPolygon>(g)) {
+      auto* op = new OGRPolygon;
+      auto* ext = new OGRLinearRing;
+      fill(*ext, poly.exterior);
+      op->addRingDirectly(ext);
+      for (const Ring& hole : poly.holes) {
+        auto* r = new OGRLinearRing;
+        fill(*r, hole);
+        op->addRingDirectly(r);
+      }
+      mp->addGeometryDirectly(op);
+    }
+    return mp;
+  }
+
+  // Renames the files of the temporary directory into place: the sidecars, then the main file.
+  void move_into_place() {
+    const fs::path target(path_);
+    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    const std::string filename = target.filename().string();
+    const std::string stem = target.stem().string();
+    std::vector<std::string> produced;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(temp_dir_, ec)) {
+      const std::string name = entry.path().filename().string();
+      // NAME itself, and STEM.EXT sidecars; anything else is the driver's scratch.
+      const bool sidecar = name.size() > stem.size() + 1 && name.compare(0, stem.size(), stem) == 0 &&
+                           name[stem.size()] == '.' &&
+                           name.find('.', stem.size() + 1) == std::string::npos;
+      if (name == filename || sidecar) produced.push_back(name);
+    }
+    if (ec) fail("cannot list " + temp_dir_.string() + ": " + ec.message());
+    if (std::find(produced.begin(), produced.end(), filename) == produced.end()) {
+      fail("the " + driver_ + " driver did not write " + filename);
+    }
+    for (const std::string& name : produced) {
+      const fs::path dest = dir / name;
+      if (fs::exists(fs::symlink_status(dest, ec)) && !overwrite_ok(dest)) {
+        fail(dest.string() + " exists; use --overwrite to replace it");
+      }
+    }
+    // A replaced output must not keep sidecars of its previous version (an old .qix or .cpg).
+    for (const std::string& ext : stale_sidecars(driver_)) {
+      fs::path old = target;
+      old.replace_extension(ext);
+      const std::string name = old.filename().string();
+      if (std::find(produced.begin(), produced.end(), name) == produced.end()) {
+        fs::remove(old, ec);
+      }
+    }
+    std::stable_partition(produced.begin(), produced.end(),
+                          [&](const std::string& n) { return n != filename; });
+    std::vector<fs::path> moved;
+    for (const std::string& name : produced) {
+      if (std::rename((temp_dir_ / name).c_str(), (dir / name).c_str()) != 0) {
+        const int err = errno;
+        for (const fs::path& p : moved) fs::remove(p, ec);
+        fail("cannot rename " + (temp_dir_ / name).string() + " to " + (dir / name).string() +
+             ": " + std::strerror(err));
+      }
+      moved.push_back(dir / name);
+    }
+    fs::remove_all(temp_dir_, ec);
+    temp_dir_.clear();
+  }
+
+  // GDAL's message; when a driver failed without one (the CSV driver on a full disk), the
+  // system's reason, errno having been cleared before the call.
+  static std::string detail(const ErrorCapture& capture) {
+    if (capture.failed()) return capture.detail();
+    return errno != 0 ? std::string(" (") + std::strerror(errno) + ")" : "";
+  }
+
+  bool overwrite_ok(const fs::path& dest) const {
+    std::error_code ec;
+    return overwrite_ && !fs::is_directory(fs::status(dest, ec));
+  }
+
+  // Closes without committing and removes every temporary file; the target is untouched.
+  void discard() noexcept {
+    feature_.reset();
+    if (dataset_ != nullptr) {
+      if (transaction_) dataset_->RollbackTransaction();
+      GDALClose(GDALDataset::ToHandle(std::exchange(dataset_, nullptr)));
+    }
+    transaction_ = false;
+    layer_ = nullptr;
+    if (!temp_dir_.empty()) {
+      std::error_code ec;
+      fs::remove_all(temp_dir_, ec);
+      temp_dir_.clear();
+    }
+  }
+
+  [[noreturn]] void fail(const std::string& what) {
+    failed_ = true;
+    {
+      ErrorCapture ignore;
+      discard();
+    }
+    throw Error(ErrorCode::Io, path_ + ": " + what);
+  }
+
+  std::string path_;
+  std::string driver_;
+  GeometryType geometry_type_;
+  std::size_t field_count_;
+  bool overwrite_ = false;
+  fs::path temp_dir_;
+  GDALDataset* dataset_ = nullptr;
+  OGRLayer* layer_ = nullptr;
+  std::unique_ptr<OGRFeature> feature_;
+  std::vector<int> field_index_;
+  std::vector<OGRRawPoint> raw_;
+  bool transaction_ = false;
+  std::uint64_t count_ = 0;
+  bool finished_ = false;
+  bool failed_ = false;
+};
+
+}  // namespace
+
+void register_gdal() {
+  static std::once_flag once;
+  std::call_once(once, [] { GDALAllRegister(); });
+}
+
+ErrorCapture::ErrorCapture() {
+  CPLPushErrorHandlerEx(capture_handler, this);
+  CPLSetCurrentErrorHandlerCatchDebug(FALSE);
+}
+
+ErrorCapture::~ErrorCapture() { CPLPopErrorHandler(); }
+
+void ErrorCapture::record(int error_class, const char* message) {
+  if (error_class < CE_Failure || message == nullptr) return;
+  constexpr std::size_t kMax = 400;
+  if (message_.size() >= kMax) return;
+  if (!message_.empty()) message_ += "; ";
+  message_ += message;
+  if (message_.size() > kMax) message_ = message_.substr(0, kMax) + "...";
+}
+
+std::string driver_for_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  if (ext.size() < 2) return "";
+  ext = lower(ext.substr(1));
+  register_gdal();
+  GDALDriverManager* manager = GetGDALDriverManager();
+  std::vector<std::string> found;
+  for (int i = 0; i < manager->GetDriverCount(); ++i) {
+    GDALDriver* d = manager->GetDriver(i);
+    if (d->GetMetadataItem(GDAL_DCAP_VECTOR) == nullptr ||
+        d->GetMetadataItem(GDAL_DCAP_CREATE) == nullptr) {
+      continue;
+    }
+    const char* exts = d->GetMetadataItem(GDAL_DMD_EXTENSIONS);
+    if (exts == nullptr) continue;
+    const CPLStringList list(CSLTokenizeString(exts));
+    for (int k = 0; k < list.size(); ++k) {
+      if (lower(list[k]) == ext) {
+        found.emplace_back(d->GetDescription());
+        break;
+      }
+    }
+  }
+  if (found.size() > 1) {
+    std::string names;
+    for (const auto& n : found) names += (names.empty() ? "" : ", ") + n;
+    throw Error(ErrorCode::InvalidArgument, path + ": several formats write ." + ext + " files (" +
+                                                names + "); choose one with --format");
+  }
+  return found.empty() ? "" : found.front();
+}
+
+std::vector<std::string> shapefile_field_names(const std::vector<Field>& schema) {
+  constexpr std::size_t kMaxBytes = 10;
+  // The first `max_bytes` bytes of `name`, not cutting a UTF-8 sequence.
+  auto cut = [](const std::string& name, std::size_t max_bytes) {
+    if (name.size() <= max_bytes) return name;
+    std::size_t n = max_bytes;
+    while (n > 0 && (static_cast<unsigned char>(name[n]) & 0xC0) == 0x80) --n;
+    return name.substr(0, n);
+  };
+  std::set<std::string> used;  // lower case
+  std::vector<std::string> out;
+  for (const Field& field : schema) {
+    std::string name = cut(field.name, kMaxBytes);
+    for (int k = 1; used.count(lower(name)) != 0; ++k) {
+      std::string suffix(1, '_');
+      suffix += std::to_string(k);
+      name = cut(field.name, kMaxBytes - suffix.size()) + suffix;
+    }
+    used.insert(lower(name));
+    out.push_back(name);
+  }
+  return out;
+}
+
+std::unique_ptr<FeatureWriter> open_gdal_writer(const std::string& path, const std::string& driver,
+                                                GeometryType geometry_type,
+                                                const std::vector<Field>& schema,
+                                                const WriterOptions& options) {
+  return std::make_unique<GdalWriter>(path, driver, geometry_type, schema, options);
+}
+
+}  // namespace geovor::gdal_detail

@@ -1,0 +1,1075 @@
+/// \file feature_writer_test.cpp
+/// \brief Tests of the feature writers: every format is written, then read back by GDAL (an
+/// independent reader) and checked for feature count, geometry type, coordinates, attributes,
+/// validity and ring orientation; GeoJSON text is checked for its bbox members (against GDAL's
+/// own RFC 7946 writer), RFC 8142 record separators, escaping and number formatting; the output
+/// is checked to appear only when finish() succeeds (overwrite refusal, abandoned writers,
+/// failures, a full file system).
+#include "geovor/io/feature_writer.hpp"
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <gdal_priv.h>
+#include <gtest/gtest.h>
+#include <ogr_geometry.h>
+#include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
+#include <sys/mount.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <random>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "geovor/core/error.hpp"
+#include "geovor/io/geojson_writer.hpp"
+
+namespace geovor {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// Helpers
+
+class TempDir {
+ public:
+  TempDir() {
+    std::string tmpl = (fs::temp_directory_path() / "geovor_io_XXXXXX").string();
+    if (::mkdtemp(tmpl.data()) == nullptr) std::abort();
+    path_ = tmpl;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+  const fs::path& path() const { return path_; }
+  // Every entry, hidden ones included, sorted.
+  std::vector<std::string> entries() const {
+    std::vector<std::string> out;
+    for (const auto& e : fs::directory_iterator(path_)) out.push_back(e.path().filename().string());
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+
+ private:
+  fs::path path_;
+};
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void spit(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+Error error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e;
+  }
+  return Error(ErrorCode::Internal, "no error thrown");
+}
+
+bool contains(const std::string& haystack, const std::string& needle) {
+  return haystack.find(needle) != std::string::npos;
+}
+
+// Counter-clockwise rectangle.
+Ring box(double w, double s, double e, double n) { return {{w, s}, {e, s}, {e, n}, {w, n}, {w, s}}; }
+
+// ---------------------------------------------------------------------------------------------
+// The test data: four cells and their attributes
+
+const std::string kTricky =
+    "quote \" backslash \\ newline \n tab \t cr \r ctrl \x01\x1f del \x7f slash / "
+    "\xC3\xA9t\xC3\xA9 \xE6\xBC\xA2\xE5\xAD\x97 \xF0\x9F\x98\x80";
+
+std::vector<Field> cell_schema() {
+  return {{"site_id", FieldType::Integer},
+          {"name", FieldType::String},
+          {"area_km2", FieldType::Real},
+          {"population_2020", FieldType::Integer},
+          {"population_2021", FieldType::Integer}};
+}
+
+struct Cell {
+  MultiPolygon geometry;
+  std::vector<FieldValue> values;
+  BBox bbox;  // expected RFC 7946 bbox
+};
+
+const std::vector<Cell>& cells() {
+  static const std::vector<Cell> kCells = [] {
+  std::vector<Cell> out;
+  // 0: a square with a (clockwise) hole, coordinates that need rounding.
+  Polygon square{box(0.12345678912, 0, 10, 10), {{{2, 2}, {2, 4}, {4, 4}, {4, 2}, {2, 2}}}};
+  out.push_back({{square},
+                 {std::int64_t{1}, std::string("plain"), 510065621724088.5, std::int64_t{123456},
+                  std::int64_t{-7}},
+                 {0.12345678912, 0, 10, 10}});
+  // 1: a cell cut at the antimeridian.
+  out.push_back({{Polygon{box(170, -10, 180, 10), {}}, Polygon{box(-180, -10, -170, 10), {}}},
+                 {std::int64_t{2}, kTricky, 0.1, std::monostate{}, std::int64_t{0}},
+                 {170, -10, -170, 10}});
+  // 2: the north polar cap, closed through (180, 90) and (-180, 90).
+  out.push_back({{Polygon{{{-180, 70},
+                            {-90, 72.25},
+                            {0, 70.5},
+                            {90, 71},
+                            {180, 70},
+                            {180, 90},
+                            {-180, 90},
+                            {-180, 70}},
+                           {}}},
+                 {std::int64_t{3}, std::string(""), 2.0,
+                  std::int64_t{9007199254740993},  // 2^53 + 1: not a double
+                  std::int64_t{-9223372036854775807}},
+                 {-180, 70, 180, 90}});
+  // 3: the south polar cap, running west along its boundary, then through (-180, -90), (180, -90).
+  out.push_back({{Polygon{{{180, -75},
+                            {90, -76},
+                            {0, -75},
+                            {-90, -74},
+                            {-180, -75},
+                            {-180, -90},
+                            {180, -90},
+                            {180, -75}},
+                           {}}},
+                 {std::int64_t{4}, std::monostate{}, -1e-300, std::int64_t{1},
+                  std::int64_t{std::numeric_limits<std::int64_t>::max()}},
+                 {-180, -90, 180, -74}});
+  return out;
+  }();
+  return kCells;
+}
+
+const std::vector<LonLat>& points() {
+  static const std::vector<LonLat> kPoints{{2.3522, 48.8566}, {-180, 0}, {179.9999999, -89.5}, {0, 90}};
+  return kPoints;
+}
+
+const MultiLineString& lines() {
+  static const MultiLineString kLines{{{170, 1}, {180, 2}}, {{-180, 2}, {-170, 3}, {-160, 3.5}}};
+  return kLines;
+}
+
+void write_cells(const std::string& path, const WriterOptions& options = {}) {
+  auto writer = open_feature_writer(path, GeometryType::MultiPolygon, cell_schema(), options);
+  for (const Cell& c : cells()) writer->write(c.geometry, c.values);
+  writer->finish();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading back with GDAL
+
+struct ReadBack {
+  std::string driver;
+  OGRwkbGeometryType layer_type = wkbUnknown;
+  std::vector<std::string> field_names;
+  std::vector<OGRFieldType> field_types;
+  std::vector<OGRFeatureUniquePtr> features;
+};
+
+ReadBack read_back(const std::string& path, const char* driver) {
+  GDALAllRegister();
+  const char* allowed[] = {driver, nullptr};
+  GDALDatasetUniquePtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY,
+                                            driver != nullptr ? allowed : nullptr));
+  ReadBack r;
+  if (!ds) {
+    ADD_FAILURE() << "GDAL cannot open " << path << ": " << CPLGetLastErrorMsg();
+    return r;
+  }
+  EXPECT_EQ(ds->GetLayerCount(), 1);
+  r.driver = ds->GetDriver()->GetDescription();
+  OGRLayer* layer = ds->GetLayer(0);
+  r.layer_type = wkbFlatten(layer->GetGeomType());
+  OGRFeatureDefn* defn = layer->GetLayerDefn();
+  for (int i = 0; i < defn->GetFieldCount(); ++i) {
+    r.field_names.emplace_back(defn->GetFieldDefn(i)->GetNameRef());
+    r.field_types.push_back(defn->GetFieldDefn(i)->GetType());
+  }
+  // The SRS, where the format stores one, is WGS 84 longitude/latitude.
+  if (const OGRSpatialReference* srs = layer->GetSpatialRef()) {
+    OGRSpatialReference wgs84;
+    wgs84.importFromEPSG(4326);
+    const char* opts[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES",
+                          "CRITERION=EQUIVALENT_EXCEPT_AXIS_ORDER_GEOGCRS", nullptr};
+    EXPECT_TRUE(srs->IsSame(&wgs84, opts)) << path;
+  }
+  for (auto& f : *layer) r.features.push_back(std::move(f));
+  return r;
+}
+
+int field_index(const ReadBack& r, const std::string& name) {
+  const auto it = std::find(r.field_names.begin(), r.field_names.end(), name);
+  return it == r.field_names.end() ? -1 : static_cast<int>(it - r.field_names.begin());
+}
+
+std::vector<LonLat> ring_points(const OGRSimpleCurve& curve) {
+  std::vector<LonLat> out;
+  for (int i = 0; i < curve.getNumPoints(); ++i) out.push_back({curve.getX(i), curve.getY(i)});
+  return out;
+}
+
+::testing::AssertionResult same_points(const std::vector<LonLat>& got,
+                                       const std::vector<LonLat>& want, double tol = 1e-7) {
+  if (got.size() != want.size()) {
+    return ::testing::AssertionFailure() << got.size() << " points, expected " << want.size();
+  }
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    if (std::abs(got[i].lon_deg - want[i].lon_deg) > tol ||
+        std::abs(got[i].lat_deg - want[i].lat_deg) > tol) {
+      return ::testing::AssertionFailure()
+             << "point " << i << ": (" << got[i].lon_deg << ", " << got[i].lat_deg
+             << "), expected (" << want[i].lon_deg << ", " << want[i].lat_deg << ")";
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+struct FormatCase {
+  std::string file;
+  const char* driver;
+  bool clockwise_shells;  // Shapefile stores exterior rings clockwise
+  bool typed_fields;      // false: CSV reads every field back as a string
+};
+
+void PrintTo(const FormatCase& fc, std::ostream* os) { *os << fc.file; }
+
+std::string case_name(const ::testing::TestParamInfo<FormatCase>& info) {
+  std::string s = info.param.file;
+  for (char& c : s) {
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  }
+  return s;
+}
+
+const std::vector<FormatCase> kFormats = {
+    {"cells.geojson", "GeoJSON", false, true},     {"cells.geojsonl", "GeoJSONSeq", false, true},
+    {"cells.geojsons", "GeoJSONSeq", false, true}, {"cells.gpkg", "GPKG", false, true},
+    {"cells.fgb", "FlatGeobuf", false, true},      {"cells.shp", "ESRI Shapefile", true, true},
+    {"cells.csv", "CSV", false, false},
+};
+
+class EveryFormat : public ::testing::TestWithParam<FormatCase> {};
+
+TEST_P(EveryFormat, CellsRoundTripThroughGdal) {
+  const FormatCase& fc = GetParam();
+  TempDir dir;
+  const std::string path = dir / fc.file;
+  write_cells(path);
+  const bool shapefile = std::string(fc.driver) == "ESRI Shapefile";
+  const ReadBack r = read_back(path, fc.driver);
+  EXPECT_EQ(r.driver, fc.driver);
+  const bool csv = std::string(fc.driver) == "CSV";
+  const bool flatgeobuf = std::string(fc.driver) == "FlatGeobuf";
+  const std::vector<Cell>& want = cells();
+  ASSERT_EQ(r.features.size(), want.size());
+  if (fc.typed_fields) {
+    EXPECT_EQ(r.layer_type, shapefile ? wkbPolygon : wkbMultiPolygon);
+  }
+
+  // Attributes. Shapefile field names are cut to 10 characters, deterministically.
+  const std::vector<std::string> names =
+      shapefile ? std::vector<std::string>{"site_id", "name", "area_km2", "population", "populati_1"}
+                : std::vector<std::string>{"site_id", "name", "area_km2", "population_2020",
+                                           "population_2021"};
+  for (const std::string& n : names) EXPECT_GE(field_index(r, n), 0) << n;
+  if (fc.typed_fields) {
+    // GeoJSON has no schema (GDAL guesses Integer for small values); DBF sizes integers.
+    const OGRFieldType id_type = r.field_types[field_index(r, names[0])];
+    EXPECT_TRUE(id_type == OFTInteger64 || id_type == OFTInteger) << id_type;
+    EXPECT_EQ(r.field_types[field_index(r, names[1])], OFTString);
+    EXPECT_EQ(r.field_types[field_index(r, names[2])], OFTReal);
+    EXPECT_EQ(r.field_types[field_index(r, names[3])], OFTInteger64);  // "population": 6 digits
+  }
+  for (std::size_t k = 0; k < want.size(); ++k) {
+    // FlatGeobuf stores features in the order of its spatial index (a Hilbert sort); the other
+    // formats keep the order written.
+    const std::size_t at = [&] {
+      if (!flatgeobuf) return k;
+      for (std::size_t i = 0; i < r.features.size(); ++i) {
+        if (r.features[i]->GetFieldAsInteger64(field_index(r, names[0])) ==
+            std::get<std::int64_t>(want[k].values[0])) {
+          return i;
+        }
+      }
+      return r.features.size();
+    }();
+    ASSERT_LT(at, r.features.size());
+    const OGRFeature& f = *r.features[at];
+    const auto& v = want[k].values;
+    SCOPED_TRACE("feature " + std::to_string(k));
+    EXPECT_EQ(f.GetFieldAsInteger64(field_index(r, names[0])), std::get<std::int64_t>(v[0]));
+    const int name_i = field_index(r, names[1]);
+    if (const auto* s = std::get_if<std::string>(&v[1])) {
+      std::string text = *s;
+      // GDAL's CSV reader turns a CR inside a quoted field into LF (the file has the CR).
+      if (csv) std::replace(text.begin(), text.end(), '\r', '\n');
+      EXPECT_EQ(std::string(f.GetFieldAsString(name_i)), text);
+    } else if (!shapefile && !csv) {
+      EXPECT_FALSE(f.IsFieldSetAndNotNull(name_i));  // null (FlatGeobuf: unset) survives
+    } else {
+      EXPECT_EQ(std::string(f.GetFieldAsString(name_i)), "");
+    }
+    const double area = std::get<double>(v[2]);
+    // DBF stores reals with 15 decimals.
+    EXPECT_NEAR(f.GetFieldAsDouble(field_index(r, names[2])), area,
+                shapefile ? 1e-15 + std::abs(area) * 1e-15 : std::abs(area) * 1e-15);
+    for (int j : {3, 4}) {
+      const int idx = field_index(r, names[j]);
+      if (const auto* n = std::get_if<std::int64_t>(&v[j])) {
+        if (shapefile && std::to_string(*n).size() > 18) {
+          // The DBF holds every digit (width 20), but GDAL reads a field wider than 18 as Real.
+          EXPECT_EQ(f.GetFieldAsDouble(idx), static_cast<double>(*n)) << names[j];
+        } else {
+          EXPECT_EQ(f.GetFieldAsInteger64(idx), *n) << names[j];
+        }
+      } else if (!shapefile && !csv) {
+        EXPECT_FALSE(f.IsFieldSetAndNotNull(idx)) << names[j];
+      } else {
+        EXPECT_TRUE(f.IsFieldNull(idx) || std::string(f.GetFieldAsString(idx)).empty());
+      }
+    }
+
+    // Geometry: a valid MultiPolygon with the same rings, exterior rings counter-clockwise
+    // (clockwise in Shapefile, which rewinds them itself).
+    const OGRGeometry* g = f.GetGeometryRef();
+    ASSERT_NE(g, nullptr);
+    if (!shapefile) {
+      EXPECT_EQ(wkbFlatten(g->getGeometryType()), wkbMultiPolygon);
+    }
+    std::unique_ptr<OGRGeometry> multi(OGRGeometryFactory::forceToMultiPolygon(g->clone()));
+    const OGRMultiPolygon* mp = multi->toMultiPolygon();
+    EXPECT_TRUE(mp->IsValid());
+    const MultiPolygon& wg = want[k].geometry;
+    ASSERT_EQ(mp->getNumGeometries(), static_cast<int>(wg.size()));
+    for (int p = 0; p < mp->getNumGeometries(); ++p) {
+      const OGRPolygon* poly = mp->getGeometryRef(p);
+      EXPECT_TRUE(poly->IsValid());
+      ASSERT_EQ(poly->getNumInteriorRings(), static_cast<int>(wg[p].holes.size()));
+      for (int ring = 0; ring <= poly->getNumInteriorRings(); ++ring) {
+        const OGRLinearRing* lr = ring == 0 ? poly->getExteriorRing() : poly->getInteriorRing(ring - 1);
+        std::vector<LonLat> expected = ring == 0 ? wg[p].exterior : wg[p].holes[ring - 1];
+        const bool clockwise_expected = (ring == 0) == fc.clockwise_shells;
+        EXPECT_EQ(static_cast<bool>(lr->isClockwise()), clockwise_expected) << "ring " << ring;
+        if (shapefile) {
+          // The driver reverses rings whose orientation it does not like; the start is kept.
+          std::vector<LonLat> reversed(expected.rbegin(), expected.rend());
+          const auto got = ring_points(*lr);
+          EXPECT_TRUE(same_points(got, expected) || same_points(got, reversed)) << "ring " << ring;
+        } else {
+          EXPECT_TRUE(same_points(ring_points(*lr), expected)) << "ring " << ring;
+        }
+      }
+    }
+  }
+  // Nothing but the output (and, for Shapefile, its sidecars) is left in the directory.
+  for (const std::string& e : dir.entries()) {
+    EXPECT_EQ(e.rfind("cells.", 0), 0u) << "left behind: " << e;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, EveryFormat, ::testing::ValuesIn(kFormats), case_name);
+
+class PointsAndLines : public ::testing::TestWithParam<FormatCase> {};
+
+TEST_P(PointsAndLines, RoundTripThroughGdal) {
+  const FormatCase& fc = GetParam();
+  const bool shapefile = std::string(fc.driver) == "ESRI Shapefile";
+  TempDir dir;
+  const bool flatgeobuf = std::string(fc.driver) == "FlatGeobuf";
+  const std::vector<Field> schema{{"id", FieldType::String}};
+  // The feature whose "id" is `id` (FlatGeobuf reorders features along its spatial index).
+  auto by_id = [](const ReadBack& r, const std::string& id) -> const OGRFeature* {
+    const int idx = field_index(r, "id");
+    for (const auto& f : r.features) {
+      if (f->GetFieldAsString(idx) == id) return f.get();
+    }
+    return nullptr;
+  };
+  {
+    const std::string path = dir / ("points." + fs::path(fc.file).extension().string().substr(1));
+    auto w = open_feature_writer(path, GeometryType::Point, schema, {});
+    for (std::size_t i = 0; i < points().size(); ++i) {
+      w->write(points()[i], std::vector<FieldValue>{std::string("p") + std::to_string(i)});
+    }
+    w->finish();
+    const ReadBack r = read_back(path, fc.driver);
+    ASSERT_EQ(r.features.size(), points().size());
+    if (fc.typed_fields) {
+      EXPECT_EQ(r.layer_type, wkbPoint);
+    }
+    for (std::size_t i = 0; i < points().size(); ++i) {
+      const std::string id = "p" + std::to_string(i);
+      const OGRFeature* f = by_id(r, id);
+      ASSERT_NE(f, nullptr) << id;
+      if (!flatgeobuf) {
+        EXPECT_EQ(f, r.features[i].get());
+      }
+      const OGRGeometry* g = f->GetGeometryRef();
+      ASSERT_NE(g, nullptr);
+      ASSERT_EQ(wkbFlatten(g->getGeometryType()), wkbPoint);
+      EXPECT_TRUE(same_points({{g->toPoint()->getX(), g->toPoint()->getY()}}, {points()[i]}));
+    }
+  }
+  {
+    const std::string path = dir / ("lines." + fs::path(fc.file).extension().string().substr(1));
+    auto w = open_feature_writer(path, GeometryType::MultiLineString, schema, {});
+    w->write(lines(), std::vector<FieldValue>{std::string("edge")});
+    w->write(MultiLineString{{{0, 0}, {1, 1}}}, std::vector<FieldValue>{std::monostate{}});
+    w->finish();
+    const ReadBack r = read_back(path, fc.driver);
+    ASSERT_EQ(r.features.size(), 2u);
+    if (fc.typed_fields) {
+      EXPECT_EQ(r.layer_type, shapefile ? wkbLineString : wkbMultiLineString);
+    }
+    const OGRFeature* edge = by_id(r, "edge");
+    ASSERT_NE(edge, nullptr);
+    const OGRGeometry* g = edge->GetGeometryRef();
+    ASSERT_NE(g, nullptr);
+    ASSERT_EQ(wkbFlatten(g->getGeometryType()), wkbMultiLineString);
+    const OGRMultiLineString* ml = g->toMultiLineString();
+    ASSERT_EQ(ml->getNumGeometries(), 2);
+    for (int i = 0; i < 2; ++i) {
+      EXPECT_TRUE(same_points(ring_points(*ml->getGeometryRef(i)), lines()[i]));
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, PointsAndLines, ::testing::ValuesIn(kFormats), case_name);
+
+// ---------------------------------------------------------------------------------------------
+// GeoJSON text
+
+std::vector<std::vector<double>> bboxes_in(const std::string& text) {
+  static const std::regex re(R"re("bbox":\s*\[([^\]]*)\])re");
+  std::vector<std::vector<double>> out;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), re); it != std::sregex_iterator();
+       ++it) {
+    std::vector<double> v;
+    std::stringstream s((*it)[1].str());
+    std::string item;
+    while (std::getline(s, item, ',')) v.push_back(std::stod(item));
+    out.push_back(v);
+  }
+  return out;
+}
+
+TEST(GeoJson, FeatureCollectionLayoutAndBoxes) {
+  TempDir dir;
+  const std::string path = dir / "cells.geojson";
+  WriterOptions options;
+  options.id_field = "site_id";
+  options.layer = "voronoi \"cells\"";
+  write_cells(path, options);
+  const std::string text = slurp(path);
+  EXPECT_EQ(text.rfind("{\"type\":\"FeatureCollection\",\"name\":\"voronoi \\\"cells\\\"\","
+                       "\"features\":[\n",
+                       0),
+            0u)
+      << text.substr(0, 100);
+  EXPECT_FALSE(contains(text, "\"crs\""));
+  EXPECT_FALSE(contains(text, "\"Polygon\""));  // always MultiPolygon
+  EXPECT_TRUE(contains(text, "{\"type\":\"Feature\",\"id\":1,\"bbox\":[0.1234568,0,10,10],"));
+  EXPECT_TRUE(contains(text, "[[[[0.1234568,0],[10,0],[10,10],[0.1234568,10],[0.1234568,0]],"
+                             "[[2,2],[2,4],[4,4],[4,2],[2,2]]]]"));
+  EXPECT_EQ(text.back(), '\n');
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 6);  // header, 4 features, trailer
+
+  // Feature boxes per RFC 7946 §5.2/§5.3, then the collection's.
+  const auto boxes = bboxes_in(text);
+  const auto want = cells();
+  ASSERT_EQ(boxes.size(), want.size() + 1);
+  for (std::size_t k = 0; k < want.size(); ++k) {
+    const BBox& b = want[k].bbox;
+    const std::vector<double> wb{b.west, b.south, b.east, b.north};
+    ASSERT_EQ(boxes[k].size(), 4u);
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(boxes[k][i], wb[i], 5e-8) << k;
+  }
+  EXPECT_EQ(boxes.back(), (std::vector<double>{-180, -90, 180, 90}));
+  EXPECT_TRUE(text.ends_with("}\n],\"bbox\":[-180,-90,180,90]}\n")) << text.substr(text.size() - 40);
+
+  // GDAL's GeoJSON driver reads it, ids included.
+  const ReadBack r = read_back(path, "GeoJSON");
+  ASSERT_EQ(r.features.size(), 4u);
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(r.features[k]->GetFID(), static_cast<GIntBig>(k + 1));
+  // The id field also stays a property.
+  EXPECT_GE(field_index(r, "site_id"), 0);
+}
+
+// Our boxes against GDAL's own RFC 7946 writer (RFC7946=YES, WRITE_BBOX=YES).
+TEST(GeoJson, BoxesAgreeWithGdalRfc7946Writer) {
+  TempDir dir;
+  const std::string ours = dir / "ours.geojson";
+  const std::string theirs = dir / "theirs.geojson";
+  std::vector<MultiPolygon> geoms;
+  for (const Cell& c : cells()) geoms.push_back(c.geometry);
+  // A cut cell whose parts have different extents.
+  geoms.push_back({Polygon{box(175.5, -20, 180, -16), {}}, Polygon{box(-180, -18, -178, -17), {}}});
+  {
+    auto w = open_feature_writer(ours, GeometryType::MultiPolygon, {}, {});
+    for (const auto& g : geoms) w->write(g, {});
+    w->finish();
+  }
+  {
+    GDALAllRegister();
+    GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("GeoJSON");
+    GDALDatasetUniquePtr ds(drv->Create(theirs.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+    ASSERT_TRUE(ds);
+    OGRSpatialReference srs;
+    srs.importFromEPSG(4326);
+    srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    const char* lco[] = {"RFC7946=YES", "WRITE_BBOX=YES", "WRAPDATELINE=NO", nullptr};
+    OGRLayer* layer = ds->CreateLayer("cells", &srs, wkbMultiPolygon, const_cast<char**>(lco));
+    ASSERT_NE(layer, nullptr);
+    for (const auto& g : geoms) {
+      OGRMultiPolygon mp;
+      for (const Polygon& p : g) {
+        OGRPolygon poly;
+        OGRLinearRing ring;
+        for (const LonLat& q : p.exterior) ring.addPoint(q.lon_deg, q.lat_deg);
+        poly.addRing(&ring);
+        for (const Ring& h : p.holes) {
+          OGRLinearRing hr;
+          for (const LonLat& q : h) hr.addPoint(q.lon_deg, q.lat_deg);
+          poly.addRing(&hr);
+        }
+        mp.addGeometry(&poly);
+      }
+      OGRFeatureUniquePtr f(OGRFeature::CreateFeature(layer->GetLayerDefn()));
+      f->SetGeometry(&mp);
+      ASSERT_EQ(layer->CreateFeature(f.get()), OGRERR_NONE);
+    }
+  }
+  const auto a = bboxes_in(slurp(ours));
+  const auto b = bboxes_in(slurp(theirs));
+  ASSERT_EQ(a.size(), geoms.size() + 1);
+  ASSERT_EQ(b.size(), a.size());
+  // GDAL writes the collection bbox first, we write it last.
+  for (std::size_t k = 0; k < geoms.size(); ++k) {
+    ASSERT_EQ(a[k].size(), 4u);
+    ASSERT_EQ(b[k + 1].size(), 4u);
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(a[k][i], b[k + 1][i], 1e-7) << "feature " << k;
+  }
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(a.back()[i], b.front()[i], 1e-7) << "collection";
+}
+
+TEST(GeoJson, Rfc8142RecordSeparatorsForGeojsons) {
+  TempDir dir;
+  const std::string path = dir / "cells.geojsons";
+  write_cells(path);
+  const std::string text = slurp(path);
+  ASSERT_FALSE(text.empty());
+  EXPECT_EQ(text.front(), '\x1e');
+  EXPECT_EQ(text.back(), '\n');
+  // Each record is RS, one JSON text without RS or LF inside, LF.
+  std::vector<std::string> records;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    ASSERT_EQ(text[pos], '\x1e') << "at " << pos;
+    const std::size_t lf = text.find('\n', pos);
+    ASSERT_NE(lf, std::string::npos);
+    records.push_back(text.substr(pos + 1, lf - pos - 1));
+    pos = lf + 1;
+  }
+  ASSERT_EQ(records.size(), 4u);
+  for (const std::string& r : records) {
+    EXPECT_EQ(r.find('\x1e'), std::string::npos);
+    EXPECT_EQ(r.rfind("{\"type\":\"Feature\",\"bbox\":[", 0), 0u) << r.substr(0, 40);
+    EXPECT_EQ(r.back(), '}');
+  }
+  EXPECT_FALSE(contains(text, "FeatureCollection"));
+  // Each record alone is a GeoJSON Feature that GDAL's GeoJSON driver reads.
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    const std::string one = dir / ("one" + std::to_string(k) + ".geojson");
+    spit(one, records[k]);
+    const ReadBack r = read_back(one, "GeoJSON");
+    ASSERT_EQ(r.features.size(), 1u);
+    EXPECT_EQ(r.features[0]->GetFieldAsInteger64(0), static_cast<GIntBig>(k + 1));
+  }
+}
+
+TEST(GeoJson, NewlineDelimitedForGeojsonlAndSeqFormat) {
+  TempDir dir;
+  for (const std::string name : {"cells.geojsonl", "cells.txt"}) {
+    const std::string path = dir / name;
+    WriterOptions options;
+    options.format = "GeoJSONSeq";
+    write_cells(path, options);
+    const std::string text = slurp(path);
+    EXPECT_EQ(text.find('\x1e'), std::string::npos);
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 4);
+    std::istringstream in(text);
+    std::string line;
+    int n = 0;
+    while (std::getline(in, line)) {
+      EXPECT_EQ(line.rfind("{\"type\":\"Feature\",", 0), 0u);
+      ++n;
+    }
+    EXPECT_EQ(n, 4);
+  }
+}
+
+TEST(GeoJson, StringsEscapedAndReadBackExactly) {
+  TempDir dir;
+  const std::string path = dir / "strings.geojson";
+  auto w = open_feature_writer(path, GeometryType::Point, {{"s", FieldType::String}}, {});
+  w->write(LonLat{1, 2}, std::vector<FieldValue>{kTricky});
+  w->write(LonLat{1, 2}, std::vector<FieldValue>{std::string("bad \xff utf-8 \xC3")});
+  w->finish();
+  const std::string text = slurp(path);
+  EXPECT_TRUE(contains(text, R"("quote \" backslash \\ newline \n tab \t cr \r ctrl \u0001\u001f del )" "\x7f"))
+      << text;
+  EXPECT_TRUE(contains(text, "\xE6\xBC\xA2\xE5\xAD\x97 \xF0\x9F\x98\x80"));  // UTF-8 as it is
+  EXPECT_TRUE(contains(text, "bad \xEF\xBF\xBD utf-8 \xEF\xBF\xBD"));         // U+FFFD
+  const ReadBack r = read_back(path, "GeoJSON");
+  ASSERT_EQ(r.features.size(), 2u);
+  EXPECT_EQ(std::string(r.features[0]->GetFieldAsString(0)), kTricky);
+}
+
+TEST(GeoJson, NumbersIntegersExactRealsRoundTripAndStayReal) {
+  TempDir dir;
+  const std::string path = dir / "numbers.geojson";
+  const std::vector<Field> schema{{"i", FieldType::Integer}, {"r", FieldType::Real}};
+  const std::vector<double> reals = {2.0, 0.1, -1e-300, 1e300, 123456789.123456789, 5e-324,
+                                     std::nextafter(1.0, 2.0)};
+  auto w = open_feature_writer(path, GeometryType::Point, schema, {});
+  for (double v : reals) {
+    w->write(LonLat{0, 0}, std::vector<FieldValue>{std::int64_t{9007199254740993}, v});
+  }
+  w->write(LonLat{0, 0}, std::vector<FieldValue>{std::numeric_limits<std::int64_t>::min(),
+                                                 std::numeric_limits<double>::quiet_NaN()});
+  w->finish();
+  const std::string text = slurp(path);
+  EXPECT_TRUE(contains(text, "\"i\":9007199254740993,\"r\":2.0}"));
+  EXPECT_TRUE(contains(text, "\"r\":0.1}"));
+  EXPECT_TRUE(contains(text, "\"r\":1e+300}"));
+  EXPECT_TRUE(contains(text, "\"i\":-9223372036854775808,\"r\":null}"));
+  const ReadBack r = read_back(path, "GeoJSON");
+  ASSERT_EQ(r.features.size(), reals.size() + 1);
+  EXPECT_EQ(r.field_types[0], OFTInteger64);
+  EXPECT_EQ(r.field_types[1], OFTReal);
+  for (std::size_t k = 0; k < reals.size(); ++k) {
+    EXPECT_EQ(r.features[k]->GetFieldAsInteger64(0), 9007199254740993);
+    EXPECT_EQ(r.features[k]->GetFieldAsDouble(1), reals[k]) << k;  // bit-exact
+  }
+  EXPECT_TRUE(r.features.back()->IsFieldNull(1));
+}
+
+TEST(GeoJson, PrecisionOption) {
+  TempDir dir;
+  const std::string path = dir / "p.geojsonl";
+  WriterOptions options;
+  options.precision = 3;
+  auto w = open_feature_writer(path, GeometryType::Point, {}, options);
+  w->write(LonLat{1.23456, -0.0004}, {});
+  w->finish();
+  EXPECT_EQ(slurp(path),
+            "{\"type\":\"Feature\",\"bbox\":[1.235,0,1.235,0],\"properties\":{},"
+            "\"geometry\":{\"type\":\"Point\",\"coordinates\":[1.235,0]}}\n");
+  options.precision = 18;
+  EXPECT_EQ(error_of([&] { open_feature_writer(dir / "q.geojson", GeometryType::Point, {}, options); })
+                .code(),
+            ErrorCode::InvalidArgument);
+}
+
+TEST(GeoJson, StdoutForDash) {
+  TempDir dir;
+  const std::string capture = dir / "stdout.txt";
+  std::fflush(stdout);
+  const int saved = ::dup(STDOUT_FILENO);
+  ASSERT_GE(saved, 0);
+  FILE* f = std::fopen(capture.c_str(), "wb");
+  ASSERT_NE(f, nullptr);
+  ::dup2(::fileno(f), STDOUT_FILENO);
+  {
+    WriterOptions options;
+    options.format = "GeoJSONSeq";
+    auto w = open_feature_writer("-", GeometryType::Point, {{"n", FieldType::Integer}}, options);
+    w->write(LonLat{10, 20}, std::vector<FieldValue>{std::int64_t{5}});
+    w->finish();
+  }
+  std::fflush(stdout);
+  ::dup2(saved, STDOUT_FILENO);
+  ::close(saved);
+  std::fclose(f);
+  EXPECT_EQ(slurp(capture),
+            "{\"type\":\"Feature\",\"bbox\":[10,20,10,20],\"properties\":{\"n\":5},"
+            "\"geometry\":{\"type\":\"Point\",\"coordinates\":[10,20]}}\n");
+  // Only GeoJSON goes to stdout.
+  WriterOptions gpkg;
+  gpkg.format = "GPKG";
+  EXPECT_EQ(error_of([&] { open_feature_writer("-", GeometryType::Point, {}, gpkg); }).code(),
+            ErrorCode::InvalidArgument);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Number formatting and boxes
+
+std::string coord(double v, int p) {
+  char buf[kMaxCoordinateChars];
+  return std::string(buf, format_coordinate(buf, v, p));
+}
+
+// std::to_chars(fixed) with trailing zeros trimmed and "-0" as "0": the reference.
+std::string reference(double v, int p) {
+  char buf[400];
+  char* end = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, p).ptr;
+  std::string s(buf, end);
+  if (s.find('.') != std::string::npos) {
+    while (s.back() == '0') s.pop_back();
+    if (s.back() == '.') s.pop_back();
+  }
+  if (s == "-0") s = "0";
+  return s;
+}
+
+TEST(FormatCoordinate, MatchesToCharsFixed) {
+  EXPECT_EQ(coord(180, 7), "180");
+  EXPECT_EQ(coord(-180, 7), "-180");
+  EXPECT_EQ(coord(0.1, 7), "0.1");
+  EXPECT_EQ(coord(-0.0, 7), "0");
+  EXPECT_EQ(coord(-0.00000004, 7), "0");
+  EXPECT_EQ(coord(-0.00000005, 7), reference(-0.00000005, 7));
+  EXPECT_EQ(coord(-0.00000006, 7), "-0.0000001");
+  EXPECT_EQ(coord(0.125, 2), "0.12");              // exact tie: to even
+  EXPECT_EQ(coord(0.375, 2), "0.38");
+  EXPECT_EQ(coord(2.5, 0), "2");
+  EXPECT_EQ(coord(1e-300, 7), "0");
+  EXPECT_EQ(coord(5e-324, 17), "0");
+  EXPECT_EQ(coord(12.3456789012, 7), "12.3456789");
+  EXPECT_EQ(coord(4503599627370495.5, 17), reference(4503599627370495.5, 17));  // slow path
+  // Near-ties of the 7th decimal (the fast path must leave them to the exact path).
+  for (int k = -100000; k < 100000; ++k) {
+    const double v = (k * 17 + 0.5) / 1e7;
+    ASSERT_EQ(coord(v, 7), reference(v, 7)) << v;
+    ASSERT_EQ(coord(std::nextafter(v, 1e9), 7), reference(std::nextafter(v, 1e9), 7)) << v;
+    ASSERT_EQ(coord(std::nextafter(v, -1e9), 7), reference(std::nextafter(v, -1e9), 7)) << v;
+  }
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> deg(-180, 180);
+  std::uniform_int_distribution<int> prec(0, 17);
+  std::uniform_int_distribution<std::uint64_t> bits;
+  for (int i = 0; i < 200000; ++i) {
+    const int p = prec(rng);
+    double v = deg(rng);
+    if (i % 4 == 1) v = std::ldexp(v, -static_cast<int>(rng() % 60));  // tiny values
+    if (i % 4 == 2) v = std::round(v * 1024) / 1024 + std::ldexp(1.0, -11);  // binary ties
+    if (i % 4 == 3) {  // any finite double below 2^52
+      std::uint64_t b = bits(rng);
+      std::memcpy(&v, &b, sizeof v);
+      if (!std::isfinite(v) || std::abs(v) >= 4503599627370496.0) continue;
+    }
+    ASSERT_EQ(coord(v, p), reference(v, p)) << v << " precision " << p;
+  }
+}
+
+TEST(FormatReal, ShortestRoundTripWithDecimalPoint) {
+  auto real = [](double v) {
+    char buf[kMaxRealChars];
+    return std::string(buf, format_real(buf, v));
+  };
+  EXPECT_EQ(real(2.0), "2.0");
+  EXPECT_EQ(real(-0.0), "-0.0");
+  EXPECT_EQ(real(0.1), "0.1");
+  EXPECT_EQ(real(1e300), "1e+300");
+  EXPECT_EQ(real(123456789012.0), "123456789012.0");
+  EXPECT_EQ(real(-1.7976931348623157e308), "-1.7976931348623157e+308");
+}
+
+TEST(JsonString, Escapes) {
+  std::string s;
+  append_json_string(s, std::string("a\"b\\c\x01\x1f\b\f\n\r\t\x7f/", 14));
+  EXPECT_EQ(s, R"("a\"b\\c\u0001\u001f\b\f\n\r\t)" "\x7f" R"(/")");
+  s.clear();
+  append_json_string(s, std::string("\0", 1));
+  EXPECT_EQ(s, R"("\u0000")");
+  // Invalid UTF-8: overlong, surrogate, beyond U+10FFFF, truncated, stray continuation.
+  for (const std::string bad : {"\xC0\xAF", "\xED\xA0\x80", "\xF4\x90\x80\x80", "\xE2\x82", "\x80"}) {
+    s.clear();
+    append_json_string(s, bad);
+    EXPECT_EQ(s.find_first_not_of("\"\xEF\xBF\xBD"), std::string::npos) << s;
+  }
+  s.clear();
+  append_json_string(s, "\xF4\x8F\xBF\xBF \xEE\x80\x80");  // U+10FFFF, U+E000: valid
+  EXPECT_EQ(s, "\"\xF4\x8F\xBF\xBF \xEE\x80\x80\"");
+}
+
+TEST(BBox, Rules) {
+  auto bb = [](const Geometry& g) {
+    const auto b = geojson_bbox(g);
+    return b ? std::vector<double>{b->west, b->south, b->east, b->north} : std::vector<double>{};
+  };
+  EXPECT_EQ(bb(LonLat{3, 4}), (std::vector<double>{3, 4, 3, 4}));
+  EXPECT_EQ(bb(MultiPolygon{}), std::vector<double>{});
+  for (const Cell& c : cells()) {
+    EXPECT_EQ(bb(c.geometry), (std::vector<double>{c.bbox.west, c.bbox.south, c.bbox.east, c.bbox.north}));
+  }
+  // Line parts on both sides of the antimeridian.
+  EXPECT_EQ(bb(lines()), (std::vector<double>{170, 1, -160, 3.5}));
+  // Parts far apart on the same side: no crossing.
+  EXPECT_EQ(bb(MultiLineString{{{-10, 0}, {-5, 1}}, {{20, 0}, {30, 1}}}),
+            (std::vector<double>{-10, 0, 30, 1}));
+  // Parts at -180..-10 and 10..180 (touching at the antimeridian): the arc 10 -> -10 eastwards.
+  EXPECT_EQ(bb(MultiPolygon{{box(-180, 0, -10, 1), {}}, {box(10, 0, 180, 1), {}}}),
+            (std::vector<double>{10, 0, -10, 1}));
+
+  BBoxUnion u;
+  EXPECT_FALSE(u.result());
+  u.add({170, -10, -170, 10});
+  u.add({0, 20, 10, 30});
+  auto r = u.result();
+  ASSERT_TRUE(r);
+  EXPECT_EQ((std::vector<double>{r->west, r->south, r->east, r->north}),
+            (std::vector<double>{0, -10, -170, 30}));
+  u.add({-180, 80, 180, 90});
+  r = u.result();
+  EXPECT_EQ((std::vector<double>{r->west, r->south, r->east, r->north}),
+            (std::vector<double>{-180, -10, 180, 90}));
+  // Many small boxes (compaction) covering -100..100 in steps.
+  BBoxUnion many;
+  for (int i = 0; i < 200000; ++i) {
+    const double w = -100 + (i % 2000) * 0.1;
+    many.add({w, 0, w + 0.1, 1});
+  }
+  r = many.result();
+  ASSERT_TRUE(r);
+  EXPECT_NEAR(r->west, -100, 1e-9);
+  EXPECT_NEAR(r->east, 100, 1e-9);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Arguments
+
+TEST(FeatureWriter, FormatFromExtension) {
+  EXPECT_EQ(format_from_extension("a/b.geojson"), "GeoJSON");
+  EXPECT_EQ(format_from_extension("b.GeoJSON"), "GeoJSON");
+  EXPECT_EQ(format_from_extension("b.json"), "GeoJSON");
+  EXPECT_EQ(format_from_extension("b.geojsons"), "GeoJSONSeq");
+  EXPECT_EQ(format_from_extension("b.geojsonl"), "GeoJSONSeq");
+  EXPECT_EQ(format_from_extension("b.gpkg"), "GPKG");
+  EXPECT_EQ(format_from_extension("b.fgb"), "FlatGeobuf");
+  EXPECT_EQ(format_from_extension("b.SHP"), "ESRI Shapefile");
+  EXPECT_EQ(format_from_extension("b.csv"), "CSV");
+  EXPECT_EQ(format_from_extension("b.xyz"), "");
+  EXPECT_EQ(format_from_extension("b"), "");
+}
+
+TEST(FeatureWriter, InvalidArguments) {
+  TempDir dir;
+  auto code = [](const std::function<void()>& f) { return error_of(f).code(); };
+  const auto bad = ErrorCode::InvalidArgument;
+  EXPECT_EQ(code([&] { open_feature_writer(dir / "a.nope", GeometryType::Point, {}, {}); }), bad);
+  WriterOptions unknown;
+  unknown.format = "NoSuchDriver";
+  EXPECT_EQ(code([&] { open_feature_writer(dir / "a.x", GeometryType::Point, {}, unknown); }), bad);
+  EXPECT_EQ(code([&] {
+              open_feature_writer(dir / "a.geojson", GeometryType::Point,
+                                  {{"a", FieldType::String}, {"A", FieldType::Integer}}, {});
+            }),
+            bad);
+  EXPECT_EQ(code([&] { open_feature_writer(dir / "a.gpkg", GeometryType::Point, {{"", FieldType::String}}, {}); }),
+            bad);
+  WriterOptions id;
+  id.id_field = "nope";
+  EXPECT_EQ(code([&] { open_feature_writer(dir / "a.geojson", GeometryType::Point, {}, id); }), bad);
+  EXPECT_TRUE(dir.entries().empty());
+
+  // A bad feature is refused before anything is written: the writer goes on.
+  for (const std::string name : {"w.geojson", "w.gpkg"}) {
+    auto w = open_feature_writer(dir / name, GeometryType::MultiPolygon, {{"n", FieldType::Integer}}, {});
+    const std::vector<FieldValue> one{std::int64_t{1}};
+    MultiPolygon open_ring{{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}, {}}};
+    EXPECT_EQ(code([&] { w->write(open_ring, one); }), bad);
+    MultiPolygon out_of_range{{box(0, 0, 190, 1), {}}};
+    EXPECT_EQ(code([&] { w->write(out_of_range, one); }), bad);
+    MultiPolygon nan{{box(0, 0, std::nan(""), 1), {}}};
+    EXPECT_EQ(code([&] { w->write(nan, one); }), bad);
+    EXPECT_EQ(code([&] { w->write(LonLat{0, 0}, one); }), bad);                   // wrong type
+    EXPECT_EQ(code([&] { w->write(cells()[0].geometry, std::vector<FieldValue>{}); }), bad);  // count
+    w->write(cells()[0].geometry, one);
+    w->finish();
+    EXPECT_EQ(read_back(dir / name, nullptr).features.size(), 1u);
+  }
+}
+
+TEST(FeatureWriter, FormatByGdalExtensionOrName) {
+  TempDir dir;
+  // .sqlite is not in our table: GDAL's extension metadata names the SQLite driver.
+  write_cells(dir / "cells.sqlite");
+  const ReadBack r = read_back(dir / "cells.sqlite", "SQLite");
+  EXPECT_EQ(r.features.size(), 4u);
+  // Any driver by name, e.g. GML.
+  WriterOptions gml;
+  gml.format = "GML";
+  write_cells(dir / "cells.gml", gml);
+  EXPECT_EQ(read_back(dir / "cells.gml", "GML").features.size(), 4u);
+  // The GML driver writes an .xsd sidecar, moved into place with it.
+  EXPECT_TRUE(fs::exists(dir / "cells.xsd"));
+  for (const std::string& e : dir.entries()) EXPECT_NE(e.front(), '.') << e;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Safe output
+
+TEST(SafeOutput, RefusesExistingOutputUnlessOverwrite) {
+  for (const std::string name : {"out.geojson", "out.gpkg", "out.fgb", "out.shp", "out.csv"}) {
+    SCOPED_TRACE(name);
+    TempDir dir;
+    const std::string path = dir / name;
+    spit(path, "old");
+    const Error e = error_of([&] { write_cells(path); });
+    EXPECT_EQ(e.code(), ErrorCode::Io);
+    EXPECT_TRUE(contains(e.what(), "exists; use --overwrite")) << e.what();
+    EXPECT_EQ(slurp(path), "old");
+    EXPECT_EQ(dir.entries(), std::vector<std::string>{name});
+
+    WriterOptions overwrite;
+    overwrite.overwrite = true;
+    auto w = open_feature_writer(path, GeometryType::MultiPolygon, cell_schema(), overwrite);
+    for (const Cell& c : cells()) w->write(c.geometry, c.values);
+    EXPECT_EQ(slurp(path), "old");  // replaced only by finish()
+    w->finish();
+    EXPECT_EQ(read_back(path, nullptr).features.size(), 4u);
+    for (const std::string& entry : dir.entries()) EXPECT_NE(entry.front(), '.') << entry;
+  }
+}
+
+TEST(SafeOutput, ShapefileSidecarsCountAsTheOutput) {
+  TempDir dir;
+  spit(dir / "cells.dbf", "old");
+  const Error e = error_of([&] { write_cells(dir / "cells.shp"); });
+  EXPECT_EQ(e.code(), ErrorCode::Io);
+  EXPECT_TRUE(contains(e.what(), "cells.dbf: exists")) << e.what();
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"cells.dbf"});
+  // Overwriting removes sidecars the new output does not have (a stale spatial index).
+  spit(dir / "cells.qix", "stale");
+  WriterOptions overwrite;
+  overwrite.overwrite = true;
+  write_cells(dir / "cells.shp", overwrite);
+  EXPECT_EQ(dir.entries(),
+            (std::vector<std::string>{"cells.cpg", "cells.dbf", "cells.prj", "cells.shp", "cells.shx"}));
+}
+
+TEST(SafeOutput, NothingLeftWhenNotFinished) {
+  for (const std::string name :
+       {"a.geojson", "a.geojsons", "a.gpkg", "a.fgb", "a.shp", "a.csv"}) {
+    SCOPED_TRACE(name);
+    TempDir dir;
+    {
+      auto w = open_feature_writer(dir / name, GeometryType::MultiPolygon, cell_schema(), {});
+      for (const Cell& c : cells()) w->write(c.geometry, c.values);
+      EXPECT_FALSE(dir.entries().empty());  // the temporary file or directory
+    }
+    EXPECT_TRUE(dir.entries().empty()) << dir.entries().front();
+  }
+}
+
+TEST(SafeOutput, MissingDirectoryIsAnIoError) {
+  TempDir dir;
+  for (const std::string name : {"no/such/dir/a.geojson", "no/such/dir/a.gpkg"}) {
+    const Error e = error_of([&] { write_cells(dir / name); });
+    EXPECT_EQ(e.code(), ErrorCode::Io) << e.what();
+    EXPECT_TRUE(contains(e.what(), dir / name)) << e.what();
+  }
+  EXPECT_TRUE(dir.entries().empty());
+  // A directory is never replaced.
+  fs::create_directory(dir / "d.geojson");
+  WriterOptions overwrite;
+  overwrite.overwrite = true;
+  EXPECT_EQ(error_of([&] { write_cells(dir / "d.geojson", overwrite); }).code(), ErrorCode::Io);
+}
+
+// A 64 KiB tmpfs: every format fails cleanly (Error(Io)) and leaves nothing behind.
+TEST(SafeOutput, FullFileSystem) {
+  TempDir dir;
+  const std::string mnt = dir / "tiny";
+  fs::create_directory(mnt);
+  if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=64k") != 0) {
+    GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno) << "); needs root";
+  }
+  struct Unmount {
+    std::string at;
+    ~Unmount() { ::umount2(at.c_str(), MNT_DETACH); }
+  } unmount{mnt};
+  for (const std::string name : {"a.geojson", "a.geojsons", "a.gpkg", "a.fgb", "a.shp", "a.csv"}) {
+    SCOPED_TRACE(name);
+    const Error e = error_of([&] {
+      auto w = open_feature_writer(mnt + "/" + name, GeometryType::MultiPolygon, cell_schema(), {});
+      // About 2 MB of features, far beyond 64 KiB.
+      for (int i = 0; i < 5000; ++i) {
+        const Cell& c = cells()[static_cast<std::size_t>(i % 4)];
+        w->write(c.geometry, c.values);
+      }
+      w->finish();
+    });
+    EXPECT_EQ(e.code(), ErrorCode::Io) << e.what();
+    EXPECT_TRUE(contains(e.what(), name)) << e.what();
+    std::vector<std::string> left;
+    for (const auto& entry : fs::directory_iterator(mnt)) left.push_back(entry.path().filename());
+    EXPECT_TRUE(left.empty()) << left.front();
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Speed (run with --gtest_also_run_disabled_tests): 171k cells of 20 vertices.
+
+TEST(FeatureWriterSpeed, DISABLED_Cells171k) {
+  TempDir dir;
+  std::vector<MultiPolygon> geoms;
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> lon(-170, 170), lat(-80, 80);
+  for (int i = 0; i < 171000; ++i) {
+    const double cx = lon(rng), cy = lat(rng);
+    Ring r;
+    for (int k = 0; k < 20; ++k) {
+      const double a = 2 * M_PI * k / 20;
+      r.push_back({cx + 0.3 * std::cos(a), cy + 0.2 * std::sin(a)});
+    }
+    r.push_back(r.front());
+    geoms.push_back({Polygon{r, {}}});
+  }
+  const std::vector<Field> schema{{"site_id", FieldType::Integer}, {"name", FieldType::String},
+                                  {"area", FieldType::Real}};
+  for (const std::string name : {"s.geojson", "s.geojsonl", "s.gpkg", "s.fgb", "s.shp", "s.csv"}) {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto w = open_feature_writer(dir / name, GeometryType::MultiPolygon, schema, {});
+    std::vector<FieldValue> v(3);
+    for (std::size_t i = 0; i < geoms.size(); ++i) {
+      v[0] = static_cast<std::int64_t>(i);
+      v[1] = std::string(1, 'K') += std::to_string(i);
+      v[2] = 1234.5 + static_cast<double>(i) * 0.001;
+      w->write(geoms[i], v);
+    }
+    w->finish();
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("%-12s %7.3f s  %8.1f MB\n", name.c_str(), s,
+                static_cast<double>(fs::file_size(dir / name)) / 1e6);
+  }
+}
+
+}  // namespace
+}  // namespace geovor
