@@ -1,0 +1,125 @@
+/// \file cell_geometry.hpp
+/// \brief Voronoi cells as RFC 7946 polygons in longitude/latitude (degrees), and their area on
+/// the WGS84 ellipsoid.
+///
+/// The pipeline (../shared/research/gis.md, sections 0, 1, 4 and 5):
+///  1. Every edge is densified along its great circle by adaptive bisection on the sphere: an
+///     arc is split while the great-circle midpoint is farther than densify_m from the midpoint
+///     of the straight lon/lat segment, or while it is longer than max_step_deg, down to
+///     max_depth levels. Near sites closer than 4 densify_m the tolerance of an edge drops to a
+///     quarter of the shortest side of its two Delaunay triangles (at most a quarter of the
+///     distance between its two sites), so every site stays inside its written cell.
+///     180-degree edges (lunes, three sites) are split by rotating in their bisector plane; an
+///     arc with a pole as an end point is a meridian and is not split (except pole to pole); an
+///     arc passing within kSnapRad of a pole is split at the pole. An edge is always densified in one canonical direction, from the cell of
+///     the smaller site id, and reversed for the other cell, so both cells carry bit-identical
+///     vertices and the tiling has neither gaps nor overlaps.
+///  2. Points on the sphere become geodetic longitude/latitude with SiteEncoder::to_lat_lon
+///     (geocentric direction -> geodetic latitude). Points within kSnapRad of a pole become the
+///     pole, and points within kSnapRad of the antimeridian land exactly on it, so rounding
+///     noise never decides a side.
+///  3. A vertex at a pole is replaced by two pole positions carrying the longitudes of the
+///     incoming and outgoing edges. Longitudes are unwrapped: the winding is 0, or +-360 for a
+///     cell holding a pole.
+///  4. A cell crossing +-180 is cut there into a MultiPolygon; the crossing latitude is the
+///     intersection of the (densified) great-circle arc with the antimeridian, identical for
+///     both parts and both cells. A cell holding a pole runs from -180 to 180 along its boundary
+///     and is closed through (180, +-90) and (-180, +-90).
+///  5. Rings are closed by an exact copy of the first position, exterior rings counter-clockwise
+///     in (lon, lat) (planar signed area > 0), without consecutive duplicates, longitudes within
+///     [-180, 180] and latitudes within [-90, 90].
+/// One site gives the whole sphere [-180, 180] x [-90, 90]; two sites give two hemispheres.
+///
+/// Voronoi edges shorter than collapse_m are collapsed (their end vertices, and every vertex
+/// linked to them by such short edges, become one point): co-circular sites give several
+/// triangles with one circumcentre, and the rounding noise between those copies could fold a
+/// ring. Every cell contains a disk of radius 0.19 m around its site (sites are at least 0.38 m
+/// apart), so no cell vanishes.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "geovor/core/types.hpp"
+#include "geovor/io/geometry.hpp"
+#include "geovor/voronoi/voronoi_diagram.hpp"
+
+namespace geovor {
+
+/// Options of the lon/lat cell geometry; every default is documented.
+struct CellGeometryOptions {
+  /// Largest distance (metres, on the sphere of radius SiteEncoder::kEarthRadiusM) between a
+  /// written straight lon/lat segment's midpoint and the true great-circle arc. DEFAULT: 100 m.
+  /// Edges near sites closer than 4 densify_m get a finer tolerance (see the file comment).
+  /// REQUIRES: > 0.
+  double densify_m = 100;
+  /// Arcs longer than this (degrees) are always split, so the midpoint test is meaningful.
+  /// DEFAULT: 1 degree. REQUIRES: > 0.
+  double max_step_deg = 1;
+  /// Recursion depth cap of the bisection of one edge. DEFAULT: 20 (2^20 pieces at most).
+  int max_depth = 20;
+  /// Voronoi edges shorter than this (metres on the sphere) are collapsed. DEFAULT: 0.005 m.
+  /// REQUIRES: >= 0 and well below 0.19 m.
+  double collapse_m = 0.005;
+};
+
+/// Builds the lon/lat polygons of the cells of one VoronoiDiagram. Construction precomputes, for
+/// every Voronoi vertex, its collapsed representative, its snapped position and its lon/lat
+/// (O(number of vertices)); each cell is then built in O(its output size). The diagram must
+/// outlive this object. polygon() is thread-safe (scratch buffers are thread-local). Building the
+/// cells in VoronoiDiagram::storage_order() is faster than by id when ids are spatially random.
+class CellGeometry {
+ public:
+  /// Points within this angle (radians on the unit sphere, 1.5e-11, about 0.1 mm) of a pole or
+  /// of the antimeridian are moved onto it.
+  static constexpr double kSnapRad = 0x1p-36;
+
+  /// @exception Error(InvalidArgument) if an option is out of range.
+  explicit CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOptions& options = {});
+
+  /// The cell of site s as a MultiPolygon (empty if s has no cell), following the file comment.
+  /// \param[out] bbox if not null, the RFC 7946 bounding box [west, south, east, north]
+  ///   (degrees): west > east for a cell cut at the antimeridian, west = -180 and east = 180
+  ///   for a cell holding a pole (or spanning all longitudes).
+  MultiPolygon polygon(SiteId s, BBox* bbox = nullptr) const;
+  /// Same, reusing the storage of `out` (no allocation once its capacity suffices).
+  void polygon(SiteId s, MultiPolygon& out, BBox* bbox = nullptr) const;
+
+  const VoronoiDiagram& diagram() const { return *vd_; }
+  const CellGeometryOptions& options() const { return options_; }
+
+ private:
+  const VoronoiDiagram* vd_;
+  CellGeometryOptions options_;
+  // Per Voronoi vertex, in 48 bytes: the snapped position and longitude/latitude (degrees) of
+  // its representative (collapsed edges), that representative, and the squared chord of the
+  // shortest side of its triangle (a lower bound of the distance between the sites of an edge).
+  struct Vertex {
+    Vec3 v;
+    double lon, lat;
+    TriId rep;
+    float min_side2;
+  };
+  std::vector<Vertex> vertices_;
+};
+
+/// One cell, building a CellGeometry first (O(size of the diagram)): for one-off use only; use
+/// CellGeometry to build many cells.
+MultiPolygon cell_polygon(const VoronoiDiagram& diagram, SiteId s,
+                          const CellGeometryOptions& options = {}, BBox* bbox = nullptr);
+
+/// Area (m^2) on the WGS84 ellipsoid of polygons in lon/lat degrees with counter-clockwise
+/// exterior rings and clockwise holes, as GeographicLib::PolygonArea(Geodesic::WGS84()) computes
+/// it: the edges between consecutive positions are geodesics (for densified edges this differs
+/// from the straight lon/lat segment by less than the densification tolerance, and shared edges
+/// cancel exactly, so the areas of a tiling sum to the ellipsoid's area). Rings around a pole
+/// through (+-180, +-90) are handled by GeographicLib. An exterior ring counter-clockwise is
+/// taken as the area on its left, in [0, area of the ellipsoid); the one ring whose planar area
+/// is 64800 square degrees (the whole lon/lat rectangle) counts as the whole ellipsoid.
+double ellipsoid_area_m2(const MultiPolygon& polygons);
+
+/// Signed planar area of a closed ring in (lon, lat) (square degrees), positive when
+/// counter-clockwise.
+double planar_area_deg2(const Ring& ring);
+
+}  // namespace geovor

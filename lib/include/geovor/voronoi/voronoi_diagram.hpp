@@ -1,0 +1,123 @@
+/// \file voronoi_diagram.hpp
+/// \brief VoronoiDiagram: the Voronoi cells on the unit sphere dual to a SphericalDelaunay.
+///
+/// The Voronoi vertex of triangle t = (a, b, c) (counter-clockwise seen from outside, as stored)
+/// is the centre of its empty cap, normalize((b - a) x (c - a)). The formula needs no special
+/// case: for a ghost triangle (empty cap larger than a hemisphere) it gives the centre of that
+/// larger cap, and for a flat triangle through the centre of the sphere (all sites on one great
+/// circle) the pole of that circle on the triangle's side. Since the sites are the stored doubles,
+/// which lie within 2^-51 of the sphere, this is the exact dual of the triangulation (the power
+/// diagram of the hull, de Castro's thesis Ch. 3) up to the rounding of one cross product.
+///
+/// Cells are stored in CSR form. For a live site s with triangles t_0 ... t_{d-1} around it,
+/// counter-clockwise seen from outside (SphericalDelaunay::next_around_site):
+///  - cell_vertices(s)[i] = t_i: the cell boundary is vertex(t_0), vertex(t_1), ... in that order,
+///    counter-clockwise around s (the cell is on the left of every edge);
+///  - cell_neighbors(s)[i] = the site across the edge from vertex(t_i) to vertex(t_{i+1}); that
+///    edge is an arc of the bisector great circle of s and the neighbour, at most 180 degrees long
+///    (exactly 180 degrees in the lunes of sites on one great circle and with three sites).
+/// Consecutive vertices can coincide (co-circular sites give several triangles with one
+/// circumcentre); the zero-length edges are kept so that the lists mirror the triangulation.
+///
+/// Without triangles (fewer than three sites) the cells are described by kind():
+///  - Kind::Empty: no site;
+///  - Kind::WholeSphere: one site, whose cell is the whole sphere (4 pi sr);
+///  - Kind::Hemispheres: two sites, whose cells are the two hemispheres bounded by their bisector
+///    great circle; hemisphere_normal(s) is the pole of the cell of s, cell_neighbors(s) the
+///    other site, and cell_vertices(s) is empty.
+///
+/// A VoronoiDiagram is a snapshot: it copies what it needs and does not change when the
+/// triangulation does (insertions and removals need a new diagram).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "geovor/core/types.hpp"
+
+namespace geovor {
+
+class SphericalDelaunay;
+
+class VoronoiDiagram {
+ public:
+  /// What the cells are; see the file comment.
+  enum class Kind : std::uint8_t { Empty, WholeSphere, Hemispheres, Cells };
+
+  VoronoiDiagram() = default;
+  /// Builds the diagram of the live sites of `dt` in O(number of triangles).
+  explicit VoronoiDiagram(const SphericalDelaunay& dt);
+
+  /// \name Inspectors
+  ///@{
+  Kind kind() const { return kind_; }
+  /// Number of cells = number of live sites.
+  std::size_t num_cells() const { return num_cells_; }
+  /// One past the largest site id (removed sites keep their id and have no cell).
+  std::size_t site_capacity() const { return sites_.size(); }
+  /// True iff s is a live site, i.e. has a cell.
+  bool has_cell(SiteId s) const { return s < live_.size() && live_[s] != 0; }
+  /// The unit vector of site s.
+  const Vec3& site(SiteId s) const { return sites_[s]; }
+  /// Number of Voronoi vertices = number of triangles (0 unless kind() == Kind::Cells).
+  std::size_t num_vertices() const { return vertices_.size(); }
+  /// The Voronoi vertex of triangle t: a unit vector (|v|^2 within a few ulps of 1).
+  const Vec3& vertex(TriId t) const { return vertices_[t]; }
+  std::span<const Vec3> vertices() const { return vertices_; }
+  /// The triangles around s, counter-clockwise: the ids of the vertices of its cell, in order.
+  /// Empty unless kind() == Kind::Cells and has_cell(s).
+  std::span<const TriId> cell_vertices(SiteId s) const;
+  /// The neighbour across each edge (vertex i to vertex i + 1, cyclically); with two sites, the
+  /// other site. Same length as cell_vertices(s) when kind() == Kind::Cells.
+  std::span<const SiteId> cell_neighbors(SiteId s) const;
+  /// Kind::Hemispheres only: the unit normal of the bisector plane pointing into the cell of s,
+  /// normalize(site(s) - site(other)); the cell is {p : dot(p, n) >= 0}.
+  Vec3 hemisphere_normal(SiteId s) const;
+  /// Spherical area of the cell of s (steradians): 4 pi for the whole sphere, 2 pi for a
+  /// hemisphere, 0 for a site without a cell. Computed on demand in O(degree): the fan of the
+  /// spherical triangles (site, v_i, v_i+1), each by the Van Oosterom-Strackee formula, an edge
+  /// longer than 90 degrees split at its midpoint first (right for cells larger than a
+  /// hemisphere and for 180-degree edges). The areas of all cells sum to 4 pi up to rounding.
+  double cell_area_sr(SiteId s) const;
+  /// The live sites in the order their cells are stored: the order in which they first appear in
+  /// the triangulation's triangle array, which is spatially coherent. Visiting cells in this
+  /// order is several times faster than by id when ids are in random spatial order.
+  std::span<const SiteId> storage_order() const { return order_; }
+  /// Bytes held by the arrays (capacity).
+  std::size_t memory_bytes() const;
+  ///@}
+
+  /// \name Spherical helpers (also used by the cell geometry)
+  ///@{
+  /// normalize((b - a) x (c - a)): the centre of the cap through a, b, c on the side where
+  /// a, b, c turn counter-clockwise.
+  static Vec3 circumcenter(const Vec3& a, const Vec3& b, const Vec3& c);
+  /// Midpoint of the arc from a to b that turns positively (counter-clockwise seen from outside
+  /// at the tip of `axis`) about the unit vector `axis`, of which a and b are (nearly)
+  /// perpendicular. Robust up to and including 180-degree arcs (b = -a), where the axis alone
+  /// decides the arc. Arcs shorter than 120 degrees use normalize(a + b) and ignore `axis`.
+  static Vec3 arc_midpoint(const Vec3& a, const Vec3& b, const Vec3& axis);
+  /// Signed solid angle of the spherical triangle a, b, c (unit vectors, minor arcs) in
+  /// steradians, positive when counter-clockwise (Van Oosterom and Strackee, 1983).
+  static double triangle_area_sr(const Vec3& a, const Vec3& b, const Vec3& c);
+  ///@}
+
+ private:
+  Kind kind_ = Kind::Empty;
+  std::size_t num_cells_ = 0;
+  std::vector<Vec3> sites_;         // copy of the triangulation's sites (by id)
+  std::vector<std::uint8_t> live_;  // 1 iff the site has a cell
+  std::vector<Vec3> vertices_;      // circumcentre of each triangle
+  struct Range {
+    std::uint32_t begin = 0, end = 0;
+  };
+  std::vector<Range> cells_;   // CSR: cell s is [cells_[s].begin, cells_[s].end)
+  std::vector<SiteId> order_;  // live sites in storage order
+  std::vector<TriId> cell_tris_;
+  std::vector<SiteId> cell_nbrs_;
+  SiteId pair_[2] = {kNoIndex, kNoIndex};  // the two sites of Kind::Hemispheres
+};
+
+}  // namespace geovor

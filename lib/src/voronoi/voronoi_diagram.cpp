@@ -1,0 +1,178 @@
+#include "geovor/voronoi/voronoi_diagram.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "geovor/core/assert.hpp"
+#include "geovor/delaunay/halfedge.hpp"
+#include "geovor/delaunay/spherical_delaunay.hpp"
+
+namespace geovor {
+namespace {
+
+Vec3 normalized(const Vec3& v) { return (1 / std::sqrt(norm2(v))) * v; }
+
+template <class T>
+std::size_t bytes_of(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+}  // namespace
+
+Vec3 VoronoiDiagram::circumcenter(const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Differences first: for nearby sites they are exact (Sterbenz), so the direction is accurate.
+  const Vec3 n = cross(b - a, c - a);
+  const double n2 = norm2(n);
+  // Distinct points of the sphere are never collinear in R^3.
+  GEOVOR_ASSERT(n2 > 0);
+  // Division, not a reciprocal: sqrt(c^2) = |c|, so a vertex on an axis (sites on the equator)
+  // is exactly that axis.
+  const double len = std::sqrt(n2);
+  return {n.x / len, n.y / len, n.z / len};
+}
+
+Vec3 VoronoiDiagram::arc_midpoint(const Vec3& a, const Vec3& b, const Vec3& axis) {
+  const double c = dot(a, b);
+  // |a + b| >= 1 below 120 degrees: the chord midpoint is accurate and on the arc.
+  if (c > -0.5) return normalized(a + b);
+  // Long arcs: rotate a about the axis by half the signed angle. The sine comes from the axis,
+  // so a 180-degree arc (a + b ~ 0) still has a well-defined side.
+  double theta = std::atan2(dot(cross(a, b), axis), c);
+  // Edges turn positively by at most 180 degrees; a negative angle here is a rounded 180.
+  if (theta < 0) theta = std::numbers::pi;
+  const Vec3 t = normalized(cross(axis, a));  // direction of travel at a
+  return normalized(std::cos(theta / 2) * a + std::sin(theta / 2) * t);
+}
+
+double VoronoiDiagram::triangle_area_sr(const Vec3& a, const Vec3& b, const Vec3& c) {
+  // tan(omega / 2) = det(a, b, c) / (1 + a.b + b.c + c.a): atan2 keeps the full range (-2pi, 2pi).
+  const double det = dot(a, cross(b, c));
+  const double den = 1 + dot(a, b) + dot(b, c) + dot(c, a);
+  return 2 * std::atan2(det, den);
+}
+
+VoronoiDiagram::VoronoiDiagram(const SphericalDelaunay& dt) {
+  const std::size_t cap = dt.site_capacity();
+  sites_.assign(dt.sites().begin(), dt.sites().end());
+  live_.assign(cap, 0);
+  cells_.assign(cap, Range{});
+  num_cells_ = dt.num_sites();
+  std::size_t found = 0;
+  for (SiteId s = 0; s < cap; ++s) {
+    if (dt.is_live(s)) {
+      live_[s] = 1;
+      if (found < 2) pair_[found] = s;
+      ++found;
+    }
+  }
+  GEOVOR_ASSERT(found == num_cells_);
+  if (num_cells_ == 0) {
+    kind_ = Kind::Empty;
+    return;
+  }
+  if (num_cells_ <= 2) {
+    kind_ = num_cells_ == 1 ? Kind::WholeSphere : Kind::Hemispheres;
+    for (std::size_t i = 0; i < num_cells_; ++i) order_.push_back(pair_[i]);
+    return;
+  }
+  kind_ = Kind::Cells;
+  pair_[0] = pair_[1] = kNoIndex;
+
+  const std::size_t nt = dt.num_triangles();
+  GEOVOR_ASSERT(nt == 2 * num_cells_ - 4);
+  const std::span<const SiteId> tri_sites = dt.triangles();
+  vertices_.resize(nt);
+  for (TriId t = 0; t < nt; ++t)
+    vertices_[t] = circumcenter(dt.site(tri_sites[3 * t]), dt.site(tri_sites[3 * t + 1]),
+                                dt.site(tri_sites[3 * t + 2]));
+
+  // Degrees and the storage order, by one sequential scan of the triangles (which the
+  // triangulation keeps in a spatially coherent order); then each star is walked once, counter-
+  // clockwise, in that order, so the walks stay in cache.
+  std::vector<std::uint32_t> degree(cap, 0);
+  order_.reserve(num_cells_);
+  for (const SiteId s : tri_sites) {
+    if (degree[s]++ == 0) order_.push_back(s);
+  }
+  GEOVOR_ASSERT(order_.size() == num_cells_);
+  std::uint32_t k = 0;
+  for (const SiteId s : order_) {
+    cells_[s] = {k, k + degree[s]};
+    k += degree[s];
+  }
+  GEOVOR_ASSERT(k == 3 * nt);
+  cell_tris_.resize(3 * nt);
+  cell_nbrs_.resize(3 * nt);
+  for (const SiteId s : order_) {
+    const HalfedgeId e0 = dt.site_edge(s);
+    GEOVOR_ASSERT(e0 != kNoIndex);
+    std::uint32_t i = cells_[s].begin;
+    HalfedgeId e = e0;
+    do {
+      GEOVOR_ASSERT(i < cells_[s].end);
+      cell_tris_[i] = tri_of(e);
+      // prev(e) runs from the neighbour w into s; its twin, the next half-edge around s, lies in
+      // the next triangle: the edge vertex(t_i) -> vertex(t_i+1) is dual to (s, w).
+      cell_nbrs_[i] = tri_sites[prev_halfedge(e)];
+      ++i;
+      e = dt.next_around_site(e);
+    } while (e != e0);
+    GEOVOR_ASSERT(i == cells_[s].end);  // the star is one cycle through every triangle of s
+  }
+}
+
+std::span<const TriId> VoronoiDiagram::cell_vertices(SiteId s) const {
+  if (kind_ != Kind::Cells || !has_cell(s)) return {};
+  return {cell_tris_.data() + cells_[s].begin, cell_tris_.data() + cells_[s].end};
+}
+
+std::span<const SiteId> VoronoiDiagram::cell_neighbors(SiteId s) const {
+  if (!has_cell(s)) return {};
+  if (kind_ == Kind::Hemispheres) return {s == pair_[0] ? &pair_[1] : &pair_[0], 1};
+  if (kind_ != Kind::Cells) return {};
+  return {cell_nbrs_.data() + cells_[s].begin, cell_nbrs_.data() + cells_[s].end};
+}
+
+Vec3 VoronoiDiagram::hemisphere_normal(SiteId s) const {
+  GEOVOR_ASSERT(kind_ == Kind::Hemispheres && has_cell(s));
+  const SiteId other = s == pair_[0] ? pair_[1] : pair_[0];
+  return normalized(sites_[s] - sites_[other]);
+}
+
+double VoronoiDiagram::cell_area_sr(SiteId s) const {
+  if (!has_cell(s)) return 0;
+  switch (kind_) {
+    case Kind::Empty:
+      return 0;
+    case Kind::WholeSphere:
+      return 4 * std::numbers::pi;
+    case Kind::Hemispheres:
+      return 2 * std::numbers::pi;
+    case Kind::Cells:
+      break;
+  }
+  const std::span<const TriId> tris = cell_vertices(s);
+  const std::span<const SiteId> nbrs = cell_neighbors(s);
+  const Vec3& p = sites_[s];
+  const std::size_t d = tris.size();
+  double area = 0;
+  for (std::size_t i = 0; i < d; ++i) {
+    const Vec3& a = vertices_[tris[i]];
+    const Vec3& b = vertices_[tris[i + 1 == d ? 0 : i + 1]];
+    if (dot(a, b) < 0) {
+      // Long edge: two halves, so that no fan triangle has a side near 180 degrees.
+      const Vec3 m = arc_midpoint(a, b, normalized(p - sites_[nbrs[i]]));
+      area += triangle_area_sr(p, a, m) + triangle_area_sr(p, m, b);
+    } else {
+      area += triangle_area_sr(p, a, b);
+    }
+  }
+  return area;
+}
+
+std::size_t VoronoiDiagram::memory_bytes() const {
+  return bytes_of(sites_) + bytes_of(live_) + bytes_of(vertices_) + bytes_of(cells_) +
+         bytes_of(order_) + bytes_of(cell_tris_) + bytes_of(cell_nbrs_);
+}
+
+}  // namespace geovor

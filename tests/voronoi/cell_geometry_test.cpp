@@ -1,0 +1,632 @@
+// Lon/lat cell polygons against independent oracles: GEOS validity (OGR IsValid), the WGS84
+// ellipsoid's area (GeographicLib), 4 pi, the lon/lat rectangle's 64800 square degrees,
+// brute-force nearest sites for random queries (point in polygon), and the RFC 7946 rules.
+#include "geovor/voronoi/cell_geometry.hpp"
+
+#include <gtest/gtest.h>
+#include <ogr_geometry.h>
+
+#include <GeographicLib/Geodesic.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "geovor/core/error.hpp"
+#include "geovor/delaunay/spherical_delaunay.hpp"
+#include "geovor/geo/site_encoder.hpp"
+#include "geovor/geo/site_reader.hpp"
+#include "geovor/voronoi/voronoi_diagram.hpp"
+#include "support/generators.hpp"
+
+namespace geovor {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+const double kEllipsoidArea = GeographicLib::Geodesic::WGS84().EllipsoidArea();
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<Vec3> from_lat_lon(const std::vector<std::pair<double, double>>& lat_lon) {
+  std::vector<Vec3> pts;
+  for (auto [lat, lon] : lat_lon) {
+    const std::string r = normalize_lat_lon(lat, lon);
+    EXPECT_TRUE(r.empty()) << r;
+    pts.push_back(SiteEncoder::from_lat_lon(lat, lon));
+  }
+  return pts;
+}
+
+std::vector<Vec3> csv_sites(const std::string& relative) {
+  const SiteTable table = read_sites_csv_file(std::string(GEOVOR_SOURCE_DIR) + "/" + relative);
+  std::vector<Vec3> pts;
+  for (const InputSite& s : table.sites) pts.push_back(s.unit);
+  return pts;
+}
+
+VoronoiDiagram diagram_of(const std::vector<Vec3>& pts) {
+  return VoronoiDiagram(SphericalDelaunay::build(pts));
+}
+
+// Geocentric direction of a lon/lat position (the inverse of SiteEncoder::to_lat_lon).
+Vec3 unit_of(const LonLat& p) {
+  double lat = p.lat_deg, lon = p.lon_deg;
+  EXPECT_EQ(normalize_lat_lon(lat, lon), "");
+  return SiteEncoder::from_lat_lon(lat, lon);
+}
+
+// Crossing-number point in polygon in lon/lat; `boundary` is set when p is (numerically) on an
+// edge of the ring.
+bool in_ring(const Ring& r, const LonLat& p, bool& boundary) {
+  bool inside = false;
+  boundary = false;
+  for (std::size_t i = 0; i + 1 < r.size(); ++i) {
+    const LonLat& a = r[i];
+    const LonLat& b = r[i + 1];
+    if (p.lon_deg >= std::min(a.lon_deg, b.lon_deg) - 1e-12 &&
+        p.lon_deg <= std::max(a.lon_deg, b.lon_deg) + 1e-12 &&
+        p.lat_deg >= std::min(a.lat_deg, b.lat_deg) - 1e-12 &&
+        p.lat_deg <= std::max(a.lat_deg, b.lat_deg) + 1e-12) {
+      const double cr = (b.lon_deg - a.lon_deg) * (p.lat_deg - a.lat_deg) -
+                        (b.lat_deg - a.lat_deg) * (p.lon_deg - a.lon_deg);
+      const double len = std::hypot(b.lon_deg - a.lon_deg, b.lat_deg - a.lat_deg);
+      if (std::fabs(cr) <= 1e-12 * len) {
+        boundary = true;
+        return true;
+      }
+    }
+    if ((a.lat_deg > p.lat_deg) != (b.lat_deg > p.lat_deg)) {
+      const double x =
+          a.lon_deg + (p.lat_deg - a.lat_deg) * (b.lon_deg - a.lon_deg) / (b.lat_deg - a.lat_deg);
+      if (p.lon_deg < x) inside = !inside;
+    }
+  }
+  return inside;
+}
+
+bool in_multipolygon(const MultiPolygon& mp, const LonLat& p, bool& boundary) {
+  boundary = false;
+  for (const Polygon& poly : mp) {
+    bool b = false;
+    if (in_ring(poly.exterior, p, b)) {
+      boundary = b;
+      return true;
+    }
+  }
+  return false;
+}
+
+std::unique_ptr<OGRMultiPolygon> to_ogr(const MultiPolygon& mp) {
+  auto out = std::make_unique<OGRMultiPolygon>();
+  for (const Polygon& poly : mp) {
+    auto* p = new OGRPolygon();
+    auto* ring = new OGRLinearRing();
+    for (const LonLat& q : poly.exterior) ring->addPoint(q.lon_deg, q.lat_deg);
+    p->addRingDirectly(ring);
+    out->addGeometryDirectly(p);
+  }
+  return out;
+}
+
+// Everything built for one site set.
+struct Cells {
+  VoronoiDiagram vd;
+  std::vector<MultiPolygon> polys;  // by site id
+  std::vector<BBox> boxes;
+  double seconds = 0;
+};
+
+Cells build_cells(const std::vector<Vec3>& pts, const CellGeometryOptions& opt = {}) {
+  Cells c{diagram_of(pts), {}, {}, 0};
+  const auto t0 = std::chrono::steady_clock::now();
+  const CellGeometry geom(c.vd, opt);
+  c.polys.resize(c.vd.site_capacity());
+  c.boxes.resize(c.vd.site_capacity());
+  for (SiteId s = 0; s < c.vd.site_capacity(); ++s) geom.polygon(s, c.polys[s], &c.boxes[s]);
+  c.seconds = seconds_since(t0);
+  return c;
+}
+
+struct Report {
+  double ellipsoid_rel = 0, sphere_rel = 0, planar_rel = 0;
+  std::size_t parts = 0, split = 0, polar = 0, vertices = 0;
+};
+
+// The RFC 7946 / GIS invariants of every cell, GEOS validity, the three area sums, sites in
+// their own cells, bit-identical shared vertices, bounding boxes, and the densification bound.
+Report check_cells(const Cells& c, const CellGeometryOptions& opt = {}, bool geos = true) {
+  Report rep;
+  const VoronoiDiagram& vd = c.vd;
+  double ell = 0, sph = 0, planar = 0;
+  struct Owner {
+    double lon, lat;
+    SiteId site;
+    bool operator<(const Owner& o) const {
+      return lon != o.lon ? lon < o.lon : lat != o.lat ? lat < o.lat : site < o.site;
+    }
+  };
+  std::vector<Owner> owners;  // every ring vertex off the poles, with its cell
+  for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+    const MultiPolygon& mp = c.polys[s];
+    if (!vd.has_cell(s)) {
+      EXPECT_TRUE(mp.empty());
+      continue;
+    }
+    SCOPED_TRACE("site " + std::to_string(s));
+    EXPECT_FALSE(mp.empty());
+    rep.parts += mp.size();
+    rep.split += mp.size() > 1;
+    bool polar = false;
+    double south = 90, north = -90;
+    for (const Polygon& poly : mp) {
+      const Ring& r = poly.exterior;
+      EXPECT_TRUE(poly.holes.empty());
+      EXPECT_GE(r.size(), 4u);
+      if (r.size() < 4) continue;
+      EXPECT_TRUE(r.front() == r.back()) << "ring not closed by an exact copy";
+      rep.vertices += r.size() - 1;
+      for (std::size_t i = 0; i + 1 < r.size(); ++i) {
+        const LonLat& a = r[i];
+        const LonLat& b = r[i + 1];
+        EXPECT_FALSE(a == b) << "consecutive duplicate at " << i;
+        EXPECT_TRUE(a.lon_deg >= -180 && a.lon_deg <= 180 && a.lat_deg >= -90 && a.lat_deg <= 90);
+        const bool along_pole = a.lat_deg == b.lat_deg && std::fabs(a.lat_deg) == 90;
+        if (!along_pole) {
+          EXPECT_LE(std::fabs(b.lon_deg - a.lon_deg), 180) << "jump at " << i;
+        }
+        if (along_pole && std::fabs(b.lon_deg - a.lon_deg) == 360) polar = true;
+        south = std::min(south, a.lat_deg);
+        north = std::max(north, a.lat_deg);
+        // -180 and 180 are one meridian: a vertex on it is written as either by its two cells.
+        if (std::fabs(a.lat_deg) < 90)
+          owners.push_back({a.lon_deg == -180 ? 180 : a.lon_deg, a.lat_deg, s});
+      }
+      const double pa = planar_area_deg2(r);
+      EXPECT_GT(pa, 0) << "exterior ring not counter-clockwise";
+      planar += pa;
+    }
+    rep.polar += polar;
+    if (geos) {
+      const auto g = to_ogr(mp);
+      if (!g->IsValid()) {
+        char* wkt = nullptr;
+        g->exportToWkt(&wkt);
+        ADD_FAILURE() << "GEOS-invalid: " << std::string(wkt).substr(0, 2000);
+        CPLFree(wkt);
+      }
+    }
+    // Bounding box (RFC 7946 section 5).
+    const BBox& bb = c.boxes[s];
+    EXPECT_EQ(bb.south, south);
+    EXPECT_EQ(bb.north, north);
+    if (polar) {
+      EXPECT_EQ(bb.west, -180);
+      EXPECT_EQ(bb.east, 180);
+    }
+    if (mp.size() > 1) {
+      EXPECT_GT(bb.west, bb.east) << "a cut cell spans the antimeridian";
+    }
+    for (const Polygon& poly : mp) {
+      for (const LonLat& p : poly.exterior) {
+        if (bb.west <= bb.east) {
+          EXPECT_TRUE(p.lon_deg >= bb.west && p.lon_deg <= bb.east);
+        } else {
+          EXPECT_TRUE(p.lon_deg >= bb.west || p.lon_deg <= bb.east);
+        }
+      }
+    }
+    // The site lies in its own cell.
+    const LatLon sl = SiteEncoder::to_lat_lon(vd.site(s));
+    bool boundary = false;
+    EXPECT_TRUE(in_multipolygon(mp, {sl.lon_deg, sl.lat_deg}, boundary))
+        << "site " << sl.lat_deg << "," << sl.lon_deg << " outside its cell";
+    // Densification: the straight lon/lat segments stay within densify_m of the cell boundary
+    // (the nearest bisector great circle of the site and a neighbour). Cut lines are skipped.
+    const auto nbrs = vd.cell_neighbors(s);
+    for (const Polygon& poly : mp) {
+      const Ring& r = poly.exterior;
+      for (std::size_t i = 0; i + 1 < r.size(); ++i) {
+        const LonLat& a = r[i];
+        const LonLat& b = r[i + 1];
+        if (std::fabs(a.lon_deg) == 180 && a.lon_deg == b.lon_deg) continue;
+        if (std::fabs(a.lat_deg) == 90 && a.lat_deg == b.lat_deg) continue;  // the pole itself
+        for (double t : {0.25, 0.5, 0.75}) {
+          const Vec3 q = unit_of(
+              {a.lon_deg + t * (b.lon_deg - a.lon_deg), a.lat_deg + t * (b.lat_deg - a.lat_deg)});
+          double best = 1e300;
+          for (const SiteId w : nbrs) {
+            const Vec3 d = vd.site(s) - vd.site(w);
+            best = std::min(best,
+                            std::asin(std::min(1.0, std::fabs(dot(q, d)) / std::sqrt(norm2(d)))));
+          }
+          if (!nbrs.empty()) {
+            EXPECT_LE(best * SiteEncoder::kEarthRadiusM, opt.densify_m * 1.05 + 0.01)
+                << "segment " << i << " of a ring strays from the arc";
+          }
+        }
+      }
+    }
+    ell += ellipsoid_area_m2(mp);
+    sph += vd.cell_area_sr(s);
+  }
+  rep.ellipsoid_rel = ell / kEllipsoidArea - 1;
+  rep.sphere_rel = sph / (4 * kPi) - 1;
+  rep.planar_rel = planar / 64800 - 1;
+  EXPECT_NEAR(rep.ellipsoid_rel, 0, 1e-9);
+  EXPECT_NEAR(rep.sphere_rel, 0, 1e-9);
+  EXPECT_NEAR(rep.planar_rel, 0, 1e-9);
+  // Shared edges are bit-identical: every vertex off the poles belongs to two cells at least.
+  if (vd.num_cells() > 1) {
+    std::sort(owners.begin(), owners.end());
+    std::size_t lonely = 0;
+    for (std::size_t i = 0, j; i < owners.size(); i = j) {
+      bool two = false;
+      for (j = i + 1;
+           j < owners.size() && owners[j].lon == owners[i].lon && owners[j].lat == owners[i].lat;
+           ++j)
+        two |= owners[j].site != owners[i].site;
+      lonely += !two;
+    }
+    EXPECT_EQ(lonely, 0u) << "vertices found in one cell only";
+  }
+  return rep;
+}
+
+// 10^5-style random queries: each lies in exactly one cell, the cell of its nearest site (brute
+// force), unless it is within `margin_m` of that cell's boundary. Returns the number excluded.
+std::size_t check_queries(const Cells& c, std::size_t n, double margin_m, std::uint64_t seed) {
+  const VoronoiDiagram& vd = c.vd;
+  // Bucket the parts by 1-degree lon/lat envelope.
+  std::vector<std::vector<std::pair<SiteId, std::uint32_t>>> grid(360 * 180);
+  for (SiteId s = 0; s < vd.site_capacity(); ++s)
+    for (std::uint32_t k = 0; k < c.polys[s].size(); ++k) {
+      double x0 = 180, x1 = -180, y0 = 90, y1 = -90;
+      for (const LonLat& p : c.polys[s][k].exterior) {
+        x0 = std::min(x0, p.lon_deg), x1 = std::max(x1, p.lon_deg);
+        y0 = std::min(y0, p.lat_deg), y1 = std::max(y1, p.lat_deg);
+      }
+      const int i0 = std::clamp(static_cast<int>(std::floor(x0 + 180)), 0, 359);
+      const int i1 = std::clamp(static_cast<int>(std::floor(x1 + 180)), 0, 359);
+      const int j0 = std::clamp(static_cast<int>(std::floor(y0 + 90)), 0, 179);
+      const int j1 = std::clamp(static_cast<int>(std::floor(y1 + 90)), 0, 179);
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) grid[j * 360 + i].push_back({s, k});
+    }
+  std::vector<SiteId> live;
+  for (SiteId s = 0; s < vd.site_capacity(); ++s)
+    if (vd.has_cell(s)) live.push_back(s);
+  const std::vector<Vec3> qs = testing::uniform_on_sphere(n, seed);
+  std::size_t excluded = 0, wrong = 0, none = 0, several = 0;
+  for (const Vec3& q : qs) {
+    SiteId best = live[0];
+    double bd = -2;
+    for (const SiteId s : live)
+      if (dot(q, vd.site(s)) > bd) bd = dot(q, vd.site(s)), best = s;
+    // Distance to the boundary of the nearest site's cell: the nearest bisector with a neighbour.
+    double margin = 1e300;
+    for (const SiteId w : vd.cell_neighbors(best)) {
+      const Vec3 d = vd.site(best) - vd.site(w);
+      margin =
+          std::min(margin, std::asin(dot(q, d) / std::sqrt(norm2(d))) * SiteEncoder::kEarthRadiusM);
+    }
+    if (margin < margin_m) {
+      ++excluded;
+      continue;
+    }
+    const LatLon ll = SiteEncoder::to_lat_lon(q);
+    const LonLat p{ll.lon_deg, ll.lat_deg};
+    const int i = std::clamp(static_cast<int>(std::floor(p.lon_deg + 180)), 0, 359);
+    const int j = std::clamp(static_cast<int>(std::floor(p.lat_deg + 90)), 0, 179);
+    std::set<SiteId> in;
+    for (const auto& [s, k] : grid[j * 360 + i]) {
+      bool boundary = false;
+      if (in_ring(c.polys[s][k].exterior, p, boundary) && !boundary) in.insert(s);
+    }
+    if (in.empty()) {
+      ++none;
+    } else if (in.size() > 1) {
+      ++several;
+    } else if (*in.begin() != best) {
+      ++wrong;
+      const SiteId got = *in.begin();
+      std::printf("query %.17g,%.17g in cell %u, nearest %u (dot %.17g vs %.17g), margin %g m\n",
+                  p.lat_deg, p.lon_deg, got, best, dot(q, vd.site(best)), dot(q, vd.site(got)),
+                  margin);
+    }
+  }
+  EXPECT_EQ(none, 0u) << "queries in no cell";
+  EXPECT_EQ(several, 0u) << "queries in several cells";
+  EXPECT_EQ(wrong, 0u) << "queries in a cell other than their nearest site's";
+  return excluded;
+}
+
+void print(const char* name, const Cells& c, const Report& r) {
+  std::printf(
+      "%s: %zu cells in %.3f s, %zu parts (%zu cut, %zu polar), %.1f vertices/cell; "
+      "ellipsoid sum/A - 1 = %.2e, sphere sum/4pi - 1 = %.2e, planar sum/64800 - 1 = %.2e\n",
+      name, c.vd.num_cells(), c.seconds, r.parts, r.split, r.polar,
+      static_cast<double>(r.vertices) / std::max<std::size_t>(1, c.vd.num_cells()), r.ellipsoid_rel,
+      r.sphere_rel, r.planar_rel);
+}
+
+// All the checks on one site set, densified to the default 100 m and to 1 m; queries closer to a
+// boundary than the densification tolerance are excluded (and counted).
+void check_set(const std::string& name, const std::vector<Vec3>& pts, std::size_t queries,
+               std::uint64_t seed) {
+  CellGeometryOptions fine;
+  fine.densify_m = 1;
+  for (const CellGeometryOptions& opt : {CellGeometryOptions{}, fine}) {
+    const std::string label =
+        name + ", densify " + std::to_string(static_cast<int>(opt.densify_m)) + " m";
+    SCOPED_TRACE(label);
+    const Cells c = build_cells(pts, opt);
+    const Report r = check_cells(c, opt);
+    print(label.c_str(), c, r);
+    const std::size_t excluded = check_queries(c, queries, opt.densify_m, seed);
+    std::printf("  %zu of %zu queries within %g m of a boundary excluded\n", excluded, queries,
+                opt.densify_m);
+  }
+}
+
+TEST(CellGeometry, OneSiteIsTheWholeSphere) {
+  const Cells c = build_cells(from_lat_lon({{48.8566, 2.3522}}));
+  ASSERT_EQ(c.polys[0].size(), 1u);
+  const Ring expected{{-180, -90}, {180, -90}, {180, 90}, {-180, 90}, {-180, -90}};
+  EXPECT_EQ(c.polys[0][0].exterior, expected);
+  EXPECT_EQ(ellipsoid_area_m2(c.polys[0]), kEllipsoidArea);
+  EXPECT_EQ(c.boxes[0].west, -180);
+  EXPECT_EQ(c.boxes[0].south, -90);
+  EXPECT_EQ(c.boxes[0].east, 180);
+  EXPECT_EQ(c.boxes[0].north, 90);
+  check_cells(c);
+  check_queries(c, 2000, 0, 1);
+}
+
+TEST(CellGeometry, TwoPolesGiveTwoPolarHemispheres) {
+  const Cells c = build_cells(from_lat_lon({{90, 0}, {-90, 0}}));
+  for (SiteId s : {0u, 1u}) {
+    ASSERT_EQ(c.polys[s].size(), 1u);
+    const Ring& r = c.polys[s][0].exterior;
+    EXPECT_NEAR(ellipsoid_area_m2(c.polys[s]), kEllipsoidArea / 2, 1);
+    for (const LonLat& p : r) EXPECT_TRUE(p.lat_deg == 0 || std::fabs(p.lat_deg) == 90);
+    EXPECT_EQ(c.boxes[s].west, -180);
+    EXPECT_EQ(c.boxes[s].east, 180);
+  }
+  EXPECT_EQ(c.boxes[0].south, 0);
+  EXPECT_EQ(c.boxes[0].north, 90);
+  EXPECT_EQ(c.boxes[1].south, -90);
+  EXPECT_EQ(c.boxes[1].north, 0);
+  const Report r = check_cells(c);
+  EXPECT_EQ(r.polar, 2u);
+  check_queries(c, 5000, 0.01, 2);  // the equator: straight in lon/lat
+}
+
+TEST(CellGeometry, TwoSitesOnTheEquatorGiveHemispheresThroughThePoles) {
+  // Antipodal sites at lon 0 and 180 (datasets/fixtures/two_sites.csv): the cells are
+  // lon [-90, 90] and the rest, cut at the antimeridian.
+  const Cells c = build_cells(csv_sites("datasets/fixtures/two_sites.csv"));
+  ASSERT_EQ(c.polys[0].size(), 1u);
+  EXPECT_EQ(c.boxes[0].west, -90);
+  EXPECT_EQ(c.boxes[0].east, 90);
+  EXPECT_EQ(c.boxes[0].south, -90);
+  EXPECT_EQ(c.boxes[0].north, 90);
+  ASSERT_EQ(c.polys[1].size(), 2u);
+  EXPECT_EQ(c.boxes[1].west, 90);
+  EXPECT_EQ(c.boxes[1].east, -90);
+  for (SiteId s : {0u, 1u}) EXPECT_NEAR(ellipsoid_area_m2(c.polys[s]), kEllipsoidArea / 2, 1);
+  check_cells(c);
+  check_queries(c, 5000, 0.01, 3);  // meridians: straight in lon/lat
+  // A generic pair: one cell holds the north pole, the other the south pole.
+  const Cells g = build_cells(from_lat_lon({{30, 170}, {-10, -60}}));
+  const Report r = check_cells(g);
+  EXPECT_EQ(r.polar, 2u);
+  check_queries(g, 5000, 100, 4);
+}
+
+TEST(CellGeometry, ThreeSitesAndLunes) {
+  // Three sites on a great circle: lunes between the two poles of that circle.
+  const Cells three = build_cells(from_lat_lon({{0, 0}, {0, 90}, {0, -150}}));
+  check_cells(three);
+  check_queries(three, 5000, 0.01, 5);  // meridians
+  // The lune of lon 0 spans [-75, 45]: a lon/lat rectangle.
+  EXPECT_EQ(three.boxes[0].south, -90);
+  EXPECT_EQ(three.boxes[0].north, 90);
+  EXPECT_NEAR(three.boxes[0].west, -75, 1e-12);
+  EXPECT_NEAR(three.boxes[0].east, 45, 1e-12);
+  EXPECT_NEAR(ellipsoid_area_m2(three.polys[0]), kEllipsoidArea * 120 / 360, 1);
+  // Fixtures: 12 sites on the equator (lunes with pole vertices), three sites.
+  for (const char* f : {"datasets/fixtures/equator.csv", "datasets/fixtures/three_sites.csv"})
+    check_set(f, csv_sites(f), 5000, 6);
+  // Random sites on a tilted great circle: lunes whose vertices are not the poles.
+  std::vector<Vec3> tilted = testing::on_great_circle(40, 8);
+  for (Vec3& p : tilted) p = testing::normalized({p.x, p.y * 0.6, p.y * 0.8});
+  check_set("tilted great circle", tilted, 5000, 7);
+}
+
+TEST(CellGeometry, FixturesAroundTheAntimeridianAndThePoles) {
+  for (const char* f : {"datasets/fixtures/antimeridian.csv", "datasets/fixtures/poles.csv",
+                        "datasets/fixtures/hemisphere.csv", "datasets/fixtures/small_circle.csv",
+                        "datasets/fixtures/cube_corners.csv", "datasets/fixtures/duplicates.csv",
+                        "datasets/fixtures/one_site.csv"}) {
+    check_set(f, csv_sites(f), 5000, 8);
+  }
+}
+
+TEST(CellGeometry, DegenerateGeneratedSets) {
+  struct Case {
+    const char* name;
+    std::vector<Vec3> pts;
+  };
+  std::vector<Case> cases = {
+      {"cube corners", testing::cube_corners()},
+      {"grid 10 deg with poles", testing::lat_lon_grid(10)},
+      {"grid 15 deg without poles (vertices at the poles)", testing::lat_lon_grid(15, -75, 75)},
+      {"grid 1 deg near the north pole", testing::lat_lon_grid(1, 85, 89)},
+      {"small circle lat 60", testing::on_small_circle(30, 60, 9)},
+      {"hemisphere (ghost triangles)", testing::in_hemisphere(400, 10)},
+      {"poles with longitudes", testing::poles_with_longitudes(8)},
+      {"skinny set", testing::skinny_set(30)},
+  };
+  // Sites symmetric about the antimeridian: Voronoi edges lie on it.
+  std::vector<std::pair<double, double>> sym;
+  for (double lat = -80; lat <= 80; lat += 10) {
+    sym.push_back({lat, 175});
+    sym.push_back({lat, -175});
+    sym.push_back({lat + 5, 165});
+    sym.push_back({lat + 5, -165});
+  }
+  cases.push_back({"symmetric about 180", from_lat_lon(sym)});
+  // Dense clusters around both poles and along the antimeridian.
+  std::vector<Vec3> near;
+  for (const Vec3& p : testing::uniform_on_sphere(6000, 12)) {
+    const LatLon ll = SiteEncoder::to_lat_lon(p);
+    if (std::fabs(ll.lat_deg) > 80 || std::fabs(ll.lon_deg) > 175) near.push_back(p);
+  }
+  cases.push_back({"clusters at the poles and the antimeridian", near});
+  for (const Case& cs : cases) {
+    check_set(cs.name, cs.pts, 5000, 13);
+  }
+}
+
+TEST(CellGeometry, UniformSitesAndRandomQueries) {
+  const Cells c = build_cells(testing::uniform_on_sphere(3000, 14));
+  const Report r = check_cells(c);
+  print("uniform 3000", c, r);
+  EXPECT_GT(r.split, 0u);
+  EXPECT_EQ(r.polar, 2u);
+  const std::size_t excluded = check_queries(c, 100000, 100, 15);
+  std::printf("uniform 3000, densify 100 m: %zu of 100000 queries within 100 m of a boundary\n",
+              excluded);
+}
+
+TEST(CellGeometry, WeatherStations) {
+  CellGeometryOptions fine;
+  fine.densify_m = 1;
+  for (const CellGeometryOptions& opt : {CellGeometryOptions{}, fine}) {
+    SCOPED_TRACE(opt.densify_m);
+    const Cells c = build_cells(csv_sites("datasets/weather_stations.csv"), opt);
+    const Report r = check_cells(c, opt);
+    char name[64];
+    std::snprintf(name, sizeof name, "weather stations, densify %g m", opt.densify_m);
+    print(name, c, r);
+    EXPECT_EQ(r.polar, 2u);
+    EXPECT_GT(r.split, 10u);
+    // 10^5 queries; within ~1 m of a boundary the straight lon/lat segments may err (densified
+    // to 1 m), farther they may not.
+    const std::size_t queries = opt.densify_m == 1 ? 100000 : 20000;
+    const std::size_t excluded = check_queries(c, queries, opt.densify_m, 16);
+    std::printf("%s: %zu of %zu queries within %g m of a boundary excluded\n", name, excluded,
+                queries, opt.densify_m);
+  }
+}
+
+TEST(CellGeometry, SharedEdgesAreBitIdenticalAcrossTheAntimeridian) {
+  // Two cells meeting on a long edge crossing 180: the crossing point is the same in both.
+  const Cells c = build_cells(from_lat_lon({{10, 179}, {-10, -179}, {60, 0}, {-60, 0}}));
+  check_cells(c);
+  std::set<std::pair<double, double>> at180[2];
+  for (SiteId s : {0u, 1u})
+    for (const Polygon& p : c.polys[s])
+      for (const LonLat& q : p.exterior)
+        if (std::fabs(q.lon_deg) == 180 && std::fabs(q.lat_deg) < 90)
+          at180[s].insert({std::fabs(q.lon_deg), q.lat_deg});
+  std::vector<std::pair<double, double>> common;
+  std::set_intersection(at180[0].begin(), at180[0].end(), at180[1].begin(), at180[1].end(),
+                        std::back_inserter(common));
+  EXPECT_FALSE(common.empty());
+}
+
+TEST(CellGeometry, EllipsoidAreaOfSimpleRings) {
+  // The cut-ring form of a polar cap equals the cap as a ring around the pole.
+  Ring cap;
+  for (int lon = -180; lon <= 180; lon += 5) cap.push_back({static_cast<double>(lon), 80});
+  cap.push_back({180, 90});
+  cap.push_back({-180, 90});
+  cap.push_back(cap.front());
+  const double a = ellipsoid_area_m2({Polygon{cap, {}}});
+  Ring rest(cap.rbegin(), cap.rend());
+  for (LonLat& p : rest)
+    if (p.lat_deg == 90) p.lat_deg = -90;
+  EXPECT_NEAR(a + ellipsoid_area_m2({Polygon{rest, {}}}), kEllipsoidArea, 1);
+  EXPECT_GT(a, 0);
+  // A small counter-clockwise square, and the same as a hole.
+  const Ring sq{{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
+  const double s = ellipsoid_area_m2({Polygon{sq, {}}});
+  EXPECT_NEAR(s, 12308778361.5, 1e3);
+  const Ring hole(sq.rbegin(), sq.rend());
+  const Ring big{{-2, -2}, {3, -2}, {3, 3}, {-2, 3}, {-2, -2}};
+  EXPECT_NEAR(ellipsoid_area_m2({Polygon{big, {hole}}}), ellipsoid_area_m2({Polygon{big, {}}}) - s,
+              1e-3);
+}
+
+TEST(CellGeometry, RejectsBadOptions) {
+  const VoronoiDiagram vd = diagram_of(testing::cube_corners());
+  CellGeometryOptions o;
+  o.densify_m = 0;
+  EXPECT_THROW(CellGeometry(vd, o), Error);
+  o = {};
+  o.max_depth = 0;
+  EXPECT_THROW(CellGeometry(vd, o), Error);
+  o = {};
+  o.collapse_m = 1;
+  EXPECT_THROW(CellGeometry(vd, o), Error);
+  EXPECT_TRUE(cell_polygon(vd, 99).empty());
+  EXPECT_EQ(cell_polygon(vd, 0).size(), 1u);
+}
+
+TEST(CellGeometry, GeonamesCities) {
+  // 171,075 populated places: dense clusters, near-duplicates, coastlines along the antimeridian.
+  // Every check but the queries (brute force would be too slow): 171k GEOS-valid cells.
+  const Cells c = build_cells(testing::load_lat_lon_csv_gz_unit_vectors(
+      std::string(GEOVOR_SOURCE_DIR) + "/datasets/geonames_cities.csv.gz"));
+  const Report r = check_cells(c);
+  print("geonames cities", c, r);
+}
+
+TEST(CellGeometry, Timing) {
+  // Large sets: sums and timings only (GEOS on a sample). 2^20 sites with GEOVOR_PERF=1.
+  const std::size_t n = std::getenv("GEOVOR_PERF") ? (1u << 20) : (1u << 16);
+  const std::vector<Vec3> pts = testing::uniform_on_sphere(n, 17);
+  const auto t0 = std::chrono::steady_clock::now();
+  const SphericalDelaunay dt = SphericalDelaunay::build(pts);
+  const double t_dt = seconds_since(t0);
+  const auto t1 = std::chrono::steady_clock::now();
+  const VoronoiDiagram vd(dt);
+  const double t_vd = seconds_since(t1);
+  const auto t2 = std::chrono::steady_clock::now();
+  const CellGeometry geom(vd);
+  MultiPolygon mp;
+  std::size_t vertices = 0;
+  for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+    geom.polygon(s, mp);
+    for (const Polygon& p : mp) vertices += p.exterior.size() - 1;
+  }
+  const double t_cells = seconds_since(t2);
+  const auto t3 = std::chrono::steady_clock::now();
+  double ell = 0;
+  for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+    geom.polygon(s, mp);
+    ell += ellipsoid_area_m2(mp);
+    if (s % 97 == 0) {
+      EXPECT_TRUE(to_ogr(mp)->IsValid()) << s;
+    }
+  }
+  const double t_area = seconds_since(t3);
+  std::printf(
+      "uniform %zu: triangulation %.3f s, diagram %.3f s, all cells %.3f s (%.1f vertices/cell), "
+      "cells + ellipsoid areas %.3f s, ellipsoid sum/A - 1 = %.2e\n",
+      n, t_dt, t_vd, t_cells, static_cast<double>(vertices) / n, t_area, ell / kEllipsoidArea - 1);
+  EXPECT_NEAR(ell / kEllipsoidArea, 1, 1e-9);
+}
+
+}  // namespace
+}  // namespace geovor

@@ -1,0 +1,352 @@
+// VoronoiDiagram against independent oracles: brute force (every Voronoi vertex is the centre of
+// an empty cap through its three sites), GeographicLib's polygon area on the unit sphere, Monte
+// Carlo nearest-site areas, closed-form areas of lunes and symmetric sets, and 4 pi.
+#include "geovor/voronoi/voronoi_diagram.hpp"
+
+#include <gtest/gtest.h>
+
+#include <GeographicLib/Geodesic.hpp>
+#include <GeographicLib/PolygonArea.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <numbers>
+#include <random>
+#include <set>
+
+#include "geovor/delaunay/spherical_delaunay.hpp"
+#include "geovor/geo/site_encoder.hpp"
+#include "geovor/geo/site_reader.hpp"
+#include "support/generators.hpp"
+
+namespace geovor {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+VoronoiDiagram diagram_of(const std::vector<Vec3>& pts, SphericalDelaunay* keep = nullptr) {
+  SphericalDelaunay dt = SphericalDelaunay::build(pts);
+  EXPECT_TRUE(dt.validate().ok());
+  VoronoiDiagram vd(dt);
+  if (keep) *keep = std::move(dt);
+  return vd;
+}
+
+double total_area(const VoronoiDiagram& vd) {
+  double sum = 0;
+  for (SiteId s = 0; s < vd.site_capacity(); ++s) sum += vd.cell_area_sr(s);
+  return sum;
+}
+
+std::vector<Vec3> weather_stations() {
+  const SiteTable table =
+      read_sites_csv_file(std::string(GEOVOR_SOURCE_DIR) + "/datasets/weather_stations.csv");
+  std::vector<Vec3> pts;
+  for (const InputSite& s : table.sites) pts.push_back(s.unit);
+  return pts;
+}
+
+// Structural checks that hold for every diagram with triangles.
+void expect_consistent(const VoronoiDiagram& vd, const SphericalDelaunay& dt) {
+  ASSERT_EQ(vd.kind(), VoronoiDiagram::Kind::Cells);
+  EXPECT_EQ(vd.num_cells(), dt.num_sites());
+  EXPECT_EQ(vd.num_vertices(), dt.num_triangles());
+  std::size_t entries = 0;
+  std::set<std::pair<SiteId, SiteId>> edges;
+  for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+    const auto tris = vd.cell_vertices(s);
+    const auto nbrs = vd.cell_neighbors(s);
+    ASSERT_EQ(tris.size(), nbrs.size());
+    EXPECT_EQ(vd.has_cell(s), dt.is_live(s));
+    if (!vd.has_cell(s)) {
+      EXPECT_TRUE(tris.empty());
+      continue;
+    }
+    EXPECT_GE(tris.size(), 2u);
+    entries += tris.size();
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+      const TriId t = tris[i], u = tris[(i + 1) % tris.size()];
+      const SiteId w = nbrs[i];
+      // Both triangles of the edge contain s and w (the dual Delaunay edge).
+      for (const TriId x : {t, u}) {
+        int found = 0;
+        for (int j = 0; j < 3; ++j) found += dt.tri_site(x, j) == s || dt.tri_site(x, j) == w;
+        EXPECT_EQ(found, 2) << "site " << s << " entry " << i;
+      }
+      edges.insert({s, w});
+    }
+  }
+  EXPECT_EQ(entries, 3 * dt.num_triangles());
+  for (const auto& [s, w] : edges) EXPECT_TRUE(edges.count({w, s})) << s << " " << w;
+}
+
+// Every Voronoi vertex is equidistant from its triangle's sites and no site is nearer (the cap is
+// empty): the definition of the circumcentre, checked by brute force.
+void expect_empty_caps(const VoronoiDiagram& vd, const SphericalDelaunay& dt, double tol) {
+  for (TriId t = 0; t < vd.num_vertices(); ++t) {
+    const Vec3& v = vd.vertex(t);
+    EXPECT_NEAR(norm2(v), 1.0, 1e-15);
+    const double d0 = dot(v, dt.site(dt.tri_site(t, 0)));
+    EXPECT_NEAR(dot(v, dt.site(dt.tri_site(t, 1))), d0, tol) << t;
+    EXPECT_NEAR(dot(v, dt.site(dt.tri_site(t, 2))), d0, tol) << t;
+    double best = -2;
+    for (SiteId s = 0; s < dt.site_capacity(); ++s)
+      if (dt.is_live(s)) best = std::max(best, dot(v, dt.site(s)));
+    EXPECT_LE(best, d0 + tol) << "a site is inside the cap of triangle " << t;
+  }
+}
+
+// Area of each cell estimated from N random points assigned to their nearest site (brute force);
+// each estimate must be within 6 standard deviations.
+void expect_monte_carlo_areas(const VoronoiDiagram& vd, std::size_t samples, std::uint64_t seed) {
+  const std::vector<Vec3> q = testing::uniform_on_sphere(samples, seed);
+  std::vector<std::size_t> count(vd.site_capacity(), 0);
+  for (const Vec3& p : q) {
+    SiteId best = kNoIndex;
+    double bd = -2;
+    for (SiteId s = 0; s < vd.site_capacity(); ++s)
+      if (vd.has_cell(s) && dot(p, vd.site(s)) > bd) bd = dot(p, vd.site(s)), best = s;
+    ++count[best];
+  }
+  for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+    if (!vd.has_cell(s)) continue;
+    const double f = vd.cell_area_sr(s) / (4 * kPi);
+    const double sigma = std::sqrt(f * (1 - f) / samples) + 1.0 / samples;
+    EXPECT_NEAR(static_cast<double>(count[s]) / samples, f, 6 * sigma) << "site " << s;
+  }
+}
+
+TEST(VoronoiDiagram, NoSite) {
+  const VoronoiDiagram vd(SphericalDelaunay::build(std::vector<Vec3>{}));
+  EXPECT_EQ(vd.kind(), VoronoiDiagram::Kind::Empty);
+  EXPECT_EQ(vd.num_cells(), 0u);
+  EXPECT_EQ(vd.num_vertices(), 0u);
+  EXPECT_EQ(VoronoiDiagram().kind(), VoronoiDiagram::Kind::Empty);
+}
+
+TEST(VoronoiDiagram, OneSiteIsTheWholeSphere) {
+  const VoronoiDiagram vd = diagram_of({{0, 0, 1}});
+  EXPECT_EQ(vd.kind(), VoronoiDiagram::Kind::WholeSphere);
+  EXPECT_EQ(vd.num_cells(), 1u);
+  EXPECT_TRUE(vd.cell_vertices(0).empty());
+  EXPECT_TRUE(vd.cell_neighbors(0).empty());
+  EXPECT_DOUBLE_EQ(vd.cell_area_sr(0), 4 * kPi);
+}
+
+TEST(VoronoiDiagram, TwoSitesAreTwoHemispheres) {
+  const Vec3 a = testing::normalized({1, 2, 3}), b = testing::normalized({-2, 1, 0.5});
+  const VoronoiDiagram vd = diagram_of({a, b});
+  EXPECT_EQ(vd.kind(), VoronoiDiagram::Kind::Hemispheres);
+  for (SiteId s : {0u, 1u}) {
+    ASSERT_EQ(vd.cell_neighbors(s).size(), 1u);
+    EXPECT_EQ(vd.cell_neighbors(s)[0], 1 - s);
+    EXPECT_TRUE(vd.cell_vertices(s).empty());
+    EXPECT_DOUBLE_EQ(vd.cell_area_sr(s), 2 * kPi);
+    // The pole of the hemisphere is closer to its own site.
+    const Vec3 n = vd.hemisphere_normal(s);
+    EXPECT_NEAR(norm2(n), 1, 1e-15);
+    EXPECT_GT(dot(n, vd.site(s)), dot(n, vd.site(1 - s)));
+    EXPECT_NEAR(dot(n, vd.site(s)), -dot(n, vd.site(1 - s)), 1e-15);
+  }
+}
+
+TEST(VoronoiDiagram, ThreeSitesOnTheEquatorAreLunes) {
+  // Lune of angle alpha has area 2 alpha. Sites at lon 0, 90, 200: bisectors at 45, 145, 280.
+  std::vector<Vec3> pts;
+  for (double lon : {0.0, 90.0, 200.0})
+    pts.push_back({std::cos(lon * kPi / 180), std::sin(lon * kPi / 180), 0});
+  SphericalDelaunay dt;
+  const VoronoiDiagram vd = diagram_of(pts, &dt);
+  expect_consistent(vd, dt);
+  const double expected[3] = {125, 100, 135};  // lune angles (degrees)
+  for (SiteId s = 0; s < 3; ++s) {
+    EXPECT_EQ(vd.cell_vertices(s).size(), 2u);
+    EXPECT_NEAR(vd.cell_area_sr(s), 2 * expected[s] * kPi / 180, 1e-13) << s;
+  }
+  // Both vertices are the poles.
+  for (TriId t = 0; t < vd.num_vertices(); ++t) EXPECT_EQ(std::fabs(vd.vertex(t).z), 1.0);
+}
+
+TEST(VoronoiDiagram, ManySitesOnTheEquatorAreLunes) {
+  const std::vector<Vec3> pts = testing::on_great_circle(200, 7);
+  SphericalDelaunay dt;
+  const VoronoiDiagram vd = diagram_of(pts, &dt);
+  expect_consistent(vd, dt);
+  // Closed form: the lune of a site spans half the gap to each neighbour in longitude.
+  std::vector<std::pair<double, SiteId>> lon;
+  for (SiteId s = 0; s < vd.site_capacity(); ++s)
+    if (vd.has_cell(s)) lon.push_back({std::atan2(vd.site(s).y, vd.site(s).x), s});
+  std::sort(lon.begin(), lon.end());
+  const std::size_t n = lon.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    double span = lon[(i + 1) % n].first - lon[(i + n - 1) % n].first;
+    if (span <= 0) span += 2 * kPi;
+    // 2 * (span / 2), up to the 1e-16 offsets of the stored points from the unit sphere, which
+    // tilt the bisector of two sites 3e-4 apart by 3e-13.
+    EXPECT_NEAR(vd.cell_area_sr(lon[i].second), span, 5e-12) << i;
+  }
+  EXPECT_NEAR(total_area(vd), 4 * kPi, 1e-12);
+}
+
+TEST(VoronoiDiagram, UniformSitesAgainstBruteForceAndGeographicLib) {
+  const std::vector<Vec3> pts = testing::uniform_on_sphere(1500, 11);
+  SphericalDelaunay dt;
+  const VoronoiDiagram vd = diagram_of(pts, &dt);
+  expect_consistent(vd, dt);
+  expect_empty_caps(vd, dt, 1e-14);
+  // Counter-clockwise: each fan triangle (site, v_i, v_i+1) turns positively.
+  for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+    const auto tris = vd.cell_vertices(s);
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+      const Vec3& a = vd.vertex(tris[i]);
+      const Vec3& b = vd.vertex(tris[(i + 1) % tris.size()]);
+      EXPECT_GT(dot(vd.site(s), cross(a, b)), 0) << s;
+    }
+  }
+  // GeographicLib on the unit sphere (geodesics = great circles) as the area oracle.
+  const GeographicLib::Geodesic sphere(1, 0);
+  double sum = 0;
+  for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+    GeographicLib::PolygonArea pa(sphere);
+    for (const TriId t : vd.cell_vertices(s)) {
+      const Vec3& v = vd.vertex(t);
+      pa.AddPoint(std::atan2(v.z, std::hypot(v.x, v.y)) * 180 / kPi,
+                  std::atan2(v.y, v.x) * 180 / kPi);
+    }
+    double perimeter = 0, area = 0;
+    pa.Compute(false, false, perimeter, area);
+    EXPECT_NEAR(vd.cell_area_sr(s), area, 1e-12) << s;
+    sum += vd.cell_area_sr(s);
+  }
+  EXPECT_NEAR(sum / (4 * kPi), 1, 1e-13);
+  expect_monte_carlo_areas(vd, 200000, 5);
+}
+
+TEST(VoronoiDiagram, DegenerateSetsTileTheSphere) {
+  struct Case {
+    const char* name;
+    std::vector<Vec3> pts;
+  };
+  const std::vector<Case> cases = {
+      {"three",
+       {testing::normalized({1, 0, 0}), testing::normalized({0, 1, 0}),
+        testing::normalized({1, 1, 1})}},
+      {"cube corners", testing::cube_corners()},
+      {"small circle (one plane, ghosts)", testing::on_small_circle(24, 40, 3)},
+      {"hemisphere (ghosts)", testing::in_hemisphere(300, 4)},
+      {"great circle", testing::on_great_circle(50, 5)},
+      {"grid 15 deg", testing::lat_lon_grid(15)},
+      {"grid without poles", testing::lat_lon_grid(20, -80, 80)},
+      {"skinny", testing::skinny_set(40)},
+      {"poles with longitudes", testing::poles_with_longitudes(6)},
+      {"clustered", testing::clustered(400, 5, 0.02, 6)},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    SphericalDelaunay dt;
+    const VoronoiDiagram vd = diagram_of(c.pts, &dt);
+    expect_consistent(vd, dt);
+    expect_empty_caps(vd, dt, 1e-12);
+    for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+      if (vd.has_cell(s)) {
+        EXPECT_GT(vd.cell_area_sr(s), 0) << s;
+      }
+    }
+    EXPECT_NEAR(total_area(vd) / (4 * kPi), 1, 1e-12);
+    expect_monte_carlo_areas(vd, 60000, 9);
+  }
+}
+
+TEST(VoronoiDiagram, SymmetricSetsHaveEqualCells) {
+  const VoronoiDiagram cube = diagram_of(testing::cube_corners());
+  for (SiteId s = 0; s < 8; ++s) EXPECT_NEAR(cube.cell_area_sr(s), kPi / 2, 1e-13);
+  // Grid: cells in one latitude row are congruent.
+  const std::vector<Vec3> grid = testing::lat_lon_grid(10);
+  const VoronoiDiagram vd = diagram_of(grid);
+  std::map<long, std::vector<double>> rows;
+  for (SiteId s = 0; s < vd.site_capacity(); ++s)
+    rows[std::lround(std::asin(vd.site(s).z) * 180 / kPi)].push_back(vd.cell_area_sr(s));
+  for (const auto& [lat, areas] : rows) {
+    const auto [lo, hi] = std::minmax_element(areas.begin(), areas.end());
+    EXPECT_NEAR(*lo, *hi, 1e-13) << "row " << lat;
+  }
+  EXPECT_NEAR(total_area(vd), 4 * kPi, 1e-12);
+}
+
+TEST(VoronoiDiagram, RemovedSitesHaveNoCell) {
+  SphericalDelaunay dt = SphericalDelaunay::build(testing::uniform_on_sphere(300, 21));
+  for (SiteId s = 0; s < 300; s += 3) dt.remove(s);
+  const VoronoiDiagram vd(dt);
+  expect_consistent(vd, dt);
+  EXPECT_EQ(vd.num_cells(), 200u);
+  EXPECT_FALSE(vd.has_cell(0));
+  EXPECT_EQ(vd.cell_area_sr(0), 0);
+  EXPECT_NEAR(total_area(vd) / (4 * kPi), 1, 1e-13);
+  // Down to two, then one site.
+  SphericalDelaunay small = SphericalDelaunay::build(testing::uniform_on_sphere(4, 22));
+  small.remove(0);
+  small.remove(1);
+  const VoronoiDiagram two(small);
+  EXPECT_EQ(two.kind(), VoronoiDiagram::Kind::Hemispheres);
+  EXPECT_EQ(two.cell_neighbors(2)[0], 3u);
+  EXPECT_EQ(two.cell_neighbors(3)[0], 2u);
+  EXPECT_NEAR(total_area(two), 4 * kPi, 1e-15);
+  small.remove(2);
+  EXPECT_EQ(VoronoiDiagram(small).kind(), VoronoiDiagram::Kind::WholeSphere);
+}
+
+TEST(VoronoiDiagram, WeatherStations) {
+  SphericalDelaunay dt;
+  const VoronoiDiagram vd = diagram_of(weather_stations(), &dt);
+  expect_consistent(vd, dt);
+  const double sum = total_area(vd);
+  std::printf("weather stations: %zu cells, sum of areas / 4 pi - 1 = %.3g\n", vd.num_cells(),
+              sum / (4 * kPi) - 1);
+  EXPECT_NEAR(sum / (4 * kPi), 1, 1e-13);
+  // The Amundsen-Scott station (lat -89.9999985) is the southernmost site, and the south pole is
+  // inside its cell: every fan triangle of its cell turns positively around the pole too.
+  SiteId south = 0;
+  for (SiteId s = 0; s < vd.site_capacity(); ++s)
+    if (vd.site(s).z < vd.site(south).z) south = s;
+  EXPECT_LT(vd.site(south).z, -0.99999999);
+  const auto tris = vd.cell_vertices(south);
+  for (std::size_t i = 0; i < tris.size(); ++i)
+    EXPECT_GT(
+        dot(Vec3{0, 0, -1}, cross(vd.vertex(tris[i]), vd.vertex(tris[(i + 1) % tris.size()]))), 0);
+}
+
+TEST(VoronoiDiagram, LargeUniformSetSumsTo4Pi) {
+  const std::vector<Vec3> pts = testing::uniform_on_sphere(1 << 17, 31);
+  const SphericalDelaunay dt = SphericalDelaunay::build(pts);
+  const auto t0 = std::chrono::steady_clock::now();
+  const VoronoiDiagram vd(dt);
+  const auto t1 = std::chrono::steady_clock::now();
+  const double sum = total_area(vd);
+  const auto t2 = std::chrono::steady_clock::now();
+  std::printf(
+      "2^17 uniform: diagram %.3f s, all areas %.3f s, %.1f bytes/site, sum/4pi - 1 = %.3g\n",
+      std::chrono::duration<double>(t1 - t0).count(),
+      std::chrono::duration<double>(t2 - t1).count(),
+      static_cast<double>(vd.memory_bytes()) / vd.num_cells(), sum / (4 * kPi) - 1);
+  EXPECT_NEAR(sum / (4 * kPi), 1, 1e-12);
+}
+
+TEST(VoronoiDiagram, ArcMidpointHandles180DegreeArcs) {
+  const Vec3 a{1, 0, 0}, b{-1, 0, 0};
+  // Positive rotation about +z from +x passes through +y; about -z through -y.
+  const Vec3 m1 = VoronoiDiagram::arc_midpoint(a, b, {0, 0, 1});
+  const Vec3 m2 = VoronoiDiagram::arc_midpoint(a, b, {0, 0, -1});
+  EXPECT_NEAR(m1.y, 1, 1e-15);
+  EXPECT_NEAR(m2.y, -1, 1e-15);
+  // 150 degrees.
+  const Vec3 c{std::cos(5 * kPi / 6), std::sin(5 * kPi / 6), 0};
+  const Vec3 m3 = VoronoiDiagram::arc_midpoint(a, c, {0, 0, 1});
+  EXPECT_NEAR(std::atan2(m3.y, m3.x), 5 * kPi / 12, 1e-15);
+  EXPECT_NEAR(VoronoiDiagram::triangle_area_sr({1, 0, 0}, {0, 1, 0}, {0, 0, 1}), kPi / 2, 1e-15);
+  EXPECT_NEAR(VoronoiDiagram::triangle_area_sr({1, 0, 0}, {0, 0, 1}, {0, 1, 0}), -kPi / 2, 1e-15);
+}
+
+}  // namespace
+}  // namespace geovor
