@@ -1,16 +1,39 @@
-// The subcommands of the geovor tool; each registers itself on the CLI11 app.
+// The subcommands of the geovor tool; each registers itself on the CLI11 app and returns the
+// function that runs it when it was chosen.
 #pragma once
 
 #include <CLI/CLI.hpp>
 
+#include <cstdint>
 #include <functional>
+#include <string>
+
+namespace geovor {
+struct SiteIndex;  // geovor/locate/index_file.hpp
+}  // namespace geovor
 
 namespace geovor::tools {
 
 /// Exit codes of geovor (documented in --help and docs/).
 enum ExitCode : int { kOk = 0, kUsage = 2, kBadData = 3, kIo = 4, kInternal = 70 };
 
-/// Adds `geovor info` to app; the returned function runs it when it was chosen.
 std::function<int()> add_info_command(CLI::App& app);
+/// Adds `geovor index` (tools/index_command.cpp).
+std::function<int()> add_index_command(CLI::App& app);
+/// Adds `geovor nearest` (tools/nearest_command.cpp).
+std::function<int()> add_nearest_command(CLI::App& app);
+
+/// What build_index_from_table did, for the summary lines of index and nearest.
+struct TableBuild {
+  std::string source;
+  std::uint64_t rows = 0, sites = 0, merged = 0, rejected = 0;
+  double read_seconds = 0, build_seconds = 0;
+};
+struct SiteInputArgs;  // site_input.hpp
+/// Reads the site table (read_site_input: CSV or OGR), lists its rejected rows and merged sites
+/// on stderr as `geovor info` does, and builds the nearest-site index (tools/index_command.cpp).
+/// @exception Error as the readers and the build; Error(BadData) if no row is a site.
+SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary);
+std::function<int()> add_cells_command(CLI::App& app);
 
 }  // namespace geovor::tools

@@ -5,6 +5,9 @@
 
 #include <cstdio>
 #include <exception>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
@@ -14,9 +17,18 @@ int main(int argc, char** argv) {
   CLI::App app{"geovor: Voronoi cells, Delaunay triangulations and nearest sites on the Earth"};
   app.footer(
       "Exit codes: 0 ok, 2 usage error, 3 bad input data, 4 I/O error, 70 internal error.\n"
-      "Example: geovor info datasets/weather_stations.csv");
+      "Examples:\n"
+      "  geovor info datasets/weather_stations.csv\n"
+      "  geovor cells datasets/weather_stations.csv -o cells.geojson\n"
+      "  geovor nearest --sites datasets/weather_stations.csv --queries points.csv");
   app.require_subcommand(1);
-  const auto run_info = add_info_command(app);
+  // Each subcommand: its name and the function that runs it.
+  const std::vector<std::pair<std::string, std::function<int()>>> commands = {
+      {"info", add_info_command(app)},
+      {"cells", add_cells_command(app)},
+      {"index", add_index_command(app)},
+      {"nearest", add_nearest_command(app)},
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -24,7 +36,8 @@ int main(int argc, char** argv) {
     return code == 0 ? kOk : kUsage;
   }
   try {
-    if (app.got_subcommand("info")) return run_info();
+    for (const auto& [name, run] : commands)
+      if (app.got_subcommand(name)) return run();
   } catch (const geovor::Error& e) {
     std::fprintf(stderr, "geovor: %s\n", e.what());
     switch (e.code()) {

@@ -248,3 +248,28 @@ TEST(Locator, ParsesStrategyNames) {
 
 }  // namespace
 }  // namespace geovor
+
+namespace geovor {
+namespace {
+
+// Regression (2026-11-21): removing every site of the top level left it empty, and the hierarchy
+// strategy started its descent there, out of bounds.
+TEST(Locator, TopLevelEmptiedByRemovals) {
+  const auto pts = testing::uniform_on_sphere(20000, 51);
+  DelaunayHierarchy h = DelaunayHierarchy::build(pts);
+  const int levels = h.num_levels();
+  ASSERT_GE(levels, 3);
+  std::vector<SiteId> top_sites;
+  for (SiteId s = 0; s < h.base().site_capacity(); ++s)
+    if (h.drawn_level(s) >= levels - 1) top_sites.push_back(s);
+  for (const SiteId s : top_sites) h.remove(s);
+  EXPECT_LT(h.num_levels(), levels);
+  ASSERT_TRUE(h.validate().ok());
+  for (const LocateStrategy strategy : kAll) {
+    Locator locator(h, {strategy});
+    for (const Vec3& q : testing::uniform_on_sphere(500, 52)) ASSERT_EQ(locator.nearest(q).site, brute_nearest(h.base(), q));
+  }
+}
+
+}  // namespace
+}  // namespace geovor

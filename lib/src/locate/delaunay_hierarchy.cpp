@@ -1,5 +1,6 @@
 #include "geovor/locate/delaunay_hierarchy.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "geovor/core/assert.hpp"
@@ -68,6 +69,60 @@ DelaunayHierarchy DelaunayHierarchy::build(std::span<const Vec3> points, const D
   return h;
 }
 
+DelaunayHierarchy DelaunayHierarchy::from_parts(const HierarchyOptions& options, std::vector<SphericalDelaunay> levels,
+                                                std::vector<std::vector<SiteId>> up,
+                                                std::vector<std::vector<SiteId>> down) {
+  auto fail = [](const std::string& why) { throw Error(ErrorCode::BadData, "hierarchy: " + why); };
+  auto at = [](std::size_t l, SiteId s) { return "level " + std::to_string(l) + " site " + std::to_string(s); };
+  if (options.ratio < 2 || options.max_levels < 1 || options.max_levels > 16)
+    fail("ratio must be >= 2 and max_levels in 1..16");
+  const std::size_t n = levels.size();
+  if (n < 1 || n > options.max_levels) fail(std::to_string(n) + " levels, expected 1 to max_levels");
+  if (up.size() != n || down.size() != n) fail("links for " + std::to_string(up.size()) + " and " +
+                                               std::to_string(down.size()) + " levels, expected " + std::to_string(n));
+  if (!down[0].empty()) fail("level 0 has down links");
+  for (std::size_t l = 0; l < n; ++l) {
+    const std::size_t cap = levels[l].site_capacity();
+    if (up[l].size() != cap || (l > 0 && down[l].size() != cap))
+      fail("level " + std::to_string(l) + ": links differ in size from the sites");
+    if (l > 0 && levels[l].num_sites() == 0) fail("level " + std::to_string(l) + " has no site");
+  }
+  for (const SiteId u : up[n - 1])
+    if (u != kNoIndex) fail("the top level has an up link");
+  for (std::size_t l = 0; l + 1 < n; ++l) {
+    const SphericalDelaunay& lo = levels[l];
+    const SphericalDelaunay& hi = levels[l + 1];
+    for (SiteId s = 0; s < lo.site_capacity(); ++s) {
+      const SiteId u = up[l][s];
+      if (u == kNoIndex) continue;
+      if (!lo.is_live(s) || u >= hi.site_capacity() || !hi.is_live(u) || down[l + 1][u] != s ||
+          !(hi.site(u) == lo.site(s)))
+        fail(at(l, s) + ": bad up link");
+    }
+    for (SiteId u = 0; u < hi.site_capacity(); ++u) {
+      const SiteId d = down[l + 1][u];
+      if (hi.is_live(u) ? d >= lo.site_capacity() || up[l][d] != u : d != kNoIndex && d >= lo.site_capacity())
+        fail(at(l + 1, u) + ": bad down link");
+    }
+  }
+  DelaunayHierarchy h;
+  h.options_ = options;
+  h.levels_ = std::move(levels);
+  h.up_ = std::move(up);
+  h.down_ = std::move(down);
+  const SphericalDelaunay& base = h.base();
+  for (SiteId s = 0; s < base.site_capacity(); ++s) {
+    if (!base.is_live(s)) continue;
+    int l = 0;
+    SiteId c = s;
+    while (l + 1 < h.num_levels() && h.up(l, c) != kNoIndex) c = h.up(l, c), ++l;
+    if (l != std::min(h.drawn_level(s), h.num_levels() - 1))
+      fail("site " + std::to_string(s) + " is on " + std::to_string(l + 1) + " levels, its draw gives " +
+           std::to_string(std::min(h.drawn_level(s), h.num_levels() - 1) + 1));
+  }
+  return h;
+}
+
 InsertResult DelaunayHierarchy::insert(const Vec3& p) {
   const InsertResult r = levels_[0].insert(p);
   if (r.merged) return r;
@@ -102,6 +157,13 @@ void DelaunayHierarchy::remove(SiteId s) {
     up_[static_cast<std::size_t>(l)][s] = kNoIndex;
     levels_[static_cast<std::size_t>(l + 1)].remove(u);
     s = u;
+  }
+  // An emptied top level would leave walks nowhere to start: drop it (a later insert drawn that
+  // high brings it back).
+  while (levels_.size() > 1 && levels_.back().num_sites() == 0) {
+    levels_.pop_back();
+    up_.pop_back();
+    down_.pop_back();
   }
 }
 

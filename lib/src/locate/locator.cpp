@@ -131,8 +131,11 @@ SiteId Locator::any_site(int level) const {
 }
 
 // Greedy walk in doubles at one level: moves to the best neighbour while it is better. With
-// stop_at_up, stops on arriving at a site that also lives on the level above (Climb).
-SiteId Locator::walk(int level, const Vec3& q, SiteId v, bool stop_at_up) {
+// stop_at_up (Climb), it stops as soon as a site seen on the way (the current site or one of
+// its neighbours) also lives on the level above, as the thesis' walk stops at a cell with such a
+// vertex (§8.4), and sets *climb; it does not stop where the walk ends anyway.
+SiteId Locator::walk(int level, const Vec3& q, SiteId v, bool stop_at_up, bool* climb) {
+  if (climb) *climb = false;
   const SphericalDelaunay& dt = h_->level(level);
   if (dt.num_triangles() == 0) {  // fewer than 3 sites: look at all of them
     for (SiteId s = 0; s < dt.site_capacity(); ++s)
@@ -142,25 +145,33 @@ SiteId Locator::walk(int level, const Vec3& q, SiteId v, bool stop_at_up) {
   const bool can_climb = stop_at_up && level + 1 < h_->num_levels();
   double best = dot(q, dt.site(v));
   const SiteId* tri = dt.triangles().data();
+  bool first = true;
   for (;;) {
     const HalfedgeId e0 = dt.site_edge(v);
     HalfedgeId e = e0;
-    SiteId next = v;
+    SiteId next = v, up_site = kNoIndex;
+    double up_best = -3;
     do {
       const SiteId w = tri[next_halfedge(e)];
       const double d = dot(q, dt.site(w));
       if (d > best) best = d, next = w;
+      if (can_climb && d > up_best && h_->up(level, w) != kNoIndex) up_best = d, up_site = w;
       e = dt.next_around_site(e);
     } while (e != e0);
-    if (next == v) return v;
+    if (next == v) return v;  // the nearest site of this level
+    if (can_climb && !first && h_->up(level, v) != kNoIndex) up_site = v;
+    if (up_site != kNoIndex) {
+      *climb = true;
+      return up_site;
+    }
     v = next;
+    first = false;
     ++stats_.steps;
-    if (can_climb && h_->up(level, v) != kNoIndex) return v;
   }
 }
 
 SiteId Locator::descend(const Vec3& q, int level, SiteId v) {
-  for (; level > 0; --level) v = walk(level - 1, q, h_->down(level, v), false);
+  for (; level > 0; --level) v = walk(level - 1, q, h_->down(level, v), false, nullptr);
   return v;
 }
 
@@ -169,27 +180,12 @@ SiteId Locator::descend(const Vec3& q, int level, SiteId v) {
 SiteId Locator::climb_and_descend(const Vec3& q, SiteId v) {
   int level = 0;
   for (;;) {
-    v = walk(level, q, v, true);
-    if (level + 1 < h_->num_levels() && h_->up(level, v) != kNoIndex &&
-        h_->level(level).num_triangles() > 0) {
-      // The walk stopped on a site of the level above, unless it ended there: check.
-      const SphericalDelaunay& dt = h_->level(level);
-      bool better_neighbour = false;
-      const HalfedgeId e0 = dt.site_edge(v);
-      HalfedgeId e = e0;
-      const double dv = dot(q, dt.site(v));
-      do {
-        if (dot(q, dt.site(dt.triangles()[next_halfedge(e)])) > dv) better_neighbour = true;
-        e = dt.next_around_site(e);
-      } while (e != e0 && !better_neighbour);
-      if (better_neighbour) {
-        v = h_->up(level, v);
-        ++level;
-        ++stats_.climbs;
-        continue;
-      }
-    }
-    return descend(q, level, v);
+    bool climb = false;
+    v = walk(level, q, v, true, &climb);
+    if (!climb) return descend(q, level, v);
+    v = h_->up(level, v);
+    ++level;
+    ++stats_.climbs;
   }
 }
 
@@ -252,13 +248,14 @@ SiteId Locator::start_site(const Vec3& q) {
   };
   switch (options_.strategy) {
     case LocateStrategy::Walk:
-      return walk(0, q, last_ok ? last_ : any_site(0), false);
+      return walk(0, q, last_ok ? last_ : any_site(0), false, nullptr);
     case LocateStrategy::JumpWalk:
     case LocateStrategy::KeepJumpWalk:
-      return walk(0, q, best_landmark(), false);
+      return walk(0, q, best_landmark(), false, nullptr);
     case LocateStrategy::Hierarchy: {
-      const int top = h_->num_levels() - 1;
-      return descend(q, top, walk(top, q, any_site(top), false));
+      int top = h_->num_levels() - 1;
+      while (top > 0 && h_->level(top).num_sites() == 0) --top;  // cannot happen after remove()
+      return descend(q, top, walk(top, q, any_site(top), false, nullptr));
     }
     case LocateStrategy::Climb:
       return climb_and_descend(q, last_ok ? last_ : any_site(0));

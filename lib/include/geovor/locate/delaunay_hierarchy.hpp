@@ -38,6 +38,17 @@ class DelaunayHierarchy {
   static DelaunayHierarchy build(std::span<const Vec3> points, const DelaunayOptions& options = {},
                                  const HierarchyOptions& hierarchy = {}, BuildReport* report = nullptr);
 
+  /// Reassembles a hierarchy from saved parts (locate/index_file.hpp): the levels, up[l] (one
+  /// link per site of level l, kNoIndex for none; the last level's all kNoIndex) and down[l]
+  /// (one per site of level l; down[0] empty). Checks in O(n), so that a corrupted input is an
+  /// error and never a crash: the options, every level but the base has a live site, the links
+  /// are in range, up and down are inverse on live sites, every copy is the same point, every
+  /// live site above the base has a copy below, and every live base site is on the levels its
+  /// draw gives. The levels' own structure is from_arrays()'s to check.
+  /// @exception Error(BadData) naming the first broken invariant.
+  static DelaunayHierarchy from_parts(const HierarchyOptions& options, std::vector<SphericalDelaunay> levels,
+                                      std::vector<std::vector<SiteId>> up, std::vector<std::vector<SiteId>> down);
+
   /// Inserts a site at level 0 and at the levels its draw gives; see SphericalDelaunay::insert.
   InsertResult insert(const Vec3& p);
   /// Removes a live level-0 site from every level it is on.
@@ -52,6 +63,9 @@ class DelaunayHierarchy {
   SiteId up(int l, SiteId s) const { return up_[static_cast<std::size_t>(l)][s]; }
   /// The copy of level-l site s (l >= 1) on level l-1.
   SiteId down(int l, SiteId s) const { return down_[static_cast<std::size_t>(l)][s]; }
+  /// Every up (resp. down) link of level l, indexed by the level-l site (for saving).
+  std::span<const SiteId> up_links(int l) const { return up_[static_cast<std::size_t>(l)]; }
+  std::span<const SiteId> down_links(int l) const { return down_[static_cast<std::size_t>(l)]; }
   /// The highest level of a level-0 site with this id, from its draw.
   int drawn_level(SiteId s) const;
   const HierarchyOptions& options() const { return options_; }

@@ -95,7 +95,7 @@ class Locator {
 
  private:
   SiteId start_site(const Vec3& q);
-  SiteId walk(int level, const Vec3& q, SiteId v, bool stop_at_up);
+  SiteId walk(int level, const Vec3& q, SiteId v, bool stop_at_up, bool* climb);
   SiteId climb_and_descend(const Vec3& q, SiteId v);
   SiteId descend(const Vec3& q, int level, SiteId v);
   SiteId certify(const Vec3& q, SiteId v);

@@ -1,0 +1,115 @@
+#include "site_input.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+
+#include "geovor/geo/site_encoder.hpp"
+#include "geovor/io/ogr_site_reader.hpp"
+
+namespace geovor::tools {
+
+void add_site_input_options(CLI::App* cmd, SiteInputArgs& args) {
+  cmd->add_option("INPUT", args.input,
+                  "Sites: CSV with a header (- for stdin) or any OGR point layer (GeoPackage, Shapefile, GeoJSON, FlatGeobuf)")
+      ->required();
+  cmd->add_option("--lat-field", args.reader.lat_field, "Latitude column (default: lat, latitude, lat_deg or y)");
+  cmd->add_option("--lon-field", args.reader.lon_field,
+                  "Longitude column (default: lon, lng, long, longitude, lon_deg or x)");
+  cmd->add_option("--id-field", args.reader.id_field,
+                  "Identifier column (default: id, icao, code or name; else the row number)");
+  cmd->add_option("--ecef-fields", args.ecef_fields, "X,Y,Z columns of ECEF metres instead of latitude/longitude");
+  cmd->add_option("--merge-m", args.merge_m,
+                  "Merge sites closer than this many metres (default and minimum: 2^-24 R = 0.38 m)");
+}
+
+SiteTable read_site_input(SiteInputArgs& args) {
+  if (!args.ecef_fields.empty() && args.reader.ecef_fields.empty()) {
+    std::string field;
+    for (const char c : args.ecef_fields + ",") {
+      if (c == ',') {
+        args.reader.ecef_fields.push_back(field);
+        field.clear();
+      } else {
+        field += c;
+      }
+    }
+  }
+  SiteTable table = read_sites(args.input, args.reader);
+  for (const RejectedRow& r : table.rejected) {
+    if (r.line > 0)  // CSV rows have a line; OGR features do not (their reason names the feature)
+      std::fprintf(stderr, "%s: row %llu (line %llu) rejected: %s\n", table.source.c_str(),
+                   static_cast<unsigned long long>(r.row), static_cast<unsigned long long>(r.line), r.reason.c_str());
+    else
+      std::fprintf(stderr, "%s: row %llu rejected: %s\n", table.source.c_str(),
+                   static_cast<unsigned long long>(r.row), r.reason.c_str());
+  }
+  return table;
+}
+
+std::vector<Vec3> site_points(const SiteTable& table) {
+  std::vector<Vec3> points;
+  points.reserve(table.sites.size());
+  for (const InputSite& s : table.sites) points.push_back(s.unit);
+  return points;
+}
+
+DelaunayOptions delaunay_options(const SiteInputArgs& args) {
+  DelaunayOptions options;
+  if (args.merge_m > 0)
+    options.merge_distance = std::max(SphericalDelaunay::kMinSeparation, args.merge_m / SiteEncoder::kEarthRadiusM);
+  return options;
+}
+
+std::vector<std::vector<std::uint32_t>> rows_of_sites(const BuildReport& report, std::size_t num_sites) {
+  // The row a site was built from comes first; it is not always the lowest row, since points
+  // merge into whichever of them the build inserted first.
+  std::vector<char> merged(report.site_of_input.size(), 0);
+  for (const Merge& m : report.merges) merged[m.input] = 1;
+  std::vector<std::vector<std::uint32_t>> rows(num_sites);
+  for (std::uint32_t i = 0; i < report.site_of_input.size(); ++i)
+    if (report.site_of_input[i] < num_sites && !merged[i]) rows[report.site_of_input[i]].push_back(i);
+  for (std::uint32_t i = 0; i < report.site_of_input.size(); ++i)
+    if (report.site_of_input[i] < num_sites && merged[i]) rows[report.site_of_input[i]].push_back(i);
+  return rows;
+}
+
+void report_merges(const SiteTable& table, const BuildReport& report) {
+  if (report.merges.empty()) return;
+  const auto rows = rows_of_sites(report, report.site_of_input.size());
+  for (const Merge& m : report.merges) {
+    const InputSite& row = table.sites[m.input];
+    const InputSite& kept = table.sites[rows[m.site].front()];
+    char why[96];
+    if (m.chord == 0)
+      std::snprintf(why, sizeof why, "same position");
+    else
+      std::snprintf(why, sizeof why, "%.3g m apart, closer than the merge distance%s",
+                    m.chord * SiteEncoder::kEarthRadiusM, m.hidden ? " (hidden)" : "");
+    std::fprintf(stderr, "%s: row %llu (id %s) merged into the site of row %llu (id %s): %s\n",
+                 table.source.c_str(), static_cast<unsigned long long>(row.row), row.id.c_str(),
+                 static_cast<unsigned long long>(kept.row), kept.id.c_str(), why);
+  }
+}
+
+Progress::Progress(std::size_t total, bool quiet) : total_(total), on_(!quiet && isatty(STDERR_FILENO)) {}
+
+void Progress::advance(std::size_t done) {
+  if (!on_ || total_ == 0) return;
+  const int step = static_cast<int>(done * 40 / total_);  // 40 ticks of 2.5 %, as GDAL prints
+  while (printed_ < step) {
+    ++printed_;
+    if (printed_ % 4 == 0)
+      std::fprintf(stderr, "%d", printed_ / 4 * 10);
+    else
+      std::fputc('.', stderr);
+  }
+}
+
+void Progress::finish() {
+  if (!on_) return;
+  advance(total_);
+  std::fprintf(stderr, " - done.\n");
+}
+
+}  // namespace geovor::tools

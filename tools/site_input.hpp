@@ -1,0 +1,57 @@
+// Shared by the subcommands that read sites: the options naming the input columns, reading the
+// table (CSV or any OGR point layer), the row accounting on stderr, and building the
+// triangulation.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "geovor/delaunay/spherical_delaunay.hpp"
+#include "geovor/geo/site_reader.hpp"
+
+namespace geovor::tools {
+
+struct SiteInputArgs {
+  std::string input;
+  SiteReaderOptions reader;
+  std::string ecef_fields;  // "X,Y,Z"
+  double merge_m = 0;       // 0: the minimum separation
+};
+
+/// Adds INPUT and the column options to a subcommand.
+void add_site_input_options(CLI::App* cmd, SiteInputArgs& args);
+
+/// Reads the sites; rejected rows go to stderr (file, row, line, reason).
+SiteTable read_site_input(SiteInputArgs& args);
+
+/// The unit vectors of the accepted rows, in order.
+std::vector<Vec3> site_points(const SiteTable& table);
+
+/// DelaunayOptions with the --merge-m distance.
+DelaunayOptions delaunay_options(const SiteInputArgs& args);
+
+/// Lists each merge on stderr with the merged row and the row its site was built from.
+void report_merges(const SiteTable& table, const BuildReport& report);
+
+/// For each site, the indices (into table.sites) of the rows in it: the row the site was built
+/// from first, then the rows merged into it.
+std::vector<std::vector<std::uint32_t>> rows_of_sites(const BuildReport& report, std::size_t num_sites);
+
+/// GDAL-style progress on stderr ("0...10...20...", "100 - done.") when stderr is a terminal and
+/// not quiet.
+class Progress {
+ public:
+  Progress(std::size_t total, bool quiet);
+  void advance(std::size_t done);
+  void finish();
+
+ private:
+  std::size_t total_;
+  bool on_;
+  int printed_ = -1;
+};
+
+}  // namespace geovor::tools
