@@ -69,22 +69,9 @@ std::string_view trim(std::string_view s) {
   return s.substr(first, s.find_last_not_of(kSpace) - first + 1);
 }
 
-bool same_name(std::string_view a, std::string_view b) {
-  a = trim(a);
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const char c = a[i] >= 'A' && a[i] <= 'Z' ? static_cast<char>(a[i] - 'A' + 'a') : a[i];
-    if (c != b[i]) return false;
-  }
-  return true;
-}
-
 template <std::size_t N>
 int detect(const std::vector<std::string>& columns, const std::string_view (&names)[N]) {
-  for (const std::string_view name : names)
-    for (std::size_t c = 0; c < columns.size(); ++c)
-      if (same_name(columns[c], name)) return static_cast<int>(c);
-  return -1;
+  return find_column(columns, std::span<const std::string_view>(names, N));
 }
 
 std::string quoted(std::string_view v) {

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <span>
 #include <string_view>
 #include <system_error>
 #include <utility>
@@ -47,20 +48,10 @@ bool same_name(std::string_view column, std::string_view name) {
   return true;
 }
 
-int find_column(const std::vector<std::string>& columns, std::string_view name) {
-  for (std::size_t i = 0; i < columns.size(); ++i) {
-    if (same_name(columns[i], name)) return static_cast<int>(i);
-  }
-  return -1;
-}
-
 template <std::size_t N>
 int detect_column(const std::vector<std::string>& columns,
                   const std::array<std::string_view, N>& names) {
-  for (const auto name : names) {
-    if (const int c = find_column(columns, name); c >= 0) return c;
-  }
-  return -1;
+  return find_column(columns, std::span<const std::string_view>(names.data(), N));
 }
 
 template <typename Range>
@@ -302,6 +293,20 @@ SiteTable read_sites_csv_file(const std::string& path, const SiteReaderOptions& 
                 path + ": cannot open: " + (err != 0 ? std::strerror(err) : "unknown error"));
   }
   return read_sites_csv(file, path, options);
+}
+
+int find_column(const std::vector<std::string>& columns, std::string_view name) {
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    if (same_name(columns[i], name)) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int find_column(const std::vector<std::string>& columns, std::span<const std::string_view> names) {
+  for (const auto name : names) {
+    if (const int c = find_column(columns, name); c >= 0) return c;
+  }
+  return -1;
 }
 
 }  // namespace geovor

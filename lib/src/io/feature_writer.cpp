@@ -76,4 +76,16 @@ std::unique_ptr<FeatureWriter> open_feature_writer(const std::string& path, Geom
   return gdal_detail::open_gdal_writer(path, format, geometry_type, schema, options);
 }
 
+const char* to_string(GeometryType t) {
+  switch (t) {
+    case GeometryType::Point:
+      return "Point";
+    case GeometryType::MultiLineString:
+      return "MultiLineString";
+    case GeometryType::MultiPolygon:
+      return "MultiPolygon";
+  }
+  return "?";
+}
+
 }  // namespace geovor

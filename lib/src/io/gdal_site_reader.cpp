@@ -46,14 +46,6 @@ std::string_view trim(std::string_view s) {
 }
 
 // As the CSV reader: names compared trimmed and case-insensitively.
-int find_column(const std::vector<std::string>& columns, std::string_view name) {
-  const std::string wanted = lower(trim(name));
-  for (std::size_t i = 0; i < columns.size(); ++i) {
-    if (lower(trim(columns[i])) == wanted) return static_cast<int>(i);
-  }
-  return -1;
-}
-
 std::string list_names(const std::vector<std::string>& names) {
   std::string out;
   for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;

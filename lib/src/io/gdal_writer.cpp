@@ -62,18 +62,6 @@ std::vector<std::string> stale_sidecars(const std::string& driver) {
   return {};
 }
 
-const char* type_name(GeometryType t) {
-  switch (t) {
-    case GeometryType::Point:
-      return "Point";
-    case GeometryType::MultiLineString:
-      return "MultiLineString";
-    case GeometryType::MultiPolygon:
-      return "MultiPolygon";
-  }
-  return "?";
-}
-
 class GdalWriter final : public FeatureWriter {
  public:
   GdalWriter(const std::string& path, const std::string& driver_name, GeometryType geometry_type,
@@ -145,8 +133,8 @@ class GdalWriter final : public FeatureWriter {
     if (static_cast<GeometryType>(geometry.index()) != geometry_type_) {
       throw Error(ErrorCode::InvalidArgument,
                   path_ + ": " + feature() + " is a " +
-                      type_name(static_cast<GeometryType>(geometry.index())) + " in a " +
-                      type_name(geometry_type_) + " layer");
+                      to_string(static_cast<GeometryType>(geometry.index())) + " in a " +
+                      to_string(geometry_type_) + " layer");
     }
     if (auto why = geometry_problem(geometry); !why.empty()) {
       throw Error(ErrorCode::InvalidArgument, path_ + ": " + feature() + ": " + why);

@@ -116,18 +116,6 @@ std::string ring_problem(const Ring& ring) {
   return "";
 }
 
-const char* geometry_type_name(GeometryType t) {
-  switch (t) {
-    case GeometryType::Point:
-      return "Point";
-    case GeometryType::MultiLineString:
-      return "MultiLineString";
-    case GeometryType::MultiPolygon:
-      return "MultiPolygon";
-  }
-  return "?";
-}
-
 GeometryType type_of(const Geometry& g) {
   return static_cast<GeometryType>(g.index());  // variant order = enum order
 }
@@ -215,8 +203,8 @@ class GeoJsonWriter final : public FeatureWriter {
     if (type_of(geometry) != geometry_type_) {
       throw Error(ErrorCode::InvalidArgument,
                   path_ + ": feature " + std::to_string(count_ + 1) + " is a " +
-                      geometry_type_name(type_of(geometry)) + " in a " +
-                      geometry_type_name(geometry_type_) + " layer");
+                      to_string(type_of(geometry)) + " in a " +
+                      to_string(geometry_type_) + " layer");
     }
     if (auto why = geometry_problem(geometry); !why.empty()) {
       throw Error(ErrorCode::InvalidArgument,

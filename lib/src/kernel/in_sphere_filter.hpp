@@ -20,56 +20,43 @@ Sign in_sphere_exact(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s)
 /// 3 * 2 * 4.0005 * 2.0001 < 48.01, and Shewchuk's bound below (7 + 56 eps) eps * 48.01 < 3.8e-14.
 inline constexpr double kUnitStaticBound = 3.8e-14;
 
-/// The filter for unit vectors: a static bound first (no permanent to compute: it decides every
-/// test but the nearly degenerate), then the semi-static one. +1 or -1 when certified, else 0.
-/// REQUIRES: every coordinate of p, q, r, s at most 1 + 2^-40 in magnitude.
-inline int in_sphere_unit_filter(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
+/// det(q - p, r - p, s - p) in doubles and, when perm is not null, the permanent of its terms
+/// (the same expression with absolute values), which scales Shewchuk's error bound.
+inline double in_sphere_det(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s, double* perm) noexcept {
   const double bx = q.x - p.x, by = q.y - p.y, bz = q.z - p.z;
   const double cx = r.x - p.x, cy = r.y - p.y, cz = r.z - p.z;
   const double dx = s.x - p.x, dy = s.y - p.y, dz = s.z - p.z;
   const double cydz = cy * dz, czdy = cz * dy;
   const double czdx = cz * dx, cxdz = cx * dz;
   const double cxdy = cx * dy, cydx = cy * dx;
-  const double det = bx * (cydz - czdy) + by * (czdx - cxdz) + bz * (cxdy - cydx);
-  if (det > kUnitStaticBound) return 1;
-  if (det < -kUnitStaticBound) return -1;
-  const double perm = (std::fabs(cydz) + std::fabs(czdy)) * std::fabs(bx) +
-                      (std::fabs(czdx) + std::fabs(cxdz)) * std::fabs(by) +
-                      (std::fabs(cxdy) + std::fabs(cydx)) * std::fabs(bz);
-  const double bound = kO3dErrBound * perm;
-  return (det > bound) - (-det > bound);
+  if (perm)
+    *perm = (std::fabs(cydz) + std::fabs(czdy)) * std::fabs(bx) +
+            (std::fabs(czdx) + std::fabs(cxdz)) * std::fabs(by) +
+            (std::fabs(cxdy) + std::fabs(cydx)) * std::fabs(bz);
+  return bx * (cydz - czdy) + by * (czdx - cxdz) + bz * (cxdy - cydx);
 }
 
 /// The filter alone: +1 or -1 when the double evaluation is certified, 0 when it cannot decide.
 inline int in_sphere_filter_only(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
-  const double bx = q.x - p.x, by = q.y - p.y, bz = q.z - p.z;
-  const double cx = r.x - p.x, cy = r.y - p.y, cz = r.z - p.z;
-  const double dx = s.x - p.x, dy = s.y - p.y, dz = s.z - p.z;
-  const double cydz = cy * dz, czdy = cz * dy;
-  const double czdx = cz * dx, cxdz = cx * dz;
-  const double cxdy = cx * dy, cydx = cy * dx;
-  const double det = bx * (cydz - czdy) + by * (czdx - cxdz) + bz * (cxdy - cydx);
-  const double perm = (std::fabs(cydz) + std::fabs(czdy)) * std::fabs(bx) +
-                      (std::fabs(czdx) + std::fabs(cxdz)) * std::fabs(by) +
-                      (std::fabs(cxdy) + std::fabs(cydx)) * std::fabs(bz);
+  double perm;
+  const double det = in_sphere_det(p, q, r, s, &perm);
   const double bound = kO3dErrBound * perm;
   return (det > bound) - (-det > bound);
 }
 
+/// The filter for unit vectors: the static bound decides every test but the nearly degenerate
+/// without computing the permanent; those go to the semi-static filter.
+/// REQUIRES: every coordinate of p, q, r, s at most 1 + 2^-40 in magnitude.
+inline int in_sphere_unit_filter(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
+  const double det = in_sphere_det(p, q, r, s, nullptr);
+  if (det > kUnitStaticBound) return 1;
+  if (det < -kUnitStaticBound) return -1;
+  return in_sphere_filter_only(p, q, r, s);
+}
+
 inline Sign in_sphere_filtered(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
-  const double bx = q.x - p.x, by = q.y - p.y, bz = q.z - p.z;
-  const double cx = r.x - p.x, cy = r.y - p.y, cz = r.z - p.z;
-  const double dx = s.x - p.x, dy = s.y - p.y, dz = s.z - p.z;
-  const double cydz = cy * dz, czdy = cz * dy;
-  const double czdx = cz * dx, cxdz = cx * dz;
-  const double cxdy = cx * dy, cydx = cy * dx;
-  const double det = bx * (cydz - czdy) + by * (czdx - cxdz) + bz * (cxdy - cydx);
-  const double perm = (std::fabs(cydz) + std::fabs(czdy)) * std::fabs(bx) +
-                      (std::fabs(czdx) + std::fabs(cxdz)) * std::fabs(by) +
-                      (std::fabs(cxdy) + std::fabs(cydx)) * std::fabs(bz);
-  const double bound = kO3dErrBound * perm;
-  if (det > bound) return Sign::Positive;
-  if (-det > bound) return Sign::Negative;
+  const int filtered = in_sphere_filter_only(p, q, r, s);
+  if (filtered != 0) return filtered > 0 ? Sign::Positive : Sign::Negative;
   return in_sphere_exact(p, q, r, s);
 }
 

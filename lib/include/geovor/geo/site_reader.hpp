@@ -17,7 +17,9 @@
 
 #include <cstdint>
 #include <istream>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "geovor/core/types.hpp"
@@ -78,5 +80,10 @@ SiteTable read_sites_csv(std::istream& in, const std::string& source,
 /// \throw Error (ErrorCode::Io) naming the path and the system's reason when it cannot be read;
 ///   otherwise as read_sites_csv.
 SiteTable read_sites_csv_file(const std::string& path, const SiteReaderOptions& options = {});
+
+/// Index of the column whose name, trimmed and case-insensitive, is `name`; -1 if none.
+int find_column(const std::vector<std::string>& columns, std::string_view name);
+/// The first of `names` (in that order of preference) that is a column, as find_column; -1 if none.
+int find_column(const std::vector<std::string>& columns, std::span<const std::string_view> names);
 
 }  // namespace geovor

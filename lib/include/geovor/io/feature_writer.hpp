@@ -45,6 +45,9 @@ using FieldValue = std::variant<std::monostate, std::int64_t, double, std::strin
 
 enum class GeometryType { Point, MultiLineString, MultiPolygon };
 
+/// "Point", "MultiLineString" or "MultiPolygon".
+const char* to_string(GeometryType t);
+
 /// Options of a writer; every default is documented.
 struct WriterOptions {
   /// OGR driver name ("GeoJSON", "GeoJSONSeq", "GPKG", "FlatGeobuf", "ESRI Shapefile", "CSV",
