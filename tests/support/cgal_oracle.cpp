@@ -108,4 +108,65 @@ double cgal_build_seconds(std::span<const Vec3> points, std::size_t* num_vertice
   return std::chrono::duration<double>(stop - start).count();
 }
 
+struct CgalSphereLocator::Impl {
+  Impl() : dt(unit_sphere_traits()) {}
+  IndexedDt dt;
+};
+
+CgalSphereLocator::CgalSphereLocator(std::span<const Vec3> points, double* build_seconds)
+    : impl_(std::make_unique<Impl>()) {
+  const auto start = std::chrono::steady_clock::now();
+  const Traits traits = unit_sphere_traits();
+  std::vector<IndexedPoint> order;
+  order.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) order.emplace_back(points[i], static_cast<std::uint32_t>(i));
+  CGAL::spatial_sort_on_sphere(order.begin(), order.end(), traits, 1.0, traits.center());
+  IndexedDt& dt = impl_->dt;
+  IndexedDt::Face_handle hint;
+  for (const IndexedPoint& p : order) {
+    const std::size_t before = dt.number_of_vertices();
+    const IndexedDt::Vertex_handle v = dt.insert(static_cast<const Point&>(p), hint);
+    if (v == IndexedDt::Vertex_handle()) continue;  // not on the sphere
+    if (dt.number_of_vertices() > before || (v->point() == static_cast<const Point&>(p) && p.index < v->info()))
+      v->info() = p.index;  // new vertex, or an exact duplicate with a smaller index
+    hint = v->face();
+  }
+  const auto stop = std::chrono::steady_clock::now();
+  if (build_seconds != nullptr) *build_seconds = std::chrono::duration<double>(stop - start).count();
+}
+
+CgalSphereLocator::~CgalSphereLocator() = default;
+
+std::size_t CgalSphereLocator::num_vertices() const { return impl_->dt.number_of_vertices(); }
+
+double CgalSphereLocator::locate_seconds(std::span<const Vec3> queries, std::uint64_t* checksum,
+                                         double max_seconds, std::size_t* done) const {
+  const IndexedDt& dt = impl_->dt;
+  std::uint64_t sum = 0;
+  std::size_t i = 0;
+  const auto start = std::chrono::steady_clock::now();
+  auto stop = start;
+  IndexedDt::Face_handle hint;
+  while (i < queries.size()) {
+    const std::size_t end = std::min(queries.size(), i + 1024);
+    for (; i < end; ++i) {
+      const IndexedDt::Face_handle f = dt.locate(to_point(queries[i]), hint);
+      if (f != IndexedDt::Face_handle()) {
+        sum += std::uint64_t{f->vertex(0)->info()} + f->vertex(1)->info() + f->vertex(2)->info();
+        hint = f;
+      }
+    }
+    stop = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(stop - start).count() > max_seconds) break;
+  }
+  if (checksum != nullptr) *checksum = sum;
+  if (done != nullptr) *done = i;
+  return std::chrono::duration<double>(stop - start).count();
+}
+
+double cgal_locate_seconds(std::span<const Vec3> points, std::span<const Vec3> queries, std::uint64_t* checksum) {
+  const CgalSphereLocator locator(points);
+  return locator.locate_seconds(queries, checksum);
+}
+
 }  // namespace geovor::testing

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -36,5 +37,36 @@ std::vector<Tri> cgal_triangles(std::span<const Vec3> points,
 /// (insert(begin, end)); the conversion to CGAL points is done lazily inside CGAL's own copy, so
 /// it is timed and adds no extra buffer to the memory peak.
 double cgal_build_seconds(std::span<const Vec3> points, std::size_t* num_vertices = nullptr);
+
+/// CGAL's point location on the sphere, for the locate benchmark: a Delaunay_triangulation_on_sphere_2
+/// (Epick) built once as in cgal_triangles() (spatial sort, insertion with the previous vertex's
+/// face as hint, input indices as vertex info), then located into as often as wanted.
+class CgalSphereLocator {
+ public:
+  /// Builds the triangulation; `build_seconds`, if non-null, receives the build time.
+  explicit CgalSphereLocator(std::span<const Vec3> points, double* build_seconds = nullptr);
+  ~CgalSphereLocator();
+  CgalSphereLocator(const CgalSphereLocator&) = delete;
+  CgalSphereLocator& operator=(const CgalSphereLocator&) = delete;
+
+  /// Seconds to locate() every query (unit vectors) in order, each with the previous query's face
+  /// as hint (the first with none). `checksum`, if non-null, receives the sum over the queries of
+  /// the input indices of the located face's three vertices (ghost faces included), so that the
+  /// work cannot be optimised away and runs can be compared. The run stops early once it has taken
+  /// more than `max_seconds` (checked every 1024 queries); `done`, if non-null, receives the
+  /// number of queries located.
+  double locate_seconds(std::span<const Vec3> queries, std::uint64_t* checksum = nullptr,
+                        double max_seconds = 1e300, std::size_t* done = nullptr) const;
+  std::size_t num_vertices() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// One-shot form of CgalSphereLocator: builds on `points` (not timed), then returns the time to
+/// locate `queries` with the previous face as hint, and the checksum of the located faces.
+double cgal_locate_seconds(std::span<const Vec3> points, std::span<const Vec3> queries,
+                           std::uint64_t* checksum = nullptr);
 
 }  // namespace geovor::testing

@@ -198,19 +198,27 @@ SiteId Locator::certify(const Vec3& q, SiteId v) {
       if (dt.is_live(s) && (best == kNoIndex || nearer(q, dt, s, best))) best = s;
     return best;
   }
+  bool tie = false;
   for (;;) {
     SiteId next = v;
+    tie = false;
     const HalfedgeId e0 = dt.site_edge(v);
     HalfedgeId e = e0;
     do {
       const SiteId w = dt.triangles()[next_halfedge(e)];
-      if (kernel::compare_dot(q, dt.site(w), dt.site(next)) == Sign::Positive) next = w;
+      const Sign c = kernel::compare_dot(q, dt.site(w), dt.site(next));
+      if (c == Sign::Positive) {
+        next = w;
+      } else if (c == Sign::Zero && next == v) {
+        tie = true;  // a neighbour as near as v: look for the lowest id below
+      }
       e = dt.next_around_site(e);
     } while (e != e0);
     if (next == v) break;
     v = next;
     ++stats_.exact_steps;
   }
+  if (!tie) return v;  // strictly nearer than every neighbour, hence than every other site
   // The sites tied with v form a connected part of the graph (a face of the hull): collect it.
   SiteId best = v;
   std::vector<SiteId> tied{v}, stack{v};
