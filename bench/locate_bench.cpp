@@ -42,6 +42,7 @@
 
 #include <nanoflann.hpp>
 
+#include "bench_common.hpp"
 #include "geovor/core/types.hpp"
 #include "geovor/delaunay/spatial_sort.hpp"
 #include "geovor/locate/delaunay_hierarchy.hpp"
@@ -182,17 +183,7 @@ Args parse_args(int argc, char** argv) {
   return args;
 }
 
-std::string cpu_model() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("model name", 0) == 0) {
-      const auto colon = line.find(':');
-      if (colon != std::string::npos) return line.substr(line.find_first_not_of(' ', colon + 1));
-    }
-  }
-  return "unknown CPU";
-}
+using geovor::bench::cpu_model;
 
 // ---- Query generators ----
 

@@ -22,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_common.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "support/cgal_oracle.hpp"
 #include "support/generators.hpp"
@@ -162,18 +163,7 @@ Args parse_args(int argc, char** argv) {
   return args;
 }
 
-// The CPU model from /proc/cpuinfo, so that saved outputs say which machine they come from.
-std::string cpu_model() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("model name", 0) == 0) {
-      const auto colon = line.find(':');
-      if (colon != std::string::npos) return line.substr(line.find_first_not_of(' ', colon + 1));
-    }
-  }
-  return "unknown CPU";
-}
+using geovor::bench::cpu_model;
 
 std::string find_cities(const std::string& given) {
   if (given == "none") return {};

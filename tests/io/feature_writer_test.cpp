@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "geovor/core/error.hpp"
+#include "support/temp_dir.hpp"
 #include "geovor/io/geojson_writer.hpp"
 
 namespace geovor {
@@ -45,29 +46,10 @@ namespace fs = std::filesystem;
 // ---------------------------------------------------------------------------------------------
 // Helpers
 
-class TempDir {
+// A temporary directory named for this test file.
+class TempDir : public testing::TempDir {
  public:
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "geovor_io_XXXXXX").string();
-    if (::mkdtemp(tmpl.data()) == nullptr) std::abort();
-    path_ = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-  const fs::path& path() const { return path_; }
-  // Every entry, hidden ones included, sorted.
-  std::vector<std::string> entries() const {
-    std::vector<std::string> out;
-    for (const auto& e : fs::directory_iterator(path_)) out.push_back(e.path().filename().string());
-    std::sort(out.begin(), out.end());
-    return out;
-  }
-
- private:
-  fs::path path_;
+  TempDir() : testing::TempDir("geovor_io") {}
 };
 
 std::string slurp(const std::string& path) {

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "geovor/core/error.hpp"
+#include "support/temp_dir.hpp"
 #include "geovor/geo/site_encoder.hpp"
 
 namespace geovor {
@@ -30,21 +31,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class TempDir {
+// A temporary directory named for this test file.
+class TempDir : public testing::TempDir {
  public:
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "geovor_ogr_XXXXXX").string();
-    if (::mkdtemp(tmpl.data()) == nullptr) std::abort();
-    path_ = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
+  TempDir() : testing::TempDir("geovor_ogr") {}
 };
 
 Error error_of(const std::function<void()>& f) {
