@@ -1,6 +1,7 @@
 #include "geovor/delaunay/spherical_delaunay.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <numeric>
@@ -182,12 +183,19 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
 // ---------------------------------------------------------------------------------------------
 // Insertion
 
+std::uint64_t SphericalDelaunay::next_revision() {
+  static std::atomic<std::uint64_t> counter{0};
+  return counter.fetch_add(1, std::memory_order_relaxed) + 1;
+}
+
 InsertResult SphericalDelaunay::insert(const Vec3& p) {
+  touch();
   const double r2 = norm2(p);
   if (!std::isfinite(r2) || std::fabs(r2 - 1.0) > 0x1p-49)
     throw Error(ErrorCode::InvalidArgument, "insert: not a unit vector (|p|^2 = " + num(r2) + ")");
   if (sites_.size() >= kMaxSites) throw Error(ErrorCode::InvalidArgument, "too many sites");
   GEOVOR_ASSERT(priority_.empty());
+  drop_tolerances();  // the relocation filter's bi-cells change
   const SiteId s = static_cast<SiteId>(sites_.size());
   sites_.push_back(p);
   site_edge_.push_back(kRemoved);
@@ -446,6 +454,12 @@ void SphericalDelaunay::fill_cavity(SiteId s) {
 
 void SphericalDelaunay::remove(SiteId s) {
   if (!is_live(s)) throw Error(ErrorCode::InvalidArgument, "remove: site " + std::to_string(s) + " is not live");
+  touch();
+  drop_tolerances();  // the relocation filter's bi-cells change
+  remove_site(s);
+}
+
+void SphericalDelaunay::remove_site(SiteId s) {
   GEOVOR_ASSERT(priority_.empty());
   if (num_live_ <= 3) {
     // Fewer than three sites remain: no triangle.
@@ -559,7 +573,8 @@ std::size_t SphericalDelaunay::num_ghost_triangles() const {
 std::size_t SphericalDelaunay::memory_bytes() const {
   return bytes_of(sites_) + bytes_of(triangles_) + bytes_of(halfedges_) + bytes_of(site_edge_) +
          bytes_of(priority_) + bytes_of(cavity_) + bytes_of(tested_) +
-         bytes_of(boundary_);
+         bytes_of(boundary_) + bytes_of(reference_) + bytes_of(tolerance2_) + bytes_of(queue_) +
+         bytes_of(link_) + bytes_of(stack_) + bytes_of(flipped_) + bytes_of(touched_);
 }
 
 SphericalDelaunay::Arrays SphericalDelaunay::arrays() const {

@@ -81,6 +81,31 @@ struct InsertResult {
   bool hidden = false;     ///< when merged: the exact hull test found the point hidden
 };
 
+/// Options of move_all() (and move()); every default is documented.
+struct RelocationOptions {
+  /// Skip the moves within the site's certified tolerance (thesis Algorithm 1): the site's
+  /// coordinates change, the triangles do not. DEFAULT: true.
+  bool filter = true;
+  /// Relocate by flips when the move inverts no incident triangle (thesis §5.2.1); otherwise, and
+  /// when this is false, by remove + insert keeping the id. DEFAULT: true.
+  bool flips = true;
+};
+
+/// What move()/move_all() did (counts of sites). moved = filtered + flipped + reinserted.
+struct MoveStats {
+  std::size_t moved = 0;       ///< sites whose position changed
+  std::size_t filtered = 0;    ///< moves certified by the tolerance filter (no combinatorial change)
+  std::size_t flipped = 0;     ///< relocated by flips
+  std::size_t reinserted = 0;  ///< relocated by remove + insert
+  std::size_t refused = 0;     ///< moves refused (new position within merge distance of another site); site left where it was
+  std::size_t refreshed = 0;   ///< tolerance refreshes of sites that did not move (Algorithm 1's queue)
+  MoveStats& operator+=(const MoveStats& o) {
+    moved += o.moved, filtered += o.filtered, flipped += o.flipped, reinserted += o.reinserted;
+    refused += o.refused, refreshed += o.refreshed;
+    return *this;
+  }
+};
+
 /// Result of validate(): ok() or a list of violated invariants.
 struct Validation {
   std::vector<std::string> errors;
@@ -123,6 +148,60 @@ class SphericalDelaunay {
   /// Removes a live site (stations going offline); other ids do not change.
   void remove(SiteId s);
 
+  /// \name Moving sites (issue 6; lib/src/delaunay/relocation.cpp)
+  /// Moves keep the site's id, and the result is the triangulation a fresh build of the new
+  /// positions gives (same triangles: the perturbation follows the ids).
+  ///
+  /// The filter (thesis Ch. 5, Algorithm 1): every site s keeps a reference position f_s and a
+  /// tolerance eps_s; a move to p with chord |p - f_s| < eps_s is certified to change no Delaunay
+  /// certificate, so only the coordinates change (O(1), no allocation). eps_s is a lower bound of
+  /// the tolerance of every bi-cell containing s (the bi-cells of the edges at s and of the edges
+  /// opposite s in its star). A bi-cell (two triangles sharing an edge, four sites) is certified by
+  /// the sign of orientation_3 of its four sites. Its tolerance is
+  ///   tau = min(w / 2, (|a - b| - merge_distance) / 2),
+  /// w the minimal width of the tetrahedron of the four reference positions (min of the four
+  /// vertex-face heights and the three distances between the lines of opposite edges: the width of
+  /// a tetrahedron is attained by a face-vertex or an edge-edge pair), and a, b the sites of the
+  /// shared edge. Proof of the first term: if each point moves by less than w/2, the four moved
+  /// points do not lie on any plane P (the original points would all be within < w/2 of P, inside
+  /// a slab thinner than w); moving them along straight segments, each intermediate configuration
+  /// is again within < w/2 of the original, so the determinant never vanishes and keeps its sign.
+  /// The second term keeps every edge longer than the merge distance, and the nearest site of a
+  /// site is a Delaunay neighbour, so a filtered move never comes within merge distance of a site.
+  /// tau is computed in doubles and shrunk by certified bounds of the rounding (Shewchuk's orient3d
+  /// bound for the volume, a relative 2^-46 margin elsewhere), so it stays a lower bound; a
+  /// coplanar (tied) bi-cell gets 0. As in Algorithm 1, a real relocation of s sets f_s to its new
+  /// position and recomputes the tolerances of the bi-cells it changed (lowering their other
+  /// sites' eps); a site whose eps falls below its own displacement is refreshed the same way
+  /// (MoveStats::refreshed). Whatever the order of moves, between calls every site satisfies
+  /// |m_s - f_s| < eps_s or m_s = f_s, hence every certificate has the sign it had when the
+  /// structure was last decided exactly. Memory: 32 bytes per site (f_s and eps_s^2), allocated at
+  /// the first filtered move and rebuilt in O(n) after insert()/remove() or an unfiltered move.
+  ///
+  /// Not filtered: flips when every triangle of the star stays positively oriented around the new
+  /// position (exact orient; no ghost triangle in the star) and every Lawson flip does too,
+  /// Lawson flips with the perturbed in-sphere test; otherwise (or if a flip would fold the
+  /// surface, then undone) remove + insert keeping the id. A position within the merge distance of
+  /// another site (chord, doubles, as insert()) is refused: the site stays where it was and
+  /// MoveStats::refused counts it.
+  ///@{
+  /// Moves live site s to unit vector p (|p|^2 within 2^-49 of 1); keeps its id.
+  /// @exception Error(InvalidArgument) if s is not live or p is not a unit vector.
+  MoveStats move(SiteId s, const Vec3& p, const RelocationOptions& options = {});
+  /// Moves every live site s to positions[s], one after the other in id order.
+  /// positions.size() == site_capacity(); removed sites' entries are ignored.
+  /// @exception Error(InvalidArgument) for a wrong size or a live site's non-unit position
+  ///   (checked before anything moves).
+  MoveStats move_all(std::span<const Vec3> positions, const RelocationOptions& options = {});
+  /// The certified tolerance of live site s (chord on the unit sphere), computing the tolerances
+  /// if they are not current; for tests and statistics.
+  double tolerance(SiteId s);
+  /// Lower bound of the tolerance of the bi-cell of four points (a, b the shared edge): see above.
+  /// Exposed for the property tests.
+  static double bicell_tolerance(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
+                                 double merge_distance);
+  ///@}
+
   /// \name Inspectors
   ///@{
   std::size_t num_sites() const { return num_live_; }
@@ -145,6 +224,11 @@ class SphericalDelaunay {
   const DelaunayOptions& options() const { return options_; }
   /// Bytes held by the arrays (capacity), for the memory benchmark.
   std::size_t memory_bytes() const;
+  /// A stamp of the structure, drawn from a process-wide counter when the triangulation is made
+  /// and at every change (insert, remove, ...: every mutator calls touch()); copies keep it, so
+  /// equal stamps mean equal structures. Caches of a triangulation (the Locator's WalkGraph)
+  /// compare it to know they are stale.
+  std::uint64_t revision() const { return revision_; }
   ///@}
 
   /// Checks every invariant exactly: twin symmetry, consistent orientation, no repeated site in a
@@ -188,8 +272,28 @@ class SphericalDelaunay {
   // Inserts site s, already stored in sites_ with site_edge_[s] == kRemoved (not inserted yet);
   // on a merge s stays so and the result names the site it went into.
   InsertResult insert_site(SiteId s, SiteId hint);
+  // remove() without dropping the tolerances.
+  void remove_site(SiteId s);
+
+  // Relocation (relocation.cpp).
+  MoveStats move_one(SiteId s, const Vec3& p, const RelocationOptions& options);
+  bool refuse_move(SiteId s, const Vec3& p) const;  // p within merge distance of another site
+  bool relocate_by_flips(SiteId s, const Vec3& p);  // false: nothing changed, reinsert instead
+  void flip(HalfedgeId e);                           // the diagonal of the two triangles at e
+  bool adjacent(SiteId a, SiteId b) const;
+  void reinsert(SiteId s, const Vec3& p);
+  void init_tolerances();
+  void drop_tolerances() { tolerance2_.clear(); }
+  bool within_tolerance(SiteId s) const;             // m_s == f_s or |m_s - f_s| < eps_s
+  void update_bicell(HalfedgeId e);                  // lowers eps of the bi-cell's four sites
+  void refresh_site(SiteId s);                       // f_s = m_s, eps_s recomputed
+  void settle_queue();                               // refreshes the sites that left their tolerance
+
+  static std::uint64_t next_revision();
+  void touch() { revision_ = next_revision(); }  // every change of sites or triangles calls it
 
   DelaunayOptions options_;
+  std::uint64_t revision_ = next_revision();
   std::vector<Vec3> sites_;
   std::vector<SiteId> triangles_;
   std::vector<HalfedgeId> halfedges_;
@@ -201,6 +305,14 @@ class SphericalDelaunay {
   // Scratch of one insertion, kept to avoid allocations.
   std::vector<TriId> cavity_, tested_;
   std::vector<HalfedgeId> boundary_;
+
+  // Relocation (Algorithm 1): reference positions and squared tolerances, empty when not current.
+  std::vector<Vec3> reference_;
+  std::vector<double> tolerance2_;
+  // Scratch of one relocation, kept to avoid allocations.
+  std::vector<SiteId> queue_, link_;
+  std::vector<HalfedgeId> stack_, flipped_;
+  std::vector<TriId> touched_;
 
   friend class SphericalDelaunayTester;
 };
