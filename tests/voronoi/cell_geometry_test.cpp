@@ -4,11 +4,9 @@
 #include "geovor/voronoi/cell_geometry.hpp"
 
 #include <gtest/gtest.h>
-#include <ogr_geometry.h>
 
 #include <GeographicLib/Geodesic.hpp>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -25,16 +23,13 @@
 #include "geovor/geo/site_reader.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 #include "support/generators.hpp"
+#include "support/lonlat_checks.hpp"
 
 namespace geovor {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 const double kEllipsoidArea = GeographicLib::Geodesic::WGS84().EllipsoidArea();
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 std::vector<Vec3> from_lat_lon(const std::vector<std::pair<double, double>>& lat_lon) {
   std::vector<Vec3> pts;
@@ -57,82 +52,23 @@ VoronoiDiagram diagram_of(const std::vector<Vec3>& pts) {
   return VoronoiDiagram(SphericalDelaunay::build(pts));
 }
 
-// Geocentric direction of a lon/lat position (the inverse of SiteEncoder::to_lat_lon).
-Vec3 unit_of(const LonLat& p) {
-  double lat = p.lat_deg, lon = p.lon_deg;
-  EXPECT_EQ(normalize_lat_lon(lat, lon), "");
-  return SiteEncoder::from_lat_lon(lat, lon);
-}
-
-// Crossing-number point in polygon in lon/lat; `boundary` is set when p is (numerically) on an
-// edge of the ring.
-bool in_ring(const Ring& r, const LonLat& p, bool& boundary) {
-  bool inside = false;
-  boundary = false;
-  for (std::size_t i = 0; i + 1 < r.size(); ++i) {
-    const LonLat& a = r[i];
-    const LonLat& b = r[i + 1];
-    if (p.lon_deg >= std::min(a.lon_deg, b.lon_deg) - 1e-12 &&
-        p.lon_deg <= std::max(a.lon_deg, b.lon_deg) + 1e-12 &&
-        p.lat_deg >= std::min(a.lat_deg, b.lat_deg) - 1e-12 &&
-        p.lat_deg <= std::max(a.lat_deg, b.lat_deg) + 1e-12) {
-      const double cr = (b.lon_deg - a.lon_deg) * (p.lat_deg - a.lat_deg) -
-                        (b.lat_deg - a.lat_deg) * (p.lon_deg - a.lon_deg);
-      const double len = std::hypot(b.lon_deg - a.lon_deg, b.lat_deg - a.lat_deg);
-      if (std::fabs(cr) <= 1e-12 * len) {
-        boundary = true;
-        return true;
-      }
-    }
-    if ((a.lat_deg > p.lat_deg) != (b.lat_deg > p.lat_deg)) {
-      const double x =
-          a.lon_deg + (p.lat_deg - a.lat_deg) * (b.lon_deg - a.lon_deg) / (b.lat_deg - a.lat_deg);
-      if (p.lon_deg < x) inside = !inside;
-    }
-  }
-  return inside;
-}
-
-bool in_multipolygon(const MultiPolygon& mp, const LonLat& p, bool& boundary) {
-  boundary = false;
-  for (const Polygon& poly : mp) {
-    bool b = false;
-    if (in_ring(poly.exterior, p, b)) {
-      boundary = b;
-      return true;
-    }
-  }
-  return false;
-}
-
-std::unique_ptr<OGRMultiPolygon> to_ogr(const MultiPolygon& mp) {
-  auto out = std::make_unique<OGRMultiPolygon>();
-  for (const Polygon& poly : mp) {
-    auto* p = new OGRPolygon();
-    auto* ring = new OGRLinearRing();
-    for (const LonLat& q : poly.exterior) ring->addPoint(q.lon_deg, q.lat_deg);
-    p->addRingDirectly(ring);
-    out->addGeometryDirectly(p);
-  }
-  return out;
-}
+using testing::in_multipolygon;
+using testing::in_ring;
+using testing::unit_of;
 
 // Everything built for one site set.
 struct Cells {
   VoronoiDiagram vd;
   std::vector<MultiPolygon> polys;  // by site id
   std::vector<BBox> boxes;
-  double seconds = 0;
 };
 
 Cells build_cells(const std::vector<Vec3>& pts, const CellGeometryOptions& opt = {}) {
-  Cells c{diagram_of(pts), {}, {}, 0};
-  const auto t0 = std::chrono::steady_clock::now();
+  Cells c{diagram_of(pts), {}, {}};
   const CellGeometry geom(c.vd, opt);
   c.polys.resize(c.vd.site_capacity());
   c.boxes.resize(c.vd.site_capacity());
   for (SiteId s = 0; s < c.vd.site_capacity(); ++s) geom.polygon(s, c.polys[s], &c.boxes[s]);
-  c.seconds = seconds_since(t0);
   return c;
 }
 
@@ -196,13 +132,8 @@ Report check_cells(const Cells& c, const CellGeometryOptions& opt = {}, bool geo
     }
     rep.polar += polar;
     if (geos) {
-      const auto g = to_ogr(mp);
-      if (!g->IsValid()) {
-        char* wkt = nullptr;
-        g->exportToWkt(&wkt);
-        ADD_FAILURE() << "GEOS-invalid: " << std::string(wkt).substr(0, 2000);
-        CPLFree(wkt);
-      }
+      const std::string invalid = testing::geos_invalid(mp);
+      EXPECT_EQ(invalid, "") << "GEOS-invalid";
     }
     // Bounding box (RFC 7946 section 5).
     const BBox& bb = c.boxes[s];
@@ -351,9 +282,9 @@ std::size_t check_queries(const Cells& c, std::size_t n, double margin_m, std::u
 
 void print(const char* name, const Cells& c, const Report& r) {
   std::printf(
-      "%s: %zu cells in %.3f s, %zu parts (%zu cut, %zu polar), %.1f vertices/cell; "
+      "%s: %zu cells, %zu parts (%zu cut, %zu polar), %.1f vertices/cell; "
       "ellipsoid sum/A - 1 = %.2e, sphere sum/4pi - 1 = %.2e, planar sum/64800 - 1 = %.2e\n",
-      name, c.vd.num_cells(), c.seconds, r.parts, r.split, r.polar,
+      name, c.vd.num_cells(), r.parts, r.split, r.polar,
       static_cast<double>(r.vertices) / std::max<std::size_t>(1, c.vd.num_cells()), r.ellipsoid_rel,
       r.sphere_rel, r.planar_rel);
 }
@@ -592,39 +523,20 @@ TEST(CellGeometry, GeonamesCities) {
   print("geonames cities", c, r);
 }
 
-TEST(CellGeometry, Timing) {
-  // Large sets: sums and timings only (GEOS on a sample). 2^20 sites with GEOVOR_PERF=1.
-  const std::size_t n = std::getenv("GEOVOR_PERF") ? (1u << 20) : (1u << 16);
-  const std::vector<Vec3> pts = testing::uniform_on_sphere(n, 17);
-  const auto t0 = std::chrono::steady_clock::now();
-  const SphericalDelaunay dt = SphericalDelaunay::build(pts);
-  const double t_dt = seconds_since(t0);
-  const auto t1 = std::chrono::steady_clock::now();
-  const VoronoiDiagram vd(dt);
-  const double t_vd = seconds_since(t1);
-  const auto t2 = std::chrono::steady_clock::now();
+TEST(CellGeometry, LargeUniformSetTilesTheEllipsoid) {
+  // 2^16 uniform sites: the ellipsoidal areas sum to the ellipsoid's (GEOS on a sample).
+  const std::size_t n = 1u << 16;
+  const VoronoiDiagram vd(SphericalDelaunay::build(testing::uniform_on_sphere(n, 17)));
   const CellGeometry geom(vd);
   MultiPolygon mp;
-  std::size_t vertices = 0;
-  for (SiteId s = 0; s < vd.site_capacity(); ++s) {
-    geom.polygon(s, mp);
-    for (const Polygon& p : mp) vertices += p.exterior.size() - 1;
-  }
-  const double t_cells = seconds_since(t2);
-  const auto t3 = std::chrono::steady_clock::now();
   double ell = 0;
   for (SiteId s = 0; s < vd.site_capacity(); ++s) {
     geom.polygon(s, mp);
     ell += ellipsoid_area_m2(mp);
     if (s % 97 == 0) {
-      EXPECT_TRUE(to_ogr(mp)->IsValid()) << s;
+      EXPECT_EQ(testing::geos_invalid(mp), "") << s;
     }
   }
-  const double t_area = seconds_since(t3);
-  std::printf(
-      "uniform %zu: triangulation %.3f s, diagram %.3f s, all cells %.3f s (%.1f vertices/cell), "
-      "cells + ellipsoid areas %.3f s, ellipsoid sum/A - 1 = %.2e\n",
-      n, t_dt, t_vd, t_cells, static_cast<double>(vertices) / n, t_area, ell / kEllipsoidArea - 1);
   EXPECT_NEAR(ell / kEllipsoidArea, 1, 1e-9);
 }
 

@@ -12,243 +12,28 @@
 #include "geovor/core/assert.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/geo/site_encoder.hpp"
+#include "lonlat_boundary.hpp"
 
 namespace geovor {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
-// WGS84 first eccentricity squared e^2 = f (2 - f): geodetic -> geocentric direction.
-constexpr double kFlattening = 1 / 298.257223563;
-constexpr double kE2 = kFlattening * (2 - kFlattening);
-constexpr double kSnap2 = CellGeometry::kSnapRad * CellGeometry::kSnapRad;
+using lonlat::Densifier;
+using lonlat::make_pt;
+using lonlat::normalized;
+using lonlat::Pt;
+static_assert(CellGeometry::kSnapRad == lonlat::kSnapRad);
+
 // Planar area (square degrees) of the whole lon/lat rectangle.
 constexpr double kWholeDeg2 = 360.0 * 180.0;
 
-Vec3 normalized(const Vec3& v) { return (1 / std::sqrt(norm2(v))) * v; }
-
-bool is_pole(double lat) { return lat == 90 || lat == -90; }
-
-// Moves a point within kSnapRad of a pole onto it, and one within kSnapRad of the antimeridian
-// onto it (y = +0: to_lat_lon then gives exactly -180), so rounding never decides a side.
-Vec3 snap(Vec3 v) {
-  const double h2 = v.x * v.x + v.y * v.y;
-  const double r2 = h2 + v.z * v.z;
-  if (h2 <= kSnap2 * r2) return {0, 0, v.z > 0 ? 1.0 : -1.0};
-  if (v.x < 0 && v.y * v.y <= kSnap2 * r2) v.y = 0;
-  return v;
+// The boundary loop of a cell, reused (polygon() is thread-safe).
+std::vector<Pt>& loop_scratch() {
+  thread_local std::vector<Pt> loop;
+  return loop;
 }
-
-// A boundary point on the sphere and in lon/lat (degrees).
-struct Pt {
-  Vec3 v;
-  double lon, lat;
-};
-
-Pt make_pt(const Vec3& raw) {
-  const Vec3 v = snap(raw);
-  const LatLon ll = SiteEncoder::to_lat_lon(v);
-  return {v, ll.lon_deg, ll.lat_deg};
-}
-
-// Geocentric direction (unnormalised) of a geodetic position at height 0.
-Vec3 geodetic_direction(double lon_deg, double lat_deg) {
-  const double phi = lat_deg * kDeg, lam = lon_deg * kDeg;
-  const double cp = std::cos(phi);
-  return {cp * std::cos(lam), cp * std::sin(lam), (1 - kE2) * std::sin(phi)};
-}
-
-// Adaptive bisection of great-circle arcs (gis.md section 4).
-class Densifier {
- public:
-  Densifier(const CellGeometryOptions& o, std::vector<Pt>& out)
-      : out_(out),
-        tol2_(std::pow(o.densify_m / SiteEncoder::kEarthRadiusM, 2)),
-        cos_step_(std::cos(o.max_step_deg * kDeg)),
-        max_depth_(o.max_depth) {}
-
-  // Appends the points strictly between a and b of the arc a -> b, which turns positively about
-  // the axis normalize(left - right) (the bisector normal of the sites on its left and right).
-  // The axis is only computed for arcs longer than 120 degrees, where a + b cannot be used.
-  // `site_chord2` is a lower bound of |left - right|^2: a quarter of it bounds the tolerance.
-  void edge(const Pt& a, const Pt& b, const Vec3& left, const Vec3& right, double site_chord2) {
-    left_ = &left;
-    right_ = &right;
-    have_axis_ = false;
-    // Both sites, at half their distance from the arc, stay inside their written cells.
-    edge_tol2_ = std::min(tol2_, site_chord2 / 16);
-    if (a.v == b.v) return;
-    if (!is_pole(a.lat) && !is_pole(b.lat)) {
-      // An arc passing within kSnapRad of a pole gets the pole as a vertex, so that the
-      // longitude jump of about 180 degrees is decided by the pole rule, not by rounding.
-      const Vec3 n = dot(a.v, b.v) > -0.5 ? normalized(cross(a.v, b.v)) : axis();
-      if (std::fabs(n.z) <= CellGeometry::kSnapRad) {
-        for (const double pz : {1.0, -1.0}) {
-          // Closest point of the arc's great circle to the pole (0, 0, pz).
-          const Vec3 q = normalized({-pz * n.z * n.x, -pz * n.z * n.y, pz * (1 - n.z * n.z)});
-          if (dot(cross(a.v, q), n) >= 0 && dot(cross(q, b.v), n) >= 0) {
-            const Pt p = make_pt({0, 0, pz});
-            split(a, p, 1);
-            out_.push_back(p);
-            split(p, b, 1);
-            return;
-          }
-        }
-      }
-    }
-    split(a, b, 0);
-  }
-
- private:
-  const Vec3& axis() {
-    if (!have_axis_) {
-      axis_ = normalized(*left_ - *right_);
-      have_axis_ = true;
-    }
-    return axis_;
-  }
-
-  Vec3 midpoint(const Vec3& a, const Vec3& b) {
-    return dot(a, b) > -0.5 ? normalized(a + b) : VoronoiDiagram::arc_midpoint(a, b, axis());
-  }
-
-  void split(const Pt& a, const Pt& b, int depth) {
-    if (depth >= max_depth_ || a.v == b.v) return;
-    const bool pa = is_pole(a.lat), pb = is_pole(b.lat);
-    Vec3 m;
-    if (pa || pb) {
-      // From a pole the arc is a meridian, straight in lon/lat: only pole to pole (N to S) needs
-      // a midpoint, which gives the meridian its longitude.
-      if (!(pa && pb)) return;
-      m = midpoint(a.v, b.v);
-    } else {
-      m = midpoint(a.v, b.v);
-      if (dot(a.v, b.v) >= cos_step_) {
-        // Great-circle midpoint against the midpoint of the straight lon/lat segment.
-        double dl = b.lon - a.lon;
-        if (dl > 180) dl -= 360;
-        if (dl < -180) dl += 360;
-        const Vec3 q = normalized(geodetic_direction(a.lon + dl / 2, (a.lat + b.lat) / 2));
-        if (norm2(m - q) <= edge_tol2_) return;
-      }
-    }
-    const Pt mp = make_pt(m);
-    split(a, mp, depth + 1);
-    out_.push_back(mp);
-    split(mp, b, depth + 1);
-  }
-
-  std::vector<Pt>& out_;
-  double tol2_, cos_step_;
-  int max_depth_;
-  const Vec3* left_ = nullptr;
-  const Vec3* right_ = nullptr;
-  bool have_axis_ = false;
-  Vec3 axis_;
-  double edge_tol2_ = 0;
-};
-
-// A ring position with its sheet: the unwrapped longitude is lon + 360 k, with lon in
-// [-180, 180) as to_lat_lon gives it (on the antimeridian, lon = -180 exactly).
-struct RP {
-  Vec3 v;
-  double lon, lat;
-  int k;
-};
-
-// Sheet of q after p along the ring (exact: integer steps and comparisons only).
-int next_sheet(const RP& p, const RP& q) {
-  if (is_pole(p.lat) && p.lat == q.lat) {
-    // Along a pole from the incoming meridian a = p.lon to the outgoing b = q.lon: the cell's
-    // wedge at the pole is (a - b) mod 360 at the north pole (longitude decreases, interior on
-    // the left), (b - a) mod 360 at the south pole.
-    if (p.lat > 0) return q.lon > p.lon ? p.k - 1 : p.k;
-    return q.lon < p.lon ? p.k + 1 : p.k;
-  }
-  const double d = q.lon - p.lon;
-  if (d > 180) return p.k - 1;
-  if (d < -180) return p.k + 1;
-  return p.k;
-}
-
-// Intersection of the segment p -> q with the antimeridian, as the ring position (-180, lat)
-// in sheet k. The latitude is that of the great-circle arc between the two sphere points, the
-// same bits whichever way the segment runs (|q.y| p + |p.y| q is symmetric and has y = 0).
-RP crossing(const RP& p, const RP& q, int k) {
-  if (is_pole(p.lat) && is_pole(q.lat)) return {p.v, -180, p.lat, k};
-  const Vec3 c = std::fabs(q.v.y) * p.v + std::fabs(p.v.y) * q.v;
-  return {c, -180, SiteEncoder::to_lat_lon(c).lat_deg, k};
-}
-
-// Sides of p (-1, 0 on the line, 1) for the strip [-180, 180] of sheet j: >= 0 east of its west
-// edge (unwrapped -180 + 360 j), and >= 0 west of its east edge (180 + 360 j). Exact.
-int side_of_west_edge(const RP& p, int j) {
-  if (p.k != j) return p.k > j ? 1 : -1;
-  return p.lon == -180 ? 0 : 1;
-}
-int side_of_east_edge(const RP& p, int j) {
-  if (p.k <= j) return 1;
-  return p.k == j + 1 && p.lon == -180 ? 0 : -1;
-}
-
-// Sutherland-Hodgman against one half-plane of the strip of sheet j (kept: side >= 0), whose
-// boundary is the antimeridian in sheet `line`. The ring crosses it at most twice (cells are
-// convex on the sphere), so the result is one ring.
-void clip_half(const std::vector<RP>& in, std::vector<RP>& out, int (*side)(const RP&, int), int j,
-               int line) {
-  out.clear();
-  const std::size_t n = in.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const RP& p = in[i == 0 ? n - 1 : i - 1];
-    const RP& q = in[i];
-    const int sp = side(p, j), sq = side(q, j);
-    if (sq >= 0) {
-      if (sp < 0 && sq > 0) out.push_back(crossing(p, q, line));
-      out.push_back(q);
-    } else if (sp > 0) {
-      out.push_back(crossing(p, q, line));
-    }
-  }
-}
-
-struct Scratch {
-  std::vector<Pt> loop, edge;
-  std::vector<RP> ring, tmp, piece;
-};
-
-Scratch& scratch() {
-  thread_local Scratch s;
-  return s;
-}
-
-// Closes `pts` (lon/lat, already in [-180, 180]) into a ring: no consecutive duplicates, exact
-// copy of the first position at the end, counter-clockwise. Returns false if degenerate.
-bool finish_ring(Ring& ring) {
-  std::size_t w = 0;
-  for (std::size_t i = 0; i < ring.size(); ++i)
-    if (w == 0 || !(ring[i] == ring[w - 1])) ring[w++] = ring[i];
-  while (w > 1 && ring[w - 1] == ring[0]) --w;
-  ring.resize(w);
-  if (w < 3) return false;
-  ring.push_back(ring[0]);
-  const double a = planar_area_deg2(ring);
-  if (a == 0 || std::isnan(a)) return false;
-  if (a < 0) std::reverse(ring.begin(), ring.end());
-  return true;
-}
-
-void append_piece(MultiPolygon& out, std::size_t& used, const std::vector<RP>& pts, int sheet) {
-  if (out.size() <= used) out.emplace_back();
-  Polygon& poly = out[used];
-  poly.holes.clear();
-  Ring& r = poly.exterior;
-  r.clear();
-  for (const RP& p : pts) {
-    double lon = p.lon + 360.0 * (p.k - sheet);
-    // Only the antimeridian (lon -180 one sheet up) may leave [-180, 180); clamp rounding noise.
-    lon = std::clamp(lon, -180.0, 180.0);
-    r.push_back({lon, p.lat});
-  }
-  if (finish_ring(r)) ++used;
+std::vector<Pt>& edge_scratch() {
+  thread_local std::vector<Pt> edge;
+  return edge;
 }
 
 }  // namespace
@@ -331,7 +116,6 @@ MultiPolygon CellGeometry::polygon(SiteId s, BBox* bbox) const {
 
 void CellGeometry::polygon(SiteId s, MultiPolygon& out, BBox* bbox) const {
   const VoronoiDiagram& vd = *vd_;
-  std::size_t used = 0;
   if (bbox) *bbox = BBox{};
   if (!vd.has_cell(s)) {
     out.clear();
@@ -345,11 +129,10 @@ void CellGeometry::polygon(SiteId s, MultiPolygon& out, BBox* bbox) const {
     return;
   }
 
-  Scratch& sc = scratch();
-  std::vector<Pt>& loop = sc.loop;
-  std::vector<Pt>& edge = sc.edge;
+  std::vector<Pt>& loop = loop_scratch();
+  std::vector<Pt>& edge = edge_scratch();
   loop.clear();
-  Densifier dens(options_, edge);
+  Densifier dens(options_.densify_m, options_.max_step_deg, options_.max_depth, edge);
 
   if (vd.kind() == VoronoiDiagram::Kind::Hemispheres) {
     // The bisector circle as four quarter arcs, computed for the smaller site id and reversed
@@ -398,128 +181,7 @@ void CellGeometry::polygon(SiteId s, MultiPolygon& out, BBox* bbox) const {
     }
   }
 
-  // Drop consecutive duplicates in lon/lat (cyclically).
-  {
-    std::size_t w = 0;
-    for (std::size_t i = 0; i < loop.size(); ++i)
-      if (w == 0 || loop[i].lon != loop[w - 1].lon || loop[i].lat != loop[w - 1].lat)
-        loop[w++] = loop[i];
-    while (w > 1 && loop[w - 1].lon == loop[0].lon && loop[w - 1].lat == loop[0].lat) --w;
-    loop.resize(w);
-  }
-  if (loop.size() < 3) {
-    out.clear();
-    return;
-  }
-
-  // A vertex at a pole becomes two pole positions with the incoming and outgoing longitudes.
-  std::vector<RP>& ring = sc.ring;
-  ring.clear();
-  const std::size_t n = loop.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Pt& p = loop[i];
-    if (!is_pole(p.lat)) {
-      ring.push_back({p.v, p.lon, p.lat, 0});
-      continue;
-    }
-    const double in = loop[i == 0 ? n - 1 : i - 1].lon, outl = loop[i + 1 == n ? 0 : i + 1].lon;
-    ring.push_back({p.v, in, p.lat, 0});
-    if (outl != in) ring.push_back({p.v, outl, p.lat, 0});
-  }
-
-  // Unwrap: sheets along the ring, and the winding (in turns) after closing it.
-  const std::size_t m = ring.size();
-  for (std::size_t i = 1; i < m; ++i) ring[i].k = next_sheet(ring[i - 1], ring[i]);
-  const int winding = next_sheet(ring[m - 1], ring[0]) - ring[0].k;
-  GEOVOR_ASSERT(winding >= -1 && winding <= 1);
-
-  std::vector<RP>& piece = sc.piece;
-  bool polar = winding != 0;
-  if (winding == 0) {
-    // Sheets every point can be written in: [k - 1, k] on the antimeridian, else {k}.
-    int common_lo = std::numeric_limits<int>::min(), common_hi = std::numeric_limits<int>::max();
-    int kmin = common_hi, kmax = common_lo;
-    for (const RP& p : ring) {
-      const int lo = p.lon == -180 ? p.k - 1 : p.k;
-      common_lo = std::max(common_lo, lo);
-      common_hi = std::min(common_hi, p.k);
-      kmin = std::min(kmin, lo);
-      kmax = std::max(kmax, p.k);
-    }
-    if (common_lo <= common_hi) {
-      append_piece(out, used, ring, common_lo);
-    } else {
-      // Cut at the antimeridian: clip to the strip [-180, 180] of every sheet touched.
-      for (int j = kmin; j <= kmax; ++j) {
-        clip_half(ring, sc.tmp, side_of_west_edge, j, j);
-        clip_half(sc.tmp, piece, side_of_east_edge, j, j + 1);
-        if (piece.size() >= 3) append_piece(out, used, piece, j);
-      }
-    }
-  } else {
-    // A pole inside: start where the boundary meets the antimeridian (180 for the north pole,
-    // where longitudes increase; -180 for the south pole), run one turn, close through the pole.
-    const int line = winding > 0 ? 1 : 0;  // the antimeridian at lon -180 of this sheet
-    auto side = [&](const RP& p) {         // >= 0: the line is reached or passed
-      const int s0 = side_of_west_edge(p, line);
-      return winding > 0 ? s0 : -s0;
-    };
-    auto at = [&](std::size_t j) {  // the ring unrolled: position j of the doubled path
-      RP p = ring[j % m];
-      p.k += winding * static_cast<int>(j / m);
-      return p;
-    };
-    std::size_t i = 0;
-    while (side(at(i)) < 0) ++i;
-    GEOVOR_ASSERT(i <= m);
-    piece.clear();
-    if (side(at(i)) == 0) {
-      for (std::size_t j = i; j <= i + m; ++j) piece.push_back(at(j));
-    } else {
-      const RP x = crossing(at(i - 1), at(i), line);
-      piece.push_back(x);
-      for (std::size_t j = i; j < i + m; ++j) piece.push_back(at(j));
-      RP x2 = x;
-      x2.k += winding;
-      piece.push_back(x2);
-    }
-    // Written in the sheet where the first position is -180 (north) or 180 (south); then
-    // through the pole: (180, 90), (-180, 90) for the north, (-180, -90), (180, -90) for the south.
-    const int sheet = winding > 0 ? line : line - 1;
-    const double pole = winding > 0 ? 90 : -90, east_first = winding > 0 ? 180 : -180;
-    const Vec3 pole_v{0, 0, winding > 0 ? 1.0 : -1.0};
-    piece.push_back({pole_v, east_first, pole, sheet});
-    piece.push_back({pole_v, -east_first, pole, sheet});
-    append_piece(out, used, piece, sheet);
-  }
-  out.resize(used);
-
-  if (bbox && used > 0) {
-    BBox b{180, 90, -180, -90};
-    for (const Polygon& poly : out)
-      for (const LonLat& p : poly.exterior) {
-        b.south = std::min(b.south, p.lat_deg);
-        b.north = std::max(b.north, p.lat_deg);
-      }
-    auto lon_range = [](const Polygon& poly, double& lo, double& hi) {
-      lo = 180, hi = -180;
-      for (const LonLat& p : poly.exterior) {
-        lo = std::min(lo, p.lon_deg);
-        hi = std::max(hi, p.lon_deg);
-      }
-    };
-    if (polar) {
-      b.west = -180, b.east = 180;
-    } else if (used == 1) {
-      lon_range(out[0], b.west, b.east);
-    } else {
-      // Pieces come west to east by sheet: the first ends at 180, the last starts at -180.
-      double lo, hi;
-      lon_range(out.front(), b.west, hi);
-      lon_range(out.back(), lo, b.east);
-    }
-    *bbox = b;
-  }
+  lonlat::loop_to_polygons(loop, out, bbox);
 }
 
 MultiPolygon cell_polygon(const VoronoiDiagram& diagram, SiteId s,

@@ -1,0 +1,100 @@
+/// \file delaunay_geometry.hpp
+/// \brief The Delaunay triangles and edges of a SphericalDelaunay as RFC 7946 lon/lat polygons
+/// and lines, for GIS export (`geovor delaunay`).
+///
+/// The same rules as the Voronoi cells (cell_geometry.hpp): edges are great-circle arcs densified
+/// by adaptive bisection so that no point of a written segment is farther than densify_m from
+/// the arc; points within kSnapRad of a pole or of the antimeridian are moved onto it; a polygon
+/// or line crossing +-180 is cut there (both parts meet the antimeridian at the same latitude); a
+/// triangle holding a pole is closed through (+-180, +-90); rings are counter-clockwise and closed
+/// by an exact copy of the first position. An edge is always densified from its smaller site id
+/// to the larger and reversed where needed, so the two triangles of an edge, and the edge's own
+/// line, carry bit-identical positions: the written triangles tile without gaps or overlaps.
+///
+/// Face kinds, decided exactly by orient(a, b, c) = orientation_3(O, a, b, c):
+///  - Proper (> 0): a spherical triangle smaller than a hemisphere, bounded by minor arcs.
+///  - GreatCircle (= 0): its three sites lie on one great circle; the face is the hemisphere on
+///    the left of that circle (only when every site lies on one great circle, or for three sites).
+///  - Ghost (< 0): its circumcircle is larger than a hemisphere (all sites lie in one open
+///    hemisphere; CGAL's "ghost faces"). The face of the hull is then the outside of its three
+///    sites' triangle; what is written is that small triangle itself (the region a GIS can
+///    draw), which overlaps the Proper triangles: the Proper triangles alone tile the spherical
+///    convex hull of the sites.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "geovor/core/types.hpp"
+#include "geovor/delaunay/spherical_delaunay.hpp"
+#include "geovor/io/geometry.hpp"
+
+namespace geovor {
+
+/// Options of DelaunayGeometry; every default is documented.
+struct DelaunayGeometryOptions {
+  /// Largest distance (metres, on the sphere of radius SiteEncoder::kEarthRadiusM) between a
+  /// written straight lon/lat segment's midpoint and the true great-circle arc. DEFAULT: 100 m.
+  /// REQUIRES: > 0.
+  double densify_m = 100;
+  /// Arcs longer than this (degrees) are always split. DEFAULT: 1 degree. REQUIRES: in (0, 180].
+  double max_step_deg = 1;
+  /// Recursion depth cap of the bisection of one arc. DEFAULT: 20. REQUIRES: in [1, 40].
+  int max_depth = 20;
+};
+
+enum class FaceKind { Proper, GreatCircle, Ghost };
+
+/// "proper", "great_circle" or "ghost".
+const char* to_string(FaceKind kind);
+
+/// Builds the lon/lat geometry of the triangles and edges of one triangulation, which must
+/// outlive this object. Construction converts every site once (O(n)); each triangle or edge is
+/// then built in O(its output size). Thread-safe after construction.
+class DelaunayGeometry {
+ public:
+  /// Sites closer than this (metres, and never more than densify_m) to a pole are drawn at the
+  /// pole (the South Pole station is 0.17 m from it): straight lon/lat sides to a point so near
+  /// the pole at another longitude could cross each other.
+  static constexpr double kPoleSnapM = 1;
+
+  /// @exception Error(InvalidArgument) if an option is out of range.
+  explicit DelaunayGeometry(const SphericalDelaunay& dt, const DelaunayGeometryOptions& options = {});
+
+  /// Exact kind of triangle t (see the file comment).
+  FaceKind kind(TriId t) const;
+
+  /// The polygon written for triangle t (see the file comment), reusing `out`'s storage.
+  void triangle_polygon(TriId t, MultiPolygon& out) const;
+
+  /// The line of the edge of half-edge e (from its origin to its destination), cut at the
+  /// antimeridian and at a pole it passes through. Both half-edges of an edge give the same
+  /// positions in opposite orders.
+  void edge_line(HalfedgeId e, MultiLineString& out) const;
+
+  /// Solid angle (steradians) of the region written for triangle t: below 2 pi for a Proper
+  /// triangle or a Ghost's small triangle, 2 pi for a GreatCircle face.
+  double triangle_area_sr(TriId t) const;
+
+  /// Great-circle length of the edge of half-edge e, in metres on the sphere of radius
+  /// SiteEncoder::kEarthRadiusM (relative error about 1e-15).
+  double edge_length_m(HalfedgeId e) const;
+
+  /// Radius (metres on the same sphere) of the circumcircle of triangle t: the distance from its
+  /// sites to its Voronoi vertex; more than a quarter of the circumference for a Ghost face.
+  double circumradius_m(TriId t) const;
+
+  const SphericalDelaunay& triangulation() const { return *dt_; }
+  const DelaunayGeometryOptions& options() const { return options_; }
+
+ private:
+  const SphericalDelaunay* dt_;
+  DelaunayGeometryOptions options_;
+  struct SitePt {
+    Vec3 v;
+    double lon, lat;
+  };
+  std::vector<SitePt> sites_;  // snapped position and lon/lat (degrees) of every site
+};
+
+}  // namespace geovor

@@ -1,0 +1,190 @@
+#include "geovor/voronoi/delaunay_geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "geovor/core/error.hpp"
+#include "geovor/geo/site_encoder.hpp"
+#include "geovor/kernel/predicates.hpp"
+#include "geovor/voronoi/voronoi_diagram.hpp"
+#include "lonlat_boundary.hpp"
+
+namespace geovor {
+namespace {
+
+using lonlat::Pt;
+constexpr double kPi = std::numbers::pi;
+
+// Unit normal of the plane through a, b, c: the axis of their circle, counter-clockwise.
+Vec3 plane_axis(const Vec3& a, const Vec3& b, const Vec3& c) { return lonlat::normalized(cross(b - a, c - a)); }
+
+// Scratch of one geometry, reused (the class is used from several threads).
+struct Scratch {
+  std::vector<Pt> loop, arc;
+};
+Scratch& scratch() {
+  thread_local Scratch s;
+  return s;
+}
+
+}  // namespace
+
+const char* to_string(FaceKind kind) {
+  switch (kind) {
+    case FaceKind::Proper: return "proper";
+    case FaceKind::GreatCircle: return "great_circle";
+    case FaceKind::Ghost: return "ghost";
+  }
+  return "?";
+}
+
+DelaunayGeometry::DelaunayGeometry(const SphericalDelaunay& dt, const DelaunayGeometryOptions& options)
+    : dt_(&dt), options_(options) {
+  if (!(options.densify_m > 0) || !std::isfinite(options.densify_m))
+    throw Error(ErrorCode::InvalidArgument, "densify_m must be a positive number of metres");
+  if (!(options.max_step_deg > 0) || !(options.max_step_deg <= 180))
+    throw Error(ErrorCode::InvalidArgument, "max_step_deg must be in (0, 180]");
+  if (options.max_depth < 1 || options.max_depth > 40)
+    throw Error(ErrorCode::InvalidArgument, "max_depth must be in [1, 40]");
+  sites_.resize(dt.site_capacity());
+  // A site this close to a pole (chord, unit sphere) is drawn at the pole: straight lon/lat sides
+  // to a vertex a metre from the pole at another longitude can cross each other (GEOS-invalid).
+  const double pole_snap = std::min(kPoleSnapM, options.densify_m) / SiteEncoder::kEarthRadiusM;
+  for (SiteId s = 0; s < dt.site_capacity(); ++s) {
+    if (!dt.is_live(s)) continue;
+    Vec3 v = dt.site(s);
+    if (v.x * v.x + v.y * v.y <= pole_snap * pole_snap) v = {0, 0, v.z > 0 ? 1.0 : -1.0};
+    const Pt p = lonlat::make_pt(v);
+    sites_[s] = {p.v, p.lon, p.lat};
+  }
+}
+
+FaceKind DelaunayGeometry::kind(TriId t) const {
+  const SphericalDelaunay& dt = *dt_;
+  switch (kernel::orient(dt.site(dt.tri_site(t, 0)), dt.site(dt.tri_site(t, 1)), dt.site(dt.tri_site(t, 2)))) {
+    case Sign::Positive: return FaceKind::Proper;
+    case Sign::Zero: return FaceKind::GreatCircle;
+    case Sign::Negative: return FaceKind::Ghost;
+  }
+  return FaceKind::Proper;
+}
+
+namespace {
+
+// The points strictly between sites a and b of the arc a -> b turning positively about the unit
+// axis n, appended to `out`: cut into pieces of at most 90 degrees by rotation about n (so that
+// arcs of any length, up to a full turn but one point, are handled), each densified.
+void arc_points(const Pt& a, const Pt& b, const Vec3& n, const DelaunayGeometryOptions& o, std::vector<Pt>& out) {
+  double theta = std::atan2(dot(cross(a.v, b.v), n), dot(a.v, b.v));
+  if (theta <= 0) theta += 2 * kPi;
+  const int pieces = std::max(1, static_cast<int>(std::ceil(theta / (kPi / 2))));
+  const Vec3 quarter = cross(n, a.v);  // a turned by 90 degrees about n
+  lonlat::Densifier dens(o.densify_m, o.max_step_deg, o.max_depth, out);
+  const Vec3 origin{0, 0, 0};
+  Pt prev = a;
+  for (int k = 1; k <= pieces; ++k) {
+    const double phi = theta * k / pieces;
+    const Pt next = k == pieces ? b : lonlat::make_pt(std::cos(phi) * a.v + std::sin(phi) * quarter);
+    // left - right = n: the Densifier's axis for arcs beyond 120 degrees (never reached here).
+    dens.edge(prev, next, n, origin, std::numeric_limits<double>::infinity());
+    if (k < pieces) out.push_back(next);
+    prev = next;
+  }
+}
+
+// Appends to `loop` the arc from u to v about axis n (both ends excluded), computed from the
+// smaller site id to the larger so that every user of the edge gets the same bits.
+void append_canonical_arc(const Pt& pu, const Pt& pv, SiteId u, SiteId v, const Vec3& n,
+                          const DelaunayGeometryOptions& o, std::vector<Pt>& loop, std::vector<Pt>& arc) {
+  arc.clear();
+  if (u < v) {
+    arc_points(pu, pv, n, o, arc);
+    loop.insert(loop.end(), arc.begin(), arc.end());
+  } else {
+    arc_points(pv, pu, -1.0 * n, o, arc);
+    loop.insert(loop.end(), arc.rbegin(), arc.rend());
+  }
+}
+
+}  // namespace
+
+void DelaunayGeometry::triangle_polygon(TriId t, MultiPolygon& out) const {
+  const SphericalDelaunay& dt = *dt_;
+  Scratch& sc = scratch();
+  sc.loop.clear();
+  const FaceKind k = kind(t);
+  SiteId s[3] = {dt.tri_site(t, 0), dt.tri_site(t, 1), dt.tri_site(t, 2)};
+  if (k == FaceKind::Ghost) std::swap(s[1], s[2]);  // the small triangle, counter-clockwise
+  const Vec3 axis = plane_axis(dt.site(s[0]), dt.site(s[1]), dt.site(s[2]));
+  for (int i = 0; i < 3; ++i) {
+    const SiteId u = s[i], v = s[(i + 1) % 3];
+    const Pt pu{sites_[u].v, sites_[u].lon, sites_[u].lat}, pv{sites_[v].v, sites_[v].lon, sites_[v].lat};
+    sc.loop.push_back(pu);
+    // Minor arcs, except on a great circle, where the face turns about the circle's axis.
+    Vec3 n = axis;
+    if (k != FaceKind::GreatCircle) {
+      const Vec3 c = cross(dt.site(u), dt.site(v));
+      if (norm2(c) > 0) n = lonlat::normalized(c);
+    }
+    append_canonical_arc(pu, pv, u, v, n, options_, sc.loop, sc.arc);
+  }
+  lonlat::loop_to_polygons(sc.loop, out);
+}
+
+void DelaunayGeometry::edge_line(HalfedgeId e, MultiLineString& out) const {
+  const SphericalDelaunay& dt = *dt_;
+  Scratch& sc = scratch();
+  sc.loop.clear();
+  const TriId t = e / 3;
+  const SiteId u = dt.tri_site(t, static_cast<int>(e % 3)), v = dt.tri_site(t, static_cast<int>((e + 1) % 3));
+  const Pt pu{sites_[u].v, sites_[u].lon, sites_[u].lat}, pv{sites_[v].v, sites_[v].lon, sites_[v].lat};
+  // The minor arc; for antipodal sites (no minor arc), the one bounding the edge's smaller-id face.
+  const SiteId lo = std::min(u, v), hi = std::max(u, v);
+  Vec3 n;
+  const Vec3 c = cross(dt.site(lo), dt.site(hi));
+  if (norm2(c) > 0) {
+    n = lonlat::normalized(c);
+  } else {
+    const HalfedgeId f = std::min(e, dt.halfedges()[e]);
+    const TriId tf = f / 3;
+    n = plane_axis(dt.site(dt.tri_site(tf, 0)), dt.site(dt.tri_site(tf, 1)), dt.site(dt.tri_site(tf, 2)));
+    if (dt.tri_site(tf, static_cast<int>(f % 3)) != lo) n = -1.0 * n;
+  }
+  sc.loop.push_back(u < v ? pu : pv);
+  sc.arc.clear();
+  arc_points(u < v ? pu : pv, u < v ? pv : pu, n, options_, sc.arc);
+  sc.loop.insert(sc.loop.end(), sc.arc.begin(), sc.arc.end());
+  sc.loop.push_back(u < v ? pv : pu);
+  if (u > v) std::reverse(sc.loop.begin(), sc.loop.end());
+  lonlat::path_to_lines(sc.loop, out);
+}
+
+double DelaunayGeometry::triangle_area_sr(TriId t) const {
+  const SphericalDelaunay& dt = *dt_;
+  const Vec3 &a = dt.site(dt.tri_site(t, 0)), &b = dt.site(dt.tri_site(t, 1)), &c = dt.site(dt.tri_site(t, 2));
+  switch (kind(t)) {
+    case FaceKind::GreatCircle: return 2 * kPi;
+    case FaceKind::Ghost: return VoronoiDiagram::triangle_area_sr(a, c, b);
+    case FaceKind::Proper: break;
+  }
+  return VoronoiDiagram::triangle_area_sr(a, b, c);
+}
+
+double DelaunayGeometry::edge_length_m(HalfedgeId e) const {
+  const SphericalDelaunay& dt = *dt_;
+  const TriId t = e / 3;
+  const Vec3& a = dt.site(dt.tri_site(t, static_cast<int>(e % 3)));
+  const Vec3& b = dt.site(dt.tri_site(t, static_cast<int>((e + 1) % 3)));
+  return SiteEncoder::kEarthRadiusM * std::atan2(std::sqrt(norm2(cross(a, b))), dot(a, b));
+}
+
+double DelaunayGeometry::circumradius_m(TriId t) const {
+  const SphericalDelaunay& dt = *dt_;
+  const Vec3 &a = dt.site(dt.tri_site(t, 0)), &b = dt.site(dt.tri_site(t, 1)), &c = dt.site(dt.tri_site(t, 2));
+  const Vec3 n = plane_axis(a, b, c);
+  return SiteEncoder::kEarthRadiusM * std::atan2(std::sqrt(norm2(cross(n, a))), dot(n, a));
+}
+
+}  // namespace geovor

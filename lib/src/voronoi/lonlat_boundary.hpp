@@ -1,0 +1,70 @@
+// Private to the voronoi module: great-circle boundaries on the sphere as RFC 7946 lon/lat rings
+// and lines (gis.md sections 0, 1, 4 and 5). Shared by the Voronoi cells (cell_geometry.cpp) and
+// the Delaunay triangles and edges (delaunay_geometry.cpp), so both follow one set of rules:
+// adaptive great-circle densification, snapping to the poles and the antimeridian, the cut at
+// +-180 and the closure of a ring around a pole.
+#pragma once
+
+#include <vector>
+
+#include "geovor/core/types.hpp"
+#include "geovor/io/geometry.hpp"
+
+namespace geovor::lonlat {
+
+/// Points within this angle (radians, 1.5e-11, about 0.1 mm) of a pole or of the antimeridian
+/// are moved onto it (CellGeometry::kSnapRad).
+inline constexpr double kSnapRad = 0x1p-36;
+
+inline bool is_pole(double lat) { return lat == 90 || lat == -90; }
+Vec3 normalized(const Vec3& v);
+
+/// A boundary point on the sphere and in geodetic lon/lat (degrees), snapped.
+struct Pt {
+  Vec3 v;
+  double lon, lat;
+};
+Pt make_pt(const Vec3& raw);
+
+/// Adaptive bisection of great-circle arcs: see CellGeometry's file comment, step 1.
+class Densifier {
+ public:
+  /// densify_m: largest distance (metres on the sphere of radius kEarthRadiusM) between a
+  /// straight lon/lat segment's midpoint and the arc; arcs longer than max_step_deg are always
+  /// split; at most max_depth levels. Points are appended to `out`.
+  Densifier(double densify_m, double max_step_deg, int max_depth, std::vector<Pt>& out);
+
+  /// Appends the points strictly between a and b of the arc a -> b, which turns positively about
+  /// the axis normalize(left - right). The axis is only used for arcs longer than 120 degrees,
+  /// where a + b cannot be used. `site_chord2` bounds the tolerance: at most a quarter of its
+  /// square root (pass +infinity for no bound).
+  void edge(const Pt& a, const Pt& b, const Vec3& left, const Vec3& right, double site_chord2);
+
+ private:
+  const Vec3& axis();
+  Vec3 midpoint(const Vec3& a, const Vec3& b);
+  void split(const Pt& a, const Pt& b, int depth);
+
+  std::vector<Pt>& out_;
+  double tol2_, cos_step_;
+  int max_depth_;
+  const Vec3* left_ = nullptr;
+  const Vec3* right_ = nullptr;
+  bool have_axis_ = false;
+  Vec3 axis_;
+  double edge_tol2_ = 0;
+};
+
+/// The closed boundary `loop` (densified, without repeating its first point) of a region on the
+/// sphere that lies on its left (counter-clockwise seen from outside) and is convex, or holds
+/// exactly one pole, as a MultiPolygon: cut at the antimeridian, closed through (+-180, +-90)
+/// around a pole, rings counter-clockwise and closed by an exact copy. `loop` is modified
+/// (consecutive duplicates dropped). An empty result means a degenerate loop.
+void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox = nullptr);
+
+/// An open path (densified) as lines: cut at the antimeridian (both parts end on it at the same
+/// latitude, at +180 and -180) and at a pole it passes through; parts of fewer than two distinct
+/// positions are dropped.
+void path_to_lines(const std::vector<Pt>& path, MultiLineString& out);
+
+}  // namespace geovor::lonlat

@@ -1,0 +1,267 @@
+// Lon/lat Delaunay triangles and edges against independent oracles: GEOS validity (OGR IsValid),
+// the WGS84 ellipsoid's area (GeographicLib), 4 pi, exact point location by brute force (the
+// triangle holding a random point contains it in lon/lat too), haversine lengths from lon/lat,
+// and the identity that ghost faces cover the sites' convex hull exactly as the proper ones do.
+#include "geovor/voronoi/delaunay_geometry.hpp"
+
+#include <gtest/gtest.h>
+
+#include <GeographicLib/Geodesic.hpp>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "geovor/core/error.hpp"
+#include "geovor/geo/site_encoder.hpp"
+#include "geovor/geo/site_reader.hpp"
+#include "geovor/kernel/predicates.hpp"
+#include "geovor/voronoi/cell_geometry.hpp"
+#include "support/generators.hpp"
+#include "support/lonlat_checks.hpp"
+
+namespace geovor {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+const double kEllipsoidArea = GeographicLib::Geodesic::WGS84().EllipsoidArea();
+
+std::vector<Vec3> csv_sites(const std::string& relative) {
+  const SiteTable table = read_sites_csv_file(std::string(GEOVOR_SOURCE_DIR) + "/" + relative);
+  std::vector<Vec3> pts;
+  for (const InputSite& s : table.sites) pts.push_back(s.unit);
+  return pts;
+}
+
+// Great-circle distance (haversine on geocentric latitude and longitude), independent of the
+// code under test.
+double haversine_m(const LonLat& a, const LonLat& b) {
+  const Vec3 u = testing::unit_of(a), v = testing::unit_of(b);
+  const double phi1 = std::atan2(u.z, std::hypot(u.x, u.y)), phi2 = std::atan2(v.z, std::hypot(v.x, v.y));
+  const double lam1 = std::atan2(u.y, u.x), lam2 = std::atan2(v.y, v.x);
+  const double h = std::pow(std::sin((phi2 - phi1) / 2), 2) +
+                   std::cos(phi1) * std::cos(phi2) * std::pow(std::sin((lam2 - lam1) / 2), 2);
+  return 2 * SiteEncoder::kEarthRadiusM * std::asin(std::min(1.0, std::sqrt(h)));
+}
+
+struct Summary {
+  double ellipsoid = 0, sphere = 0, ghost_sphere = 0;
+  std::size_t proper = 0, ghost = 0, great_circle = 0, edges = 0;
+};
+
+// The RFC 7946 invariants and GEOS validity of every triangle and edge, bit-identical positions
+// between an edge's line and its triangles, lengths against haversine, and the area sums.
+Summary check_all(const SphericalDelaunay& dt, const DelaunayGeometryOptions& opt = {}) {
+  const DelaunayGeometry g(dt, opt);
+  Summary sum;
+  std::vector<MultiPolygon> polys(dt.num_triangles());
+  for (TriId t = 0; t < dt.num_triangles(); ++t) {
+    SCOPED_TRACE("triangle " + std::to_string(t));
+    g.triangle_polygon(t, polys[t]);
+    const MultiPolygon& mp = polys[t];
+    EXPECT_FALSE(mp.empty());
+    EXPECT_EQ(testing::geos_invalid(mp), "");
+    for (const Polygon& p : mp) {
+      EXPECT_TRUE(p.holes.empty());
+      EXPECT_GE(p.exterior.size(), 4u);
+      if (p.exterior.size() < 4) continue;
+      EXPECT_TRUE(p.exterior.front() == p.exterior.back());
+      EXPECT_GT(planar_area_deg2(p.exterior), 0) << "not counter-clockwise";
+      for (const LonLat& q : p.exterior) EXPECT_TRUE(std::fabs(q.lon_deg) <= 180 && std::fabs(q.lat_deg) <= 90);
+    }
+    const FaceKind k = g.kind(t);
+    const double area_sr = g.triangle_area_sr(t);
+    EXPECT_GT(area_sr, 0);
+    if (k == FaceKind::Ghost) {
+      ++sum.ghost;
+      EXPECT_TRUE(dt.is_ghost(t));
+      sum.ghost_sphere += area_sr;
+    } else {
+      EXPECT_FALSE(dt.is_ghost(t));
+      k == FaceKind::Proper ? ++sum.proper : ++sum.great_circle;
+      sum.sphere += area_sr;
+      sum.ellipsoid += ellipsoid_area_m2(mp);
+    }
+    // The written polygon has the stated solid angle: the ellipsoidal area over the authalic
+    // sphere's is within 1% of it (GeographicLib on the lon/lat ring, an independent path).
+    const double rel = ellipsoid_area_m2(mp) / kEllipsoidArea * 4 * kPi / area_sr;
+    EXPECT_NEAR(rel, 1, 0.01) << to_string(k);
+  }
+  MultiLineString lines;
+  for (HalfedgeId e = 0; e < dt.halfedges().size(); ++e) {
+    const HalfedgeId twin = dt.halfedges()[e];
+    if (twin < e) continue;
+    ++sum.edges;
+    SCOPED_TRACE("edge " + std::to_string(e));
+    g.edge_line(e, lines);
+    EXPECT_FALSE(lines.empty());
+    if (lines.empty()) continue;
+    const SiteId a = dt.tri_site(e / 3, static_cast<int>(e % 3));
+    const SiteId b = dt.tri_site(e / 3, static_cast<int>((e + 1) % 3));
+    const LatLon la = SiteEncoder::to_lat_lon(dt.site(a)), lb = SiteEncoder::to_lat_lon(dt.site(b));
+    if (std::fabs(la.lat_deg) < 89.9) EXPECT_EQ(lines.front().front().lat_deg, la.lat_deg);
+    if (std::fabs(lb.lat_deg) < 89.9) EXPECT_EQ(lines.back().back().lat_deg, lb.lat_deg);
+    EXPECT_NEAR(g.edge_length_m(e), haversine_m({la.lon_deg, la.lat_deg}, {lb.lon_deg, lb.lat_deg}), 1e-6);
+    // The twin gives the same line backwards; every position is a position of both triangles.
+    MultiLineString back;
+    g.edge_line(twin, back);
+    std::vector<LonLat> fwd, rev;
+    for (const auto& part : lines) fwd.insert(fwd.end(), part.begin(), part.end());
+    for (const auto& part : back) rev.insert(rev.end(), part.begin(), part.end());
+    std::reverse(rev.begin(), rev.end());
+    EXPECT_EQ(fwd.size(), rev.size());
+    for (const auto& part : lines) {
+      for (std::size_t i = 0; i + 1 < part.size(); ++i)
+        EXPECT_LE(std::fabs(part[i + 1].lon_deg - part[i].lon_deg), 180) << "jump in a line";
+      for (const LonLat& q : part) {
+        if (std::fabs(q.lat_deg) == 90 || std::fabs(q.lon_deg) == 180) continue;  // cut points
+        for (const TriId t : {e / 3, twin / 3}) {
+          if (g.kind(t) != FaceKind::Proper) continue;
+          bool found = false;
+          for (const Polygon& p : polys[t])
+            found = found || std::find(p.exterior.begin(), p.exterior.end(), q) != p.exterior.end();
+          EXPECT_TRUE(found) << "line position " << q.lon_deg << "," << q.lat_deg << " not in triangle " << t;
+        }
+      }
+    }
+  }
+  return sum;
+}
+
+// Each random point lies, in lon/lat, in the polygon of the proper triangle that holds it
+// exactly on the sphere, unless it is within `margin_m` of that triangle's boundary.
+void check_point_location(const SphericalDelaunay& dt, std::size_t queries, double margin_m, std::uint64_t seed) {
+  const DelaunayGeometry g(dt);
+  const std::vector<Vec3> qs = testing::uniform_on_sphere(queries, seed);
+  MultiPolygon mp;
+  std::size_t checked = 0;
+  for (const Vec3& q : qs) {
+    TriId holder = kNoIndex;
+    for (TriId t = 0; t < dt.num_triangles() && holder == kNoIndex; ++t) {
+      if (g.kind(t) != FaceKind::Proper) continue;
+      const Vec3 &a = dt.site(dt.tri_site(t, 0)), &b = dt.site(dt.tri_site(t, 1)), &c = dt.site(dt.tri_site(t, 2));
+      if (kernel::orient(a, b, q) != Sign::Negative && kernel::orient(b, c, q) != Sign::Negative &&
+          kernel::orient(c, a, q) != Sign::Negative)
+        holder = t;
+    }
+    if (holder == kNoIndex) continue;  // outside the hull (sites in one hemisphere)
+    double closest = 1e300;
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 n = cross(dt.site(dt.tri_site(holder, i)), dt.site(dt.tri_site(holder, (i + 1) % 3)));
+      closest = std::min(closest, std::asin(std::fabs(dot(q, n)) / std::sqrt(norm2(n))) * SiteEncoder::kEarthRadiusM);
+    }
+    if (closest < margin_m) continue;
+    const LatLon ll = SiteEncoder::to_lat_lon(q);
+    g.triangle_polygon(holder, mp);
+    bool boundary = false;
+    EXPECT_TRUE(testing::in_multipolygon(mp, {ll.lon_deg, ll.lat_deg}, boundary))
+        << "point " << ll.lat_deg << "," << ll.lon_deg << " not in triangle " << holder;
+    ++checked;
+  }
+  EXPECT_GT(checked, queries / 4);  // sites in one hemisphere: half the points are off the hull
+}
+
+TEST(DelaunayGeometry, UniformTrianglesTileTheEllipsoid) {
+  const SphericalDelaunay dt = SphericalDelaunay::build(testing::uniform_on_sphere(3000, 5));
+  const Summary s = check_all(dt);
+  EXPECT_EQ(s.proper, 2 * 3000u - 4);
+  EXPECT_EQ(s.ghost + s.great_circle, 0u);
+  EXPECT_EQ(s.edges, 3 * 3000u - 6);
+  EXPECT_NEAR(s.sphere / (4 * kPi), 1, 1e-12);
+  EXPECT_NEAR(s.ellipsoid / kEllipsoidArea, 1, 1e-9);
+  check_point_location(dt, 3000, 150, 9);
+}
+
+TEST(DelaunayGeometry, WeatherStations) {
+  const SphericalDelaunay dt = SphericalDelaunay::build(csv_sites("datasets/weather_stations.csv"));
+  const Summary s = check_all(dt);
+  EXPECT_EQ(s.ghost, 0u);
+  EXPECT_NEAR(s.sphere / (4 * kPi), 1, 1e-12);
+  EXPECT_NEAR(s.ellipsoid / kEllipsoidArea, 1, 1e-9);
+  check_point_location(dt, 1000, 150, 11);
+}
+
+TEST(DelaunayGeometry, AntimeridianAndPoles) {
+  for (const char* f : {"datasets/fixtures/antimeridian.csv", "datasets/fixtures/poles.csv",
+                        "datasets/fixtures/cube_corners.csv"}) {
+    SCOPED_TRACE(f);
+    const SphericalDelaunay dt = SphericalDelaunay::build(csv_sites(f));
+    const Summary s = check_all(dt);
+    EXPECT_NEAR(s.sphere / (4 * kPi), 1, 1e-12);
+    EXPECT_NEAR(s.ellipsoid / kEllipsoidArea, 1, 1e-9);
+    check_point_location(dt, 2000, 150, 13);
+  }
+  // A 1-degree grid: many triangles cut at +-180 and around both poles.
+  const SphericalDelaunay grid = SphericalDelaunay::build(testing::lat_lon_grid(10));
+  const Summary s = check_all(grid);
+  EXPECT_NEAR(s.sphere / (4 * kPi), 1, 1e-12);
+  EXPECT_NEAR(s.ellipsoid / kEllipsoidArea, 1, 1e-9);
+}
+
+TEST(DelaunayGeometry, GhostFacesCoverTheHullAsTheProperOnesDo) {
+  // Sites in one open hemisphere: every ray from the centre through the hull of the sites meets
+  // one proper and one ghost face, so both families have the hull's area.
+  for (const auto& pts : {testing::in_hemisphere(500, 3), csv_sites("datasets/fixtures/hemisphere.csv")}) {
+    const SphericalDelaunay dt = SphericalDelaunay::build(pts);
+    const Summary s = check_all(dt);
+    EXPECT_GT(s.ghost, 0u);
+    EXPECT_EQ(s.ghost, dt.num_ghost_triangles());
+    EXPECT_NEAR(s.ghost_sphere, s.sphere, 1e-12 * 4 * kPi);
+    EXPECT_LT(s.sphere, 2 * kPi);
+    check_point_location(dt, 2000, 150, 17);
+  }
+}
+
+TEST(DelaunayGeometry, GreatCircleFacesAreHemispheres) {
+  const SphericalDelaunay dt = SphericalDelaunay::build(csv_sites("datasets/fixtures/equator.csv"));
+  const DelaunayGeometry g(dt);
+  MultiPolygon mp;
+  double north = 0, south = 0;
+  for (TriId t = 0; t < dt.num_triangles(); ++t) {
+    EXPECT_EQ(g.kind(t), FaceKind::GreatCircle);
+    EXPECT_EQ(g.triangle_area_sr(t), 2 * kPi);
+    g.triangle_polygon(t, mp);
+    EXPECT_EQ(testing::geos_invalid(mp), "");
+    EXPECT_NEAR(ellipsoid_area_m2(mp) / kEllipsoidArea, 0.5, 1e-9);
+    bool boundary = false;
+    (testing::in_multipolygon(mp, {10, 45}, boundary) ? north : south) += 1;
+  }
+  EXPECT_EQ(north + south, static_cast<double>(dt.num_triangles()));
+  EXPECT_GT(north, 0);
+  EXPECT_GT(south, 0);
+}
+
+TEST(DelaunayGeometry, CircumradiusIsTheDistanceToTheVoronoiVertex) {
+  const SphericalDelaunay dt = SphericalDelaunay::build(testing::in_hemisphere(200, 21));
+  const DelaunayGeometry g(dt);
+  for (TriId t = 0; t < dt.num_triangles(); ++t) {
+    const double r = g.circumradius_m(t);
+    const double quarter = kPi / 2 * SiteEncoder::kEarthRadiusM;
+    EXPECT_EQ(r > quarter, dt.is_ghost(t)) << t;
+    // All three sites are at that distance from the circumcentre (equal within 1e-6 m).
+    const Vec3 &a = dt.site(dt.tri_site(t, 0)), &b = dt.site(dt.tri_site(t, 1)), &c = dt.site(dt.tri_site(t, 2));
+    const Vec3 n = cross(b - a, c - a);
+    const double len = std::sqrt(norm2(n));
+    for (const Vec3* p : {&a, &b, &c})
+      EXPECT_NEAR(std::acos(std::clamp(dot(n, *p) / len, -1.0, 1.0)) * SiteEncoder::kEarthRadiusM, r, 1e-3);
+  }
+}
+
+TEST(DelaunayGeometry, RejectsBadOptions) {
+  const SphericalDelaunay dt = SphericalDelaunay::build(testing::uniform_on_sphere(10, 1));
+  DelaunayGeometryOptions o;
+  o.densify_m = 0;
+  EXPECT_THROW(DelaunayGeometry(dt, o), Error);
+  o = {};
+  o.max_step_deg = 200;
+  EXPECT_THROW(DelaunayGeometry(dt, o), Error);
+  o = {};
+  o.max_depth = 0;
+  EXPECT_THROW(DelaunayGeometry(dt, o), Error);
+}
+
+}  // namespace
+}  // namespace geovor
