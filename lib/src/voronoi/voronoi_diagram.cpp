@@ -82,9 +82,14 @@ VoronoiDiagram::VoronoiDiagram(const SphericalDelaunay& dt) {
   GEOVOR_ASSERT(nt == 2 * num_cells_ - 4);
   const std::span<const SiteId> tri_sites = dt.triangles();
   vertices_.resize(nt);
-  for (TriId t = 0; t < nt; ++t)
-    vertices_[t] = circumcenter(dt.site(tri_sites[3 * t]), dt.site(tri_sites[3 * t + 1]),
-                                dt.site(tri_sites[3 * t + 2]));
+  for (TriId t = 0; t < nt; ++t) {
+    // Rotated to start at the smallest id, so that a vertex's bits do not depend on how the
+    // triangulation stores its triangles (Lloyd's iterations give the same result whether the
+    // triangulation is rebuilt or updated).
+    const SiteId* v = &tri_sites[3 * t];
+    const int k = v[0] < v[1] ? (v[0] < v[2] ? 0 : 2) : (v[1] < v[2] ? 1 : 2);
+    vertices_[t] = circumcenter(dt.site(v[k]), dt.site(v[(k + 1) % 3]), dt.site(v[(k + 2) % 3]));
+  }
 
   // Degrees and the storage order, by one sequential scan of the triangles (which the
   // triangulation keeps in a spatially coherent order); then each star is walked once, counter-
