@@ -35,5 +35,7 @@ struct SiteInputArgs;  // site_input.hpp
 /// @exception Error as the readers and the build; Error(BadData) if no row is a site.
 SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary);
 std::function<int()> add_cells_command(CLI::App& app);
+/// Adds `geovor delaunay` (tools/delaunay_command.cpp).
+std::function<int()> add_delaunay_command(CLI::App& app);
 
 }  // namespace geovor::tools

@@ -20,12 +20,14 @@ int main(int argc, char** argv) {
       "Examples:\n"
       "  geovor info datasets/weather_stations.csv\n"
       "  geovor cells datasets/weather_stations.csv -o cells.geojson\n"
+      "  geovor delaunay datasets/weather_stations.csv -o triangles.geojson --edges edges.geojson\n"
       "  geovor nearest --sites datasets/weather_stations.csv --queries points.csv");
   app.require_subcommand(1);
   // Each subcommand: its name and the function that runs it.
   const std::vector<std::pair<std::string, std::function<int()>>> commands = {
       {"info", add_info_command(app)},
       {"cells", add_cells_command(app)},
+      {"delaunay", add_delaunay_command(app)},
       {"index", add_index_command(app)},
       {"nearest", add_nearest_command(app)},
   };
