@@ -281,13 +281,13 @@ class SphericalDelaunay {
   bool relocate_by_flips(SiteId s, const Vec3& p);  // false: nothing changed, reinsert instead
   void flip(HalfedgeId e);                           // the diagonal of the two triangles at e
   bool adjacent(SiteId a, SiteId b) const;
-  void reinsert(SiteId s, const Vec3& p);
+  bool reinsert(SiteId s, const Vec3& p);            // false: merged, put back (never expected)
   void init_tolerances();
   void drop_tolerances() { tolerance2_.clear(); }
   bool within_tolerance(SiteId s) const;             // m_s == f_s or |m_s - f_s| < eps_s
   void update_bicell(HalfedgeId e);                  // lowers eps of the bi-cell's four sites
   void refresh_site(SiteId s);                       // f_s = m_s, eps_s recomputed
-  void settle_queue();                               // refreshes the sites that left their tolerance
+  std::size_t settle_queue();                        // refreshes the sites that left their tolerance
 
   static std::uint64_t next_revision();
   void touch() { revision_ = next_revision(); }  // every change of sites or triangles calls it
