@@ -35,7 +35,9 @@ SiteEncoder::Geodetic SiteEncoder::from_ecef(double x_m, double y_m, double z_m)
 LatLon SiteEncoder::to_lat_lon(const Vec3& u) {
   using GeographicLib::Math;
   // atan2d is exact at multiples of 45 degrees, so axis directions map to exact degrees.
-  const double theta = Math::atan2d(u.z, std::hypot(u.x, u.y));
+  // sqrt rather than hypot (three times slower): |u| is far from overflow, and both are exact on
+  // the axes.
+  const double theta = Math::atan2d(u.z, std::sqrt(u.x * u.x + u.y * u.y));
   LatLon p{GeographicLib::Ellipsoid::WGS84().InverseGeocentricLatitude(theta),
            Math::atan2d(u.y, u.x)};
   const std::string reason = normalize_lat_lon(p.lat_deg, p.lon_deg);
