@@ -49,6 +49,32 @@ void expect_as_rebuilt(const SphericalDelaunay& dt, const std::string& what) {
   EXPECT_EQ(triangle_set(dt), triangle_set(fresh, id_of)) << what;
 }
 
+// Algorithm 1's invariant, checked from outside: every site is within its tolerance of its
+// reference position, and its tolerance is at most that of every bi-cell containing it, computed
+// at the reference positions (either orientation of the bi-cell: both are certified bounds).
+void expect_filter_invariant(SphericalDelaunay& dt, const std::string& what) {
+  if (dt.num_sites() < 5) return;
+  for (SiteId s = 0; s < dt.site_capacity(); ++s) {
+    if (!dt.is_live(s)) continue;
+    const double tol = dt.tolerance(s);
+    const Vec3 d = dt.site(s) - dt.reference(s);
+    ASSERT_TRUE(norm2(d) == 0 || std::sqrt(norm2(d)) < tol) << what << ": site " << s << " out of its tolerance";
+  }
+  const auto tri = dt.triangles();
+  const auto twin = dt.halfedges();
+  auto one = [&](HalfedgeId e) {
+    const SiteId a = tri[e], b = tri[next_halfedge(e)], c = tri[prev_halfedge(e)], d = tri[prev_halfedge(twin[e])];
+    return SphericalDelaunay::bicell_tolerance(dt.reference(a), dt.reference(b), dt.reference(c), dt.reference(d),
+                                               dt.options().merge_distance);
+  };
+  for (HalfedgeId e = 0; e < tri.size(); ++e) {
+    if (twin[e] < e) continue;
+    const double tau = std::max(one(e), one(twin[e]));
+    for (const SiteId w : {tri[e], tri[next_halfedge(e)], tri[prev_halfedge(e)], tri[prev_halfedge(twin[e])]})
+      ASSERT_LE(dt.tolerance(w), tau) << what << ": site " << w << ", bi-cell of half-edge " << e;
+  }
+}
+
 void expect_stats_add_up(const MoveStats& st, std::size_t asked, const std::string& what) {
   EXPECT_EQ(st.moved, st.filtered + st.flipped + st.reinserted) << what;
   EXPECT_EQ(st.moved + st.refused, asked) << what;
@@ -132,7 +158,10 @@ TEST(Relocation, DriftBySmallSteps) {
       const MoveStats st = dt.move_all(now);
       expect_stats_add_up(st, now.size(), name);
       all += st;
-      if (round % 4 == 3) expect_as_rebuilt(dt, std::string(name) + ", round " + std::to_string(round));
+      if (round % 4 == 3) {
+        expect_as_rebuilt(dt, std::string(name) + ", round " + std::to_string(round));
+        expect_filter_invariant(dt, std::string(name) + ", round " + std::to_string(round));
+      }
       if (::testing::Test::HasFailure()) return;
     }
     EXPECT_GT(all.filtered, all.moved / 2) << name;
@@ -166,10 +195,14 @@ TEST(Relocation, SingleMovesInterleavedWithInsertAndRemove) {
   std::size_t next = 1000;
   for (int i = 0; i < 3000; ++i) {
     const SiteId s = static_cast<SiteId>(rng() % dt.site_capacity());
-    if (i % 100 == 50 && next < pts.size()) dt.insert(pts[next++]);
+    if (i % 100 == 50 && next < pts.size()) {
+      dt.insert(pts[next++]);
+      expect_filter_invariant(dt, "insert at " + std::to_string(i));
+    }
     if (!dt.is_live(s)) continue;
     if (i % 100 == 99) {
       dt.remove(s);
+      expect_filter_invariant(dt, "remove at " + std::to_string(i));
       continue;
     }
     const double step = std::pow(10.0, -1.0 - 4.0 * std::uniform_real_distribution<double>(0, 1)(rng));
@@ -177,7 +210,10 @@ TEST(Relocation, SingleMovesInterleavedWithInsertAndRemove) {
     const MoveStats st = dt.move(s, p);
     expect_stats_add_up(st, 1, "move " + std::to_string(i));
     if (st.moved) ASSERT_EQ(dt.site(s), p);
-    if (i % 500 == 0) expect_as_rebuilt(dt, "after move " + std::to_string(i));
+    if (i % 500 == 0) {
+      expect_as_rebuilt(dt, "after move " + std::to_string(i));
+      expect_filter_invariant(dt, "after move " + std::to_string(i));
+    }
   }
   expect_as_rebuilt(dt, "end");
 }

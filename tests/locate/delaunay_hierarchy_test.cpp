@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -38,6 +39,70 @@ TEST(DelaunayHierarchy, StaysRightUnderInsertAndRemove) {
     const Validation v = h.validate();
     ASSERT_TRUE(v.ok()) << v.errors.front();
   }
+}
+
+// Moves keep every level right: each validates, copies stay the same point, links unchanged,
+// and level 0 is the triangulation of the moved sites.
+TEST(DelaunayHierarchy, StaysRightUnderMoves) {
+  const auto pts = testing::uniform_on_sphere(20000, 8);
+  DelaunayHierarchy h = DelaunayHierarchy::build(pts, {}, {.ratio = 10});
+  ASSERT_GE(h.num_levels(), 3);
+  std::mt19937_64 rng(4);
+  std::normal_distribution<double> g(0.0, 1.0);
+  const double spacing = std::sqrt(4 * M_PI / 20000);
+  for (const double rel : {1e-4, 1e-2, 0.3, 3.0, 1e-3}) {
+    std::vector<Vec3> target(h.base().sites().begin(), h.base().sites().end());
+    for (Vec3& p : target) p = testing::normalized(p + rel * spacing * Vec3{g(rng), g(rng), g(rng)});
+    const MoveStats st = h.move_all(target);
+    EXPECT_EQ(st.moved, st.filtered + st.flipped + st.reinserted);
+    EXPECT_EQ(st.moved + st.refused, target.size());
+    const Validation v = h.validate();
+    ASSERT_TRUE(v.ok()) << rel << ": " << v.errors.front();
+    for (SiteId s = 0; s < target.size(); ++s) ASSERT_EQ(h.base().site(s), target[s]);
+    const SphericalDelaunay fresh = SphericalDelaunay::build(target);
+    ASSERT_EQ(fresh.num_triangles(), h.base().num_triangles());
+    // Same triangles: compare each site's neighbour set.
+    for (SiteId s = 0; s < target.size(); s += 97) {
+      auto ring = [s](const SphericalDelaunay& dt) {
+        std::vector<SiteId> r;
+        const HalfedgeId e0 = dt.site_edge(s);
+        HalfedgeId e = e0;
+        do {
+          r.push_back(dt.triangles()[next_halfedge(e)]);
+          e = dt.next_around_site(e);
+        } while (e != e0);
+        std::sort(r.begin(), r.end());
+        return r;
+      };
+      ASSERT_EQ(ring(h.base()), ring(fresh)) << "site " << s << ", step " << rel;
+    }
+  }
+  // Single moves, inserts and removes mixed; a refused move changes no level.
+  for (int i = 0; i < 3000; ++i) {
+    const SiteId s = static_cast<SiteId>(rng() % h.base().site_capacity());
+    if (!h.base().is_live(s)) continue;
+    if (i % 50 == 0) {
+      h.remove(s);
+      h.insert(testing::normalized({g(rng), g(rng), g(rng)}));
+      continue;
+    }
+    if (i % 10 == 0) {  // onto another site: refused
+      const SiteId t = static_cast<SiteId>(rng() % h.base().site_capacity());
+      if (t == s || !h.base().is_live(t)) continue;
+      const Vec3 before = h.base().site(s);
+      const MoveStats st = h.move(s, h.base().site(t));
+      EXPECT_EQ(st.refused, 1u);
+      EXPECT_EQ(h.base().site(s), before);
+      continue;
+    }
+    const double rel = std::pow(10.0, -4 + 4 * std::uniform_real_distribution<double>(0, 1)(rng));
+    const Vec3 p = testing::normalized(h.base().site(s) + rel * spacing * Vec3{g(rng), g(rng), g(rng)});
+    const MoveStats st = h.move(s, p);
+    EXPECT_EQ(st.moved, 1u);
+    EXPECT_EQ(h.base().site(s), p);
+  }
+  const Validation v = h.validate();
+  ASSERT_TRUE(v.ok()) << v.errors.front();
 }
 
 TEST(DelaunayHierarchy, SmallAndDegenerateInputs) {

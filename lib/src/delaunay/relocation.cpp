@@ -35,7 +35,9 @@ MoveStats SphericalDelaunay::move(SiteId s, const Vec3& p, const RelocationOptio
   if (!is_live(s)) throw Error(ErrorCode::InvalidArgument, "move: site " + std::to_string(s) + " is not live");
   if (!is_unit(p)) throw Error(ErrorCode::InvalidArgument, "move: site " + std::to_string(s) + ": not a unit vector");
   GEOVOR_ASSERT(priority_.empty());
-  return move_one(s, p, options);
+  const MoveStats st = move_one(s, p, options);
+  if (st.moved) touch();
+  return st;
 }
 
 MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const RelocationOptions& options) {
@@ -49,6 +51,7 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
   MoveStats total;
   for (SiteId s = 0; s < sites_.size(); ++s)
     if (alive(s)) total += move_one(s, positions[s], options);
+  if (total.moved) touch();
   return total;
 }
 
@@ -92,7 +95,23 @@ MoveStats SphericalDelaunay::move_one(SiteId s, const Vec3& p, const RelocationO
     if (triangles_[3 * t] == s || triangles_[3 * t + 1] == s || triangles_[3 * t + 2] == s) continue;
     for (int j = 0; j < 3; ++j) update_bicell(3 * t + j);
   }
-  for (const SiteId w : link_) {  // the hole left by a removal was retriangulated around them
+  update_around_link();  // the hole left by a removal was retriangulated around them
+  st.refreshed = settle_queue();
+  return st;
+}
+
+void SphericalDelaunay::collect_link(SiteId s) {
+  link_.clear();
+  const HalfedgeId e0 = site_edge_[s];
+  HalfedgeId e = e0;
+  do {
+    link_.push_back(triangles_[next_halfedge(e)]);
+    e = next_around_site(e);
+  } while (e != e0);
+}
+
+void SphericalDelaunay::update_around_link() {
+  for (const SiteId w : link_) {
     if (!alive(w) || site_edge_[w] == kNoIndex) continue;
     const HalfedgeId e0 = site_edge_[w];
     HalfedgeId e = e0;
@@ -101,8 +120,33 @@ MoveStats SphericalDelaunay::move_one(SiteId s, const Vec3& p, const RelocationO
       e = next_around_site(e);
     } while (e != e0);
   }
-  st.refreshed = settle_queue();
-  return st;
+}
+
+void SphericalDelaunay::tolerances_after_insert(SiteId s) {
+  if (tolerance2_.empty()) return;
+  if (num_live_ < 5) {
+    drop_tolerances();
+    return;
+  }
+  // Every new triangle has s as a vertex: its bi-cells are those refresh_site() computes.
+  reference_.push_back(sites_[s]);
+  tolerance2_.push_back(std::numeric_limits<double>::infinity());
+  queue_.clear();
+  refresh_site(s);
+  settle_queue();
+}
+
+void SphericalDelaunay::remove_keeping_tolerances(SiteId s) {
+  if (tolerance2_.empty() || num_live_ <= 5) {
+    drop_tolerances();
+    remove_site(s);
+    return;
+  }
+  collect_link(s);
+  remove_site(s);
+  queue_.clear();
+  update_around_link();  // every new triangle has its vertices in the link
+  settle_queue();
 }
 
 bool SphericalDelaunay::refuse_move(SiteId s, const Vec3& p) const {
@@ -129,14 +173,7 @@ bool SphericalDelaunay::refuse_move(SiteId s, const Vec3& p) const {
 
 bool SphericalDelaunay::reinsert(SiteId s, const Vec3& p) {
   const Vec3 old = sites_[s];
-  if (num_live_ > 3) {  // the sites around the hole, whose bi-cells change
-    const HalfedgeId e0 = site_edge_[s];
-    HalfedgeId e = e0;
-    do {
-      link_.push_back(triangles_[next_halfedge(e)]);
-      e = next_around_site(e);
-    } while (e != e0);
-  }
+  if (num_live_ > 3) collect_link(s);  // the sites around the hole, whose bi-cells change
   remove_site(s);
   sites_[s] = p;
   const SiteId hint = last_site_;

@@ -195,7 +195,6 @@ InsertResult SphericalDelaunay::insert(const Vec3& p) {
     throw Error(ErrorCode::InvalidArgument, "insert: not a unit vector (|p|^2 = " + num(r2) + ")");
   if (sites_.size() >= kMaxSites) throw Error(ErrorCode::InvalidArgument, "too many sites");
   GEOVOR_ASSERT(priority_.empty());
-  drop_tolerances();  // the relocation filter's bi-cells change
   const SiteId s = static_cast<SiteId>(sites_.size());
   sites_.push_back(p);
   site_edge_.push_back(kRemoved);
@@ -203,6 +202,8 @@ InsertResult SphericalDelaunay::insert(const Vec3& p) {
   if (r.merged) {  // the point never became a site: give its id back
     sites_.pop_back();
     site_edge_.pop_back();
+  } else {
+    tolerances_after_insert(s);  // the relocation filter's new bi-cells
   }
   return r;
 }
@@ -455,8 +456,7 @@ void SphericalDelaunay::fill_cavity(SiteId s) {
 void SphericalDelaunay::remove(SiteId s) {
   if (!is_live(s)) throw Error(ErrorCode::InvalidArgument, "remove: site " + std::to_string(s) + " is not live");
   touch();
-  drop_tolerances();  // the relocation filter's bi-cells change
-  remove_site(s);
+  remove_keeping_tolerances(s);
 }
 
 void SphericalDelaunay::remove_site(SiteId s) {

@@ -167,6 +167,59 @@ void DelaunayHierarchy::remove(SiteId s) {
   }
 }
 
+MoveStats DelaunayHierarchy::move(SiteId s, const Vec3& p, const RelocationOptions& options) {
+  if (!levels_[0].is_live(s)) return levels_[0].move(s, p, options);  // throws
+  const Vec3 old = levels_[0].site(s);
+  const MoveStats st = levels_[0].move(s, p, options);
+  if (st.moved == 0) return st;
+  // The copies above: a subset of the sites, so a position level 0 accepts is never within the
+  // merge distance of a site above; should one be refused all the same, every level goes back.
+  SiteId c = s;
+  for (int l = 0; l + 1 < num_levels(); ++l) {
+    const SiteId u = up_[static_cast<std::size_t>(l)][c];
+    if (u == kNoIndex) break;
+    const MoveStats above = levels_[static_cast<std::size_t>(l + 1)].move(u, p, options);
+    if (above.refused) {
+      SiteId b = c;
+      for (int k = l; k >= 0; --k) {
+        levels_[static_cast<std::size_t>(k)].move(b, old, options);
+        if (k > 0) b = down_[static_cast<std::size_t>(k)][b];
+      }
+      MoveStats refused;
+      refused.refused = 1;
+      return refused;
+    }
+    c = u;
+  }
+  return st;
+}
+
+MoveStats DelaunayHierarchy::move_all(std::span<const Vec3> positions, const RelocationOptions& options) {
+  MoveStats st = levels_[0].move_all(positions, options);
+  std::vector<Vec3> target;
+  for (std::size_t l = 1; l < levels_.size(); ++l) {
+    SphericalDelaunay& level = levels_[l];
+    const SphericalDelaunay& below = levels_[l - 1];
+    target.assign(level.sites().begin(), level.sites().end());
+    for (SiteId u = 0; u < level.site_capacity(); ++u)
+      if (level.is_live(u)) target[u] = below.site(down_[l][u]);
+    const MoveStats above = level.move_all(target, options);
+    if (above.refused == 0) continue;
+    // Never expected (see move()): the copies below go back to where this level kept the site.
+    for (SiteId u = 0; u < level.site_capacity(); ++u) {
+      if (!level.is_live(u) || level.site(u) == target[u]) continue;
+      SiteId b = down_[l][u];
+      for (std::size_t k = l; k-- > 0;) {
+        levels_[k].move(b, level.site(u), options);
+        if (k > 0) b = down_[k][b];
+      }
+      --st.moved;
+      ++st.refused;
+    }
+  }
+  return st;
+}
+
 std::size_t DelaunayHierarchy::memory_bytes() const {
   std::size_t bytes = 0;
   for (const auto& level : levels_) bytes += level.memory_bytes();

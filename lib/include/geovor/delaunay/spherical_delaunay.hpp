@@ -176,7 +176,8 @@ class SphericalDelaunay {
   /// (MoveStats::refreshed). Whatever the order of moves, between calls every site satisfies
   /// |m_s - f_s| < eps_s or m_s = f_s, hence every certificate has the sign it had when the
   /// structure was last decided exactly. Memory: 32 bytes per site (f_s and eps_s^2), allocated at
-  /// the first filtered move and rebuilt in O(n) after insert()/remove() or an unfiltered move.
+  /// the first filtered move, kept current by insert() and remove(), and rebuilt in O(n) after an
+  /// unfiltered move.
   ///
   /// Not filtered: flips when every triangle of the star stays positively oriented around the new
   /// position (exact orient; no ghost triangle in the star) and every Lawson flip does too,
@@ -196,6 +197,9 @@ class SphericalDelaunay {
   /// The certified tolerance of live site s (chord on the unit sphere), computing the tolerances
   /// if they are not current; for tests and statistics.
   double tolerance(SiteId s);
+  /// The filter's reference position of live site s (where its tolerance was computed from);
+  /// call tolerance() first. For tests.
+  const Vec3& reference(SiteId s) const { return reference_[s]; }
   /// Lower bound of the tolerance of the bi-cell of four points (a, b the shared edge): see above.
   /// Exposed for the property tests.
   static double bicell_tolerance(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
@@ -282,6 +286,10 @@ class SphericalDelaunay {
   void flip(HalfedgeId e);                           // the diagonal of the two triangles at e
   bool adjacent(SiteId a, SiteId b) const;
   bool reinsert(SiteId s, const Vec3& p);            // false: merged, put back (never expected)
+  void tolerances_after_insert(SiteId s);            // insert() keeps the tolerances current
+  void remove_keeping_tolerances(SiteId s);          // so does remove()
+  void collect_link(SiteId s);                       // link_ = the neighbours of s
+  void update_around_link();                         // the bi-cells at the sites of link_
   void init_tolerances();
   void drop_tolerances() { tolerance2_.clear(); }
   bool within_tolerance(SiteId s) const;             // m_s == f_s or |m_s - f_s| < eps_s

@@ -54,6 +54,17 @@ class DelaunayHierarchy {
   /// Removes a live level-0 site from every level it is on.
   void remove(SiteId s);
 
+  /// Moves live level-0 site s to unit vector p on every level it is on (SphericalDelaunay::move
+  /// on each, each level with its own tolerances); ids and links do not change. Returns level 0's
+  /// stats; a refused move (p within the merge distance of another site) changes no level.
+  /// @exception Error(InvalidArgument) as SphericalDelaunay::move.
+  MoveStats move(SiteId s, const Vec3& p, const RelocationOptions& options = {});
+  /// Moves every live level-0 site s to positions[s] (size base().site_capacity(); removed
+  /// sites' entries ignored): level 0 first, then each level above to where its copies below went,
+  /// so a move refused at level 0 is refused everywhere. Returns level 0's stats.
+  /// @exception Error(InvalidArgument) as SphericalDelaunay::move_all.
+  MoveStats move_all(std::span<const Vec3> positions, const RelocationOptions& options = {});
+
   /// \name Inspectors
   ///@{
   int num_levels() const { return static_cast<int>(levels_.size()); }
