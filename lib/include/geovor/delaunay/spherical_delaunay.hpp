@@ -156,35 +156,44 @@ class SphericalDelaunay {
   /// tolerance eps_s; a move to p with chord |p - f_s| < eps_s is certified to change no Delaunay
   /// certificate, so only the coordinates change (O(1), no allocation). eps_s is a lower bound of
   /// the tolerance of every bi-cell containing s (the bi-cells of the edges at s and of the edges
-  /// opposite s in its star). A bi-cell (two triangles sharing an edge, four sites) is certified by
-  /// the sign of orientation_3 of its four sites. Its tolerance is
-  ///   tau = min(w / 2, (|a - b| - merge_distance) / 2),
-  /// w the minimal width of the tetrahedron of the four reference positions (min of the four
-  /// vertex-face heights and the three distances between the lines of opposite edges: the width of
-  /// a tetrahedron is attained by a face-vertex or an edge-edge pair), and a, b the sites of the
-  /// shared edge. Proof of the first term: if each point moves by less than w/2, the four moved
-  /// points do not lie on any plane P (the original points would all be within < w/2 of P, inside
-  /// a slab thinner than w); moving them along straight segments, each intermediate configuration
-  /// is again within < w/2 of the original, so the determinant never vanishes and keeps its sign.
-  /// The second term keeps every edge longer than the merge distance, and the nearest site of a
-  /// site is a Delaunay neighbour, so a filtered move never comes within merge distance of a site.
+  /// opposite s in its star). A bi-cell (two triangles sharing an edge a-b, four sites) is
+  /// certified by the sign of orientation_3 of its four sites; its tolerance tau, a bound on how far
+  /// each of the four may move on the unit sphere before that sign can change, is
+  ///   tau = min(max(w / 2, w_T / (2 sqrt 2) - margin), (|a - b| - merge_distance) / 2):
+  ///  - w, the minimal width of the tetrahedron of the four points (the thinnest slab holding
+  ///    them: the least of the four vertex-face heights and the three distances between the lines
+  ///    of opposite edges, 6 V / max |u x v|). If each point moves (anywhere in R^3) by less than
+  ///    w/2, the four moved points lie on no plane P: the original ones would all be within < w/2
+  ///    of P, in a slab thinner than w. Moving them along straight segments, every intermediate
+  ///    configuration is as close, so the determinant never vanishes and keeps its sign.
+  ///  - w_T, the same width after the linear map T that stretches the component along the four
+  ///    points' mean direction c by 1/S. Points move on the sphere: with s0 the largest sine of the
+  ///    angle between c and a point, a move of chord D <= s0/16 turns a point by at most 1.05 D and
+  ///    changes its component along c by at most S D + 2^-49 (1 + S), S = 1.05 (s0 + 1.05 s0/16)
+  ///    (mean value theorem on the cosine; 2^-49 for sites 2^-50 off the sphere), and its other
+  ///    components by at most D: its image under T moves by at most sqrt(2) D + 2^-49 (1 + S)/S.
+  ///    T keeps coplanarity, so the first argument applies to the images. A small bi-cell's
+  ///    tetrahedron is flat (height ~ edge^2, so w ~ edge^2) but its images are not: w_T ~ edge
+  ///    times how far the four sites are from one circle, as in the plane.
+  ///  - the edge term keeps every edge longer than the merge distance; the nearest site of a site
+  ///    is a Delaunay neighbour, so a filtered move never comes within the merge distance of one.
   /// tau is computed in doubles and shrunk by certified bounds of the rounding (Shewchuk's orient3d
-  /// bound for the volume, a relative 2^-46 margin elsewhere), so it stays a lower bound; a
-  /// coplanar (tied) bi-cell gets 0. As in Algorithm 1, a real relocation of s sets f_s to its new
-  /// position and recomputes the tolerances of the bi-cells it changed (lowering their other
-  /// sites' eps); a site whose eps falls below its own displacement is refreshed the same way
-  /// (MoveStats::refreshed). Whatever the order of moves, between calls every site satisfies
-  /// |m_s - f_s| < eps_s or m_s = f_s, hence every certificate has the sign it had when the
-  /// structure was last decided exactly. Memory: 32 bytes per site (f_s and eps_s^2), allocated at
-  /// the first filtered move, kept current by insert() and remove(), and rebuilt in O(n) after an
-  /// unfiltered move.
+  /// bound for the volume, per-component bounds for the cross products, 2^-48 per point for T's
+  /// images, a relative 2^-46 margin for the rest), so it stays a lower bound; a coplanar (tied)
+  /// bi-cell gets 0. As in Algorithm 1, a real relocation of s sets f_s to its new position and
+  /// recomputes the tolerances of the bi-cells it changed (lowering their other sites' eps); a site
+  /// whose eps falls below its own displacement is refreshed the same way (MoveStats::refreshed).
+  /// Whatever the order of moves, between calls every site satisfies |m_s - f_s| < eps_s or
+  /// m_s = f_s, hence every certificate has the sign it had when the structure was last decided
+  /// exactly. Memory: 32 bytes per site (f_s and eps_s^2), allocated at the first filtered move,
+  /// kept current by insert() and remove(), and rebuilt in O(n) after an unfiltered move.
   ///
-  /// Not filtered: flips when every triangle of the star stays positively oriented around the new
-  /// position (exact orient; no ghost triangle in the star) and every Lawson flip does too,
-  /// Lawson flips with the perturbed in-sphere test; otherwise (or if a flip would fold the
-  /// surface, then undone) remove + insert keeping the id. A position within the merge distance of
-  /// another site (chord, doubles, as insert()) is refused: the site stays where it was and
-  /// MoveStats::refused counts it.
+  /// Not filtered: by flips when every triangle of the star stays positively oriented around the
+  /// new position (exact orient; no ghost triangle in the star), then Lawson flips with the
+  /// perturbed in-sphere test, each checked to keep both new triangles positively oriented and
+  /// the new edge new; otherwise (the flips done so far undone) by remove + insert keeping the id.
+  /// A position within the merge distance of another site (chord in doubles, as insert()) is
+  /// refused: the site stays where it was and MoveStats::refused counts it.
   ///@{
   /// Moves live site s to unit vector p (|p|^2 within 2^-49 of 1); keeps its id.
   /// @exception Error(InvalidArgument) if s is not live or p is not a unit vector.
@@ -200,8 +209,8 @@ class SphericalDelaunay {
   /// The filter's reference position of live site s (where its tolerance was computed from);
   /// call tolerance() first. For tests.
   const Vec3& reference(SiteId s) const { return reference_[s]; }
-  /// Lower bound of the tolerance of the bi-cell of four points (a, b the shared edge): see above.
-  /// Exposed for the property tests.
+  /// Lower bound of the tolerance of the bi-cell of four points (a, b the shared edge) for moves
+  /// on the sphere: see above. REQUIRES: unit vectors (|p|^2 within 2^-49 of 1). For the tests.
   static double bicell_tolerance(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
                                  double merge_distance);
   ///@}
