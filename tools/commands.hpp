@@ -37,5 +37,7 @@ SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary);
 std::function<int()> add_cells_command(CLI::App& app);
 /// Adds `geovor delaunay` (tools/delaunay_command.cpp).
 std::function<int()> add_delaunay_command(CLI::App& app);
+/// Adds `geovor relax` (tools/relax_command.cpp).
+std::function<int()> add_relax_command(CLI::App& app);
 
 }  // namespace geovor::tools

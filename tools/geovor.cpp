@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
       {"info", add_info_command(app)},
       {"cells", add_cells_command(app)},
       {"delaunay", add_delaunay_command(app)},
+      {"relax", add_relax_command(app)},
       {"index", add_index_command(app)},
       {"nearest", add_nearest_command(app)},
   };

@@ -140,12 +140,10 @@ CellCentroid cell_centroid(const VoronoiDiagram& vd, SiteId s) {
   const std::span<const TriId> tris = vd.cell_vertices(s);
   const std::span<const SiteId> nbrs = vd.cell_neighbors(s);
   const std::size_t d = tris.size();
-  // Start at the smallest neighbour: the sum does not depend on where the star starts.
-  const std::size_t k0 = static_cast<std::size_t>(std::min_element(nbrs.begin(), nbrs.end()) - nbrs.begin());
   Vec3 m{};
   double area = 0;
-  for (std::size_t j = 0; j < d; ++j) {
-    const std::size_t i = (k0 + j) % d;
+  // The diagram starts each cell at its smallest neighbour: the sum's order is canonical.
+  for (std::size_t i = 0; i < d; ++i) {
     const Vec3& a = vd.vertex(tris[i]);
     const Vec3& b = vd.vertex(tris[i + 1 == d ? 0 : i + 1]);
     const Vec3 n = normalized(p - vd.site(nbrs[i]));
@@ -248,7 +246,7 @@ LloydReport lloyd(SphericalDelaunay& dt, const LloydOptions& options,
     r.seconds = seconds_between(t0, t3);
     report.iterations.push_back(r);
     if (on_iteration) on_iteration(r);
-    if (r.max_move_rad <= options.tolerance_rad) break;
+    if (options.tolerance_rad > 0 && r.max_move_rad <= options.tolerance_rad) break;
   }
   report.final_energy = lloyd_energy(VoronoiDiagram(dt), threads);
   return report;

@@ -109,8 +109,12 @@ VoronoiDiagram::VoronoiDiagram(const SphericalDelaunay& dt) {
   cell_tris_.resize(3 * nt);
   cell_nbrs_.resize(3 * nt);
   for (const SiteId s : order_) {
-    const HalfedgeId e0 = dt.site_edge(s);
+    // Start at the edge to the smallest neighbour: the cell's lists (and the polygons and sums
+    // built from them) then do not depend on how the triangulation stores its stars.
+    HalfedgeId e0 = dt.site_edge(s);
     GEOVOR_ASSERT(e0 != kNoIndex);
+    for (HalfedgeId e = dt.next_around_site(e0), first = e0; e != first; e = dt.next_around_site(e))
+      if (tri_sites[prev_halfedge(e)] < tri_sites[prev_halfedge(e0)]) e0 = e;
     std::uint32_t i = cells_[s].begin;
     HalfedgeId e = e0;
     do {

@@ -22,8 +22,8 @@
 /// (2 area - 2 s.M is smallest for s along M); for fixed sites, the Voronoi partition minimises
 /// the sum. So E(iteration k+1) <= E(iteration k), strictly until a fixed point (a CVT).
 ///
-/// Determinism: centroids are summed in a canonical order (from the neighbour with the smallest
-/// id) and Voronoi vertices do not depend on how the triangles are stored, so the positions after
+/// Determinism: the Voronoi diagram's cells and vertices do not depend on how the triangles are
+/// stored (each cell starts at its smallest neighbour), so centroids are summed in a canonical order, so the positions after
 /// every iteration are bit-identical with every relocation strategy (whenever the triangulations
 /// are, i.e. always but for co-circular ties).
 #pragma once
@@ -56,7 +56,7 @@ struct LloydOptions {
   /// Number of iterations (each: cells, centroids, move). DEFAULT: 10. REQUIRES: >= 0.
   int iterations = 10;
   /// Stop early once the largest displacement of an iteration is at most this (radians on the
-  /// unit sphere). DEFAULT: 0 (run every iteration).
+  /// unit sphere), if > 0. DEFAULT: 0 (run every iteration).
   double tolerance_rad = 0;
   /// DEFAULT: Relocation::Filtered (the fastest; every strategy gives the same result).
   Relocation relocation = Relocation::Filtered;

@@ -13,6 +13,8 @@
 /// counter-clockwise seen from outside (SphericalDelaunay::next_around_site):
 ///  - cell_vertices(s)[i] = t_i: the cell boundary is vertex(t_0), vertex(t_1), ... in that order,
 ///    counter-clockwise around s (the cell is on the left of every edge);
+///  - the cycle starts with t_0 such that cell_neighbors(s)[0] is the smallest neighbour, so the
+///    lists do not depend on how the triangulation stores its triangles;
 ///  - cell_neighbors(s)[i] = the site across the edge from vertex(t_i) to vertex(t_{i+1}); that
 ///    edge is an arc of the bisector great circle of s and the neighbour, at most 180 degrees long
 ///    (exactly 180 degrees in the lunes of sites on one great circle and with three sites).

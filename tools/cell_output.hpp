@@ -1,0 +1,31 @@
+// The cells of a triangulation written as `geovor cells` writes them (schema, attributes of the
+// input rows, areas, neighbours, every OGR format), shared by the commands that output cells.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "geovor/delaunay/spherical_delaunay.hpp"
+#include "geovor/geo/site_reader.hpp"
+
+namespace geovor::tools {
+
+/// The output options of the cells (the --output, --format, --densify-m, --precision, --overwrite,
+/// --quiet and --threads options of `geovor cells`).
+struct CellOutputArgs {
+  std::string output;
+  std::string format;
+  double densify_m = 100;
+  int precision = 7;
+  bool overwrite = false;
+  bool quiet = false;
+  int threads = 0;  // 0: one per core
+};
+
+/// Writes the Voronoi cell of every live site of `dt` (site s built from the rows
+/// rows_of_sites(report) names) to args.output; returns the number of cells written.
+/// @exception Error as open_feature_writer and the writer.
+std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
+                        const SphericalDelaunay& dt);
+
+}  // namespace geovor::tools

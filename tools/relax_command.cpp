@@ -1,0 +1,193 @@
+// geovor relax INPUT -o OUTPUT --iterations N: Lloyd's iterations toward a spherical centroidal
+// Voronoi tessellation; writes the final cells as `geovor cells` does and, optionally, the sites.
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cell_output.hpp"
+#include "commands.hpp"
+#include "geovor/core/error.hpp"
+#include "geovor/geo/site_encoder.hpp"
+#include "geovor/io/feature_writer.hpp"
+#include "geovor/voronoi/lloyd.hpp"
+#include "site_input.hpp"
+
+namespace geovor::tools {
+namespace {
+
+struct RelaxArgs {
+  SiteInputArgs sites;
+  CellOutputArgs cells;
+  int iterations = 10;
+  std::string relocation = "filtered";
+  double tolerance_m = 0;
+  std::string sites_output;
+};
+
+// Refused before the iterations run, so that a long run is not lost to an existing file.
+void check_writable(const std::string& path, bool overwrite) {
+  if (path.empty() || path == "-" || overwrite) return;
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec)) throw Error(ErrorCode::Io, path + ": exists; use --overwrite");
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// The final sites as points: our fields, then the input columns except the positions (which no
+// longer hold), renamed src_<name> on a clash.
+void write_sites(const RelaxArgs& args, const SiteTable& table, const BuildReport& report, const SphericalDelaunay& dt,
+                 const std::vector<Vec3>& start) {
+  const auto rows = rows_of_sites(report, dt.site_capacity());
+  std::vector<Field> schema = {{"site_index", FieldType::Integer}, {"site_id", FieldType::String},
+                               {"lat_deg", FieldType::Real},       {"lon_deg", FieldType::Real},
+                               {"moved_m", FieldType::Real}};
+  std::vector<std::size_t> columns;  // input columns kept
+  for (std::size_t c = 0; c < table.columns.size(); ++c) {
+    const int ci = static_cast<int>(c);
+    if (ci == table.lat_column || ci == table.lon_column ||
+        std::find(table.ecef_columns.begin(), table.ecef_columns.end(), ci) != table.ecef_columns.end())
+      continue;
+    const bool clash = std::any_of(schema.begin(), schema.end(),
+                                   [&](const Field& f) { return lower(f.name) == lower(table.columns[c]); });
+    schema.push_back({clash ? "src_" + table.columns[c] : table.columns[c], FieldType::String});
+    columns.push_back(c);
+  }
+  WriterOptions options;
+  options.format = "";
+  options.layer = "sites";
+  options.precision = args.cells.precision;
+  options.overwrite = args.cells.overwrite;
+  options.id_field = "site_id";
+  const auto writer = open_feature_writer(args.sites_output, GeometryType::Point, schema, options);
+  std::vector<FieldValue> values(schema.size());
+  for (SiteId s = 0; s < dt.site_capacity(); ++s) {
+    if (!dt.is_live(s)) continue;
+    const InputSite& first = table.sites[rows[s].front()];
+    const LatLon ll = SiteEncoder::to_lat_lon(dt.site(s));
+    const Vec3 d = cross(start[s], dt.site(s));
+    values[0] = static_cast<std::int64_t>(s);
+    values[1] = first.id;
+    values[2] = ll.lat_deg;
+    values[3] = ll.lon_deg;
+    values[4] = std::atan2(std::sqrt(norm2(d)), dot(start[s], dt.site(s))) * SiteEncoder::kEarthRadiusM;
+    for (std::size_t k = 0; k < columns.size(); ++k)
+      values[5 + k] = columns[k] < first.fields.size() ? FieldValue(first.fields[columns[k]]) : FieldValue();
+    writer->write(LonLat{ll.lon_deg, ll.lat_deg}, values);
+  }
+  writer->finish();
+}
+
+int run(RelaxArgs& args) {
+  LloydOptions options;
+  options.iterations = args.iterations;
+  options.tolerance_rad = args.tolerance_m / SiteEncoder::kEarthRadiusM;
+  options.threads = static_cast<unsigned>(args.cells.threads);
+  if (args.relocation == "filtered")
+    options.relocation = Relocation::Filtered;
+  else if (args.relocation == "naive")
+    options.relocation = Relocation::Naive;
+  else if (args.relocation == "rebuild")
+    options.relocation = Relocation::Rebuild;
+  else
+    throw Error(ErrorCode::InvalidArgument, "--relocation: expected filtered, naive or rebuild, got '" + args.relocation + "'");
+  check_writable(args.cells.output, args.cells.overwrite);
+  check_writable(args.sites_output, args.cells.overwrite);
+  if (!args.sites_output.empty() && args.sites_output == args.cells.output)
+    throw Error(ErrorCode::InvalidArgument, "--sites-output must differ from --output");
+
+  const SiteTable table = read_site_input(args.sites);
+  const std::vector<Vec3> points = site_points(table);
+  BuildReport report;
+  SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
+  report_merges(table, report);
+  const std::vector<Vec3> start(dt.sites().begin(), dt.sites().end());
+
+  // Site ids never change (no site is removed), so the build's row report still names the rows.
+  if (!args.cells.quiet)
+    std::fprintf(stderr, "%s: %zu sites, %d iterations (%s relocation)\n%9s %22s %14s %14s %9s %9s\n",
+                 table.source.c_str(), dt.num_sites(), args.iterations, to_string(options.relocation), "iteration",
+                 "energy", "max_move_m", "mean_move_m", "filtered", "seconds");
+  const LloydReport lloyd_report = lloyd(dt, options, [&](const LloydIteration& it) {
+    if (args.cells.quiet) return;
+    std::fprintf(stderr, "%9d %22.15e %14.3f %14.3f %9zu %9.3f\n", it.iteration, it.energy, it.max_move_m,
+                 it.mean_move_m, it.moves.filtered, it.seconds);
+  });
+  std::size_t refused = 0, undefined = 0;
+  for (const LloydIteration& it : lloyd_report.iterations) {
+    refused += it.moves.refused;
+    undefined = std::max(undefined, it.undefined);
+  }
+  if (!args.cells.quiet) {
+    std::fprintf(stderr, "final energy %.15e", lloyd_report.final_energy);
+    if (refused) std::fprintf(stderr, "; %zu moves refused (centroid within the merge distance of a site)", refused);
+    if (undefined) std::fprintf(stderr, "; %zu site(s) without a centroid kept in place", undefined);
+    std::fprintf(stderr, "\n");
+  }
+
+  const std::size_t written = write_cells(args.cells, table, report, dt);
+  if (!args.sites_output.empty()) write_sites(args, table, report, dt, start);
+  if (!args.cells.quiet)
+    std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s%s%s\n",
+                 table.source.c_str(), static_cast<unsigned long long>(table.rows_read), dt.num_sites(),
+                 report.merges.size(), table.rejected.size(), written, args.cells.output.c_str(),
+                 args.sites_output.empty() ? "" : ", sites to ", args.sites_output.c_str());
+  return kOk;
+}
+
+}  // namespace
+
+std::function<int()> add_relax_command(CLI::App& app) {
+  auto args = std::make_shared<RelaxArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "relax", "Move every site to the centroid of its cell, N times (Lloyd), and write the final cells");
+  add_site_input_options(cmd, args->sites);
+  cmd->add_option("-o,--output", args->cells.output,
+                  "Output cells (- for GeoJSON on stdout), as `geovor cells` writes them; the format follows the "
+                  "extension: .geojson, .geojsons/.geojsonl, .gpkg, .fgb, .shp, .csv")
+      ->required();
+  cmd->add_option("-n,--iterations", args->iterations, "Number of Lloyd iterations (default 10)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--relocation", args->relocation,
+                  "How the triangulation follows the sites: filtered (default: tolerance filter, then flips), "
+                  "naive (remove + insert) or rebuild (from scratch); the result is the same");
+  cmd->add_option("--tolerance-m", args->tolerance_m,
+                  "Stop early once no site moves more than this many metres in an iteration (default 0: never)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--sites-output", args->sites_output,
+                  "Also write the final sites as points (site_index, site_id, lat_deg, lon_deg, moved_m, then the "
+                  "input columns but the positions), in any format --output takes");
+  cmd->add_option("--format", args->cells.format, "OGR driver name of --output, overriding the extension");
+  cmd->add_option("--densify-m", args->cells.densify_m,
+                  "Largest distance in metres between a written edge and the true great-circle arc (default 100)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--precision", args->cells.precision, "Decimals of coordinates in text formats (default 7, about 1 cm)")
+      ->check(CLI::Range(1, 17));
+  cmd->add_flag("--overwrite", args->cells.overwrite, "Replace existing output files");
+  cmd->add_flag("-q,--quiet", args->cells.quiet, "No per-iteration lines, progress or summary on stderr");
+  cmd->add_option("--threads", args->cells.threads,
+                  "Threads computing the centroids and the cells (default: one per core); the output is the same")
+      ->check(CLI::NonNegativeNumber);
+  cmd->footer(
+      "Each iteration moves every site to the centroid of its spherical Voronoi cell (the mass centre\n"
+      "projected to the sphere), toward a centroidal Voronoi tessellation. It prints on stderr the energy\n"
+      "(sum over cells of the integral of |x - site|^2 on the unit sphere, which decreases), the largest\n"
+      "and mean displacement in metres, the moves the tolerance filter certified, and the time.\n"
+      "A site whose centroid falls within the merge distance of another site stays where it was.\n"
+      "The cells carry the fields of `geovor cells` (the attributes of the input rows).\n"
+      "Exit codes: 0 ok, 2 usage error, 3 bad input data, 4 I/O error.\n"
+      "Examples:\n"
+      "  geovor relax datasets/weather_stations.csv -o relaxed.geojson --iterations 50\n"
+      "  geovor relax sites.csv -o cells.gpkg -n 100 --sites-output sites.fgb --relocation rebuild");
+  return [args] { return run(*args); };
+}
+
+}  // namespace geovor::tools
