@@ -137,19 +137,22 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
     for (std::size_t k = 0; k < n; ++k) new_id[k] = id_of_input[input_of_slot[k]];
   }
   {
-    std::vector<Vec3> sites(next);
+    // The final sites are the live input points in input order: a sequential copy instead of a
+    // scatter, after freeing the build's copy so that the two never coexist.
+    std::vector<Vec3>().swap(dt.sites_);
+    if (merges.empty()) {
+      dt.sites_.assign(points.begin(), points.end());
+    } else {
+      dt.sites_.reserve(next);
+      for (std::size_t i = 0; i < n; ++i)
+        if (id_of_input[i] != kNoIndex) dt.sites_.push_back(points[i]);
+    }
     std::vector<HalfedgeId> site_edge(next);
     for (std::size_t k = 0; k < n; ++k) {
-      if (k + kAhead < n && new_id[k + kAhead] != kNoIndex) {
-        __builtin_prefetch(&sites[new_id[k + kAhead]], 1);
-        __builtin_prefetch(&site_edge[new_id[k + kAhead]], 1);
-      }
-      if (new_id[k] == kNoIndex) continue;
-      sites[new_id[k]] = dt.sites_[k];
-      site_edge[new_id[k]] = dt.site_edge_[k];
+      if (k + kAhead < n && new_id[k + kAhead] != kNoIndex) __builtin_prefetch(&site_edge[new_id[k + kAhead]], 1);
+      if (new_id[k] != kNoIndex) site_edge[new_id[k]] = dt.site_edge_[k];
     }
-    peak = std::max(peak, dt.memory_bytes() + (sites.capacity() + site_edge.capacity()) * 8);
-    dt.sites_ = std::move(sites);
+    peak = std::max(peak, dt.memory_bytes() + site_edge.capacity() * sizeof(HalfedgeId));
     dt.site_edge_ = std::move(site_edge);
   }
   for (SiteId& s : dt.triangles_) s = new_id[s];
@@ -244,10 +247,9 @@ InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
   // (every vertex of a disk-shaped cavity is): the merge test needs no search of its own.
   SiteId closest = kNoIndex;
   double best = md2;
-  for (const HalfedgeId e : boundary_) {
-    const SiteId a = triangles_[e] & ~kMark;  // entry 0 of a cavity triangle carries the mark
-    const double d2 = chord2(p, sites_[a]);
-    if (d2 < best) best = d2, closest = a;
+  for (const CavityEdge& b : boundary_) {
+    const double d2 = chord2(p, sites_[b.a]);
+    if (d2 < best) best = d2, closest = b.a;
   }
   if (closest != kNoIndex) {
     abandon_cavity();
@@ -326,9 +328,9 @@ SphericalDelaunay::Placement SphericalDelaunay::place(const Vec3& p, std::uint32
   tested_.clear();
   // Slow path: walk to the nearest site; a point on or next to it merges before any exhaustive
   // search (a duplicate can be hidden inside the hull).
-  const Placement near = nearest_site(p, hint);
-  if (near.merged_into != kNoIndex) return near;
   const SiteId v = walk_to_nearest(p, hint);
+  const Placement near = nearest_site(p, v);  // its walk starts at the end: no step
+  if (near.merged_into != kNoIndex) return near;
   where.conflict = find_conflict(p, prio, v);
   if (where.conflict == kNoIndex) {
     // No triangle in conflict: p lies inside the hull, which the minimum separation excludes;
@@ -377,28 +379,31 @@ void SphericalDelaunay::find_cavity(const Vec3& p, std::uint32_t prio, TriId see
   // Grow the set of triangles in conflict with p (connected: the faces of the hull visible from
   // p), breadth first with cavity_ as the queue, marking faces so each is tested once.
   cavity_.push_back(seed);
-  triangles_[3 * seed] |= kMark;
+  SiteId* const tri = triangles_.data();  // no reallocation below
+  const HalfedgeId* const twin = halfedges_.data();
+  tri[3 * seed] |= kMark;
   for (std::size_t next = 0; next < cavity_.size(); ++next) {
     const TriId t = cavity_[next];
+    // Entry 0 of t carries the cavity mark: the boundary records strip it.
+    const SiteId v[3] = {tri[3 * t] & ~kMark, tri[3 * t + 1], tri[3 * t + 2]};
     for (int j = 0; j < 3; ++j) {
-      const HalfedgeId e = 3 * t + j;
-      const TriId nt = tri_of(halfedges_[e]);
-      if (triangles_[3 * nt] & kMark) continue;  // in the cavity: an inner edge
-      if (triangles_[3 * nt + 1] & kMark) {      // tested before, not in conflict
-        boundary_.push_back(e);
-        continue;
-      }
-      if (in_conflict(nt, p, prio)) {
-        triangles_[3 * nt] |= kMark;
-        cavity_.push_back(nt);
-      } else {
-        triangles_[3 * nt + 1] |= kMark;
+      const HalfedgeId o = twin[3 * t + j];
+      const TriId nt = tri_of(o);
+      const SiteId n0 = tri[3 * nt], n1 = tri[3 * nt + 1];
+      if (n0 & kMark) continue;  // in the cavity: an inner edge
+      if (!(n1 & kMark)) {       // not tested before
+        if (in_conflict(nt, p, prio)) {
+          tri[3 * nt] = n0 | kMark;
+          cavity_.push_back(nt);
+          continue;
+        }
+        tri[3 * nt + 1] = n1 | kMark;
         tested_.push_back(nt);
-        boundary_.push_back(e);
       }
+      boundary_.push_back({v[j], v[j == 2 ? 0 : j + 1], o});
     }
   }
-  for (const TriId t : tested_) triangles_[3 * t + 1] &= ~kMark;
+  for (const TriId t : tested_) tri[3 * t + 1] &= ~kMark;
   // The cavity's marks stay: fill_cavity() overwrites those triangles, abandon_cavity() clears.
 }
 
@@ -410,44 +415,34 @@ void SphericalDelaunay::fill_cavity(SiteId s) {
   GEOVOR_ASSERT(boundary_.size() == cavity_.size() + 2);
   // Replace the cavity by the fan of triangles (a, b, s), one per boundary edge a -> b, reusing
   // the cavity's slots and adding two.
-  struct Edge {
-    SiteId a, b;
-    HalfedgeId outer;
-  };
-  Edge edges[64];
-  std::vector<Edge> many;
-  Edge* bnd = edges;
-  if (boundary_.size() > 64) {
-    many.resize(boundary_.size());
-    bnd = many.data();
-  }
-  for (std::size_t k = 0; k < boundary_.size(); ++k) {
-    const HalfedgeId e = boundary_[k];
-    bnd[k] = {triangles_[e] & ~kMark, triangles_[next_halfedge(e)] & ~kMark, halfedges_[e]};
-  }
   const TriId first_new = static_cast<TriId>(num_triangles());
   triangles_.resize(triangles_.size() + 6);
   halfedges_.resize(halfedges_.size() + 6);
-  auto slot = [&](std::size_t k) {
-    return k < cavity_.size() ? cavity_[k] : first_new + static_cast<TriId>(k - cavity_.size());
-  };
-  for (std::size_t k = 0; k < boundary_.size(); ++k) {
-    const TriId t = slot(k);
-    const Edge& b = bnd[k];
-    triangles_[3 * t] = b.a;
-    triangles_[3 * t + 1] = b.b;
-    triangles_[3 * t + 2] = s;
-    halfedges_[3 * t] = b.outer;
-    halfedges_[b.outer] = 3 * t;
-    site_edge_[b.a] = 3 * t;  // every boundary vertex starts exactly one boundary edge
+  cavity_.push_back(first_new);  // cavity_[k] is the slot of the k-th fan triangle
+  cavity_.push_back(first_new + 1);
+  const std::size_t nb = boundary_.size();
+  const CavityEdge* const bnd = boundary_.data();
+  const TriId* const slot = cavity_.data();
+  SiteId* const tri = triangles_.data();
+  HalfedgeId* const twin = halfedges_.data();
+  HalfedgeId* const site_edge = site_edge_.data();
+  for (std::size_t k = 0; k < nb; ++k) {
+    const HalfedgeId e = 3 * slot[k];
+    const CavityEdge& b = bnd[k];
+    tri[e] = b.a;  // also clears the cavity mark
+    tri[e + 1] = b.b;
+    tri[e + 2] = s;
+    twin[e] = b.outer;
+    twin[b.outer] = e;
+    site_edge[b.a] = e;  // every boundary vertex starts exactly one boundary edge
   }
-  for (std::size_t k = 0; k < boundary_.size(); ++k) {
-    const TriId t = slot(k);
-    const TriId u = tri_of(site_edge_[bnd[k].b]);  // the fan triangle whose boundary edge leaves b
-    halfedges_[3 * t + 1] = 3 * u + 2;
-    halfedges_[3 * u + 2] = 3 * t + 1;
+  for (std::size_t k = 0; k < nb; ++k) {
+    const HalfedgeId e = 3 * slot[k];
+    const HalfedgeId f = site_edge[bnd[k].b];  // the fan triangle whose boundary edge leaves b
+    twin[e + 1] = f + 2;
+    twin[f + 2] = e + 1;
   }
-  site_edge_[s] = 3 * slot(0) + 2;
+  site_edge[s] = 3 * slot[0] + 2;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -320,8 +320,12 @@ class SphericalDelaunay {
   SiteId last_site_ = kNoIndex;           // hint for the next walk
 
   // Scratch of one insertion, kept to avoid allocations.
+  struct CavityEdge {
+    SiteId a, b;       // the boundary edge a -> b of the cavity
+    HalfedgeId outer;  // its twin, in the triangle outside
+  };
   std::vector<TriId> cavity_, tested_;
-  std::vector<HalfedgeId> boundary_;
+  std::vector<CavityEdge> boundary_;
 
   // Relocation (Algorithm 1): reference positions and squared tolerances, empty when not current.
   std::vector<Vec3> reference_;
