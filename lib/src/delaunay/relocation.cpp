@@ -44,13 +44,14 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
   if (positions.size() != sites_.size())
     throw Error(ErrorCode::InvalidArgument, "move_all: " + std::to_string(positions.size()) +
                                                 " positions for " + std::to_string(sites_.size()) + " site ids");
+  // Sites staying put (most of them, when few move) cost one comparison.
   for (SiteId s = 0; s < sites_.size(); ++s)
-    if (alive(s) && !is_unit(positions[s]))
+    if (!(positions[s] == sites_[s]) && alive(s) && !is_unit(positions[s]))
       throw Error(ErrorCode::InvalidArgument, "move_all: position of site " + std::to_string(s) + " is not a unit vector");
   GEOVOR_ASSERT(priority_.empty());
   MoveStats total;
   for (SiteId s = 0; s < sites_.size(); ++s)
-    if (alive(s)) total += move_one(s, positions[s], options);
+    if (!(positions[s] == sites_[s]) && alive(s)) total += move_one(s, positions[s], options);
   if (total.moved) touch();
   return total;
 }
@@ -299,17 +300,6 @@ bool SphericalDelaunay::relocate_by_flips(SiteId s, const Vec3& p) {
 
 namespace {
 
-// Upper bound of |u x v|^2 for vectors u, v computed as differences of doubles (each component
-// within a relative 2^-53 of the exact difference): per component, the rounding of the two
-// products, the subtraction and of u, v is below 2^-49 of the sum of the products' magnitudes.
-double cross_norm2_upper(const Vec3& u, const Vec3& v) {
-  const double p1 = u.y * v.z, p2 = u.z * v.y, q1 = u.z * v.x, q2 = u.x * v.z, r1 = u.x * v.y, r2 = u.y * v.x;
-  const double cx = std::fabs(p1 - p2) + 0x1p-49 * (std::fabs(p1) + std::fabs(p2));
-  const double cy = std::fabs(q1 - q2) + 0x1p-49 * (std::fabs(q1) + std::fabs(q2));
-  const double cz = std::fabs(r1 - r2) + 0x1p-49 * (std::fabs(r1) + std::fabs(r2));
-  return cx * cx + cy * cy + cz * cz;
-}
-
 // Lower bound of half the minimal width of the tetrahedron (a, b, c, d), up to a relative
 // rounding of a few 2^-53 that the caller's margin covers; 0 when (nearly) flat.
 double half_width_lower(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
@@ -322,10 +312,14 @@ double half_width_lower(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3&
   // v (of the face, or the two opposite edges); the width of a tetrahedron is the least of these
   // seven (it is attained by a face and a vertex or by two edges): 6V over the largest |u x v|.
   const Vec3 ab = b - a, ac = c - a, ad = d - a, bc = c - b, bd = d - b, cd = d - c;
-  const double m2 = std::max({cross_norm2_upper(ab, ac), cross_norm2_upper(ab, ad), cross_norm2_upper(ac, ad),
-                              cross_norm2_upper(bc, bd), cross_norm2_upper(ab, cd), cross_norm2_upper(ac, bd),
-                              cross_norm2_upper(ad, bc)});
-  return volume6 / (2 * std::sqrt(m2));
+  const double m2 = std::max({norm2(cross(ab, ac)), norm2(cross(ab, ad)), norm2(cross(ac, ad)),
+                              norm2(cross(bc, bd)), norm2(cross(ab, cd)), norm2(cross(ac, bd)),
+                              norm2(cross(ad, bc))});
+  // Rounding: the edges are within 2^-53 per component, each product and difference too, so each
+  // component of a cross product is within 8 2^-53 L^2 of the exact one (L the longest edge), its
+  // norm within 2^-49 L^2.
+  const double l2 = std::max({norm2(ab), norm2(ac), norm2(ad), norm2(bc), norm2(bd), norm2(cd)});
+  return volume6 / (2 * (std::sqrt(m2) + 0x1p-48 * l2));
 }
 
 // The bound for points moving on the sphere (see spherical_delaunay.hpp): the four points seen
