@@ -178,7 +178,7 @@ class SphericalDelaunay {
   ///  - the edge term keeps every edge longer than the merge distance; the nearest site of a site
   ///    is a Delaunay neighbour, so a filtered move never comes within the merge distance of one.
   /// tau is computed in doubles and shrunk by certified bounds of the rounding (Shewchuk's orient3d
-  /// bound for the volume, per-component bounds for the cross products, 2^-48 per point for T's
+  /// bound for the volume, 2^-48 L^2 for the cross products of edges up to L, 2^-48 per point for T's
   /// images, a relative 2^-46 margin for the rest), so it stays a lower bound; a coplanar (tied)
   /// bi-cell gets 0. As in Algorithm 1, a real relocation of s sets f_s to its new position and
   /// recomputes the tolerances of the bi-cells it changed (lowering their other sites' eps); a site
