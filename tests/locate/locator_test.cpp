@@ -77,13 +77,23 @@ void expect_all_strategies_exact(const DelaunayHierarchy& h, const std::vector<V
   std::vector<SiteId> truth(queries.size());
   for (std::size_t i = 0; i < queries.size(); ++i) truth[i] = brute_nearest(h.base(), queries[i]);
   for (const LocateStrategy strategy : kAll) {
+    // Walking the packed copy from the first query, and walking the hierarchy itself (on a
+    // prefix: the same templated code, another layout).
     Locator locator(h, {strategy});
-    std::size_t wrong = 0;
+    locator.prepare();
+    LocatorOptions direct{strategy};
+    direct.packed = false;
+    Locator plain(h, direct);
+    std::size_t wrong = 0, wrong_plain = 0;
     for (std::size_t i = 0; i < queries.size(); ++i) {
       const NearestResult r = locator.nearest(queries[i]);
       if (r.site != truth[i]) ++wrong;
+      if (i < 20000 && plain.nearest(queries[i]).site != truth[i]) ++wrong_plain;
     }
+    EXPECT_NE(locator.walk_graph(), nullptr);
+    EXPECT_EQ(plain.walk_graph(), nullptr);
     EXPECT_EQ(wrong, 0u) << what << ": " << to_string(strategy);
+    EXPECT_EQ(wrong_plain, 0u) << what << ": " << to_string(strategy) << " on the hierarchy itself";
   }
 }
 
@@ -238,6 +248,50 @@ TEST(Locator, AfterInsertAndRemove) {
   for (const LocateStrategy strategy : kAll) {
     Locator locator(h, {strategy});
     for (const Vec3& q : testing::uniform_on_sphere(3000, 42)) ASSERT_EQ(locator.nearest(q).site, brute_nearest(h.base(), q));
+  }
+}
+
+// The packed copy is a cache of the hierarchy: every change must be noticed at the next query
+// (answers from the hierarchy itself), and the copy rebuilt once queries come without changes.
+TEST(Locator, StaysExactWhileTheHierarchyChanges) {
+  const auto pts = testing::uniform_on_sphere(8000, 61);
+  const auto queries = testing::uniform_on_sphere(4000, 62);
+  DelaunayHierarchy h = DelaunayHierarchy::build(std::span(pts).first(5000));
+  for (const LocateStrategy strategy : {LocateStrategy::KeepJumpClimb, LocateStrategy::Hierarchy, LocateStrategy::Walk}) {
+    LocatorOptions options{strategy};
+    options.rebuild_after = 50;
+    Locator locator(h, options);
+    locator.prepare();
+    ASSERT_NE(locator.walk_graph(), nullptr);
+    std::size_t next_point = 5000, qi = 0;
+    SiteId next_removal = 0;
+    for (int round = 0; round < 12; ++round) {
+      // One change per query for a while (insert, remove, alternately), then calm.
+      for (int k = 0; k < 40; ++k, ++qi) {
+        if (k % 2 == 0 && next_point < pts.size()) {
+          h.insert(pts[next_point++]);
+        } else {
+          while (!h.base().is_live(next_removal)) ++next_removal;
+          h.remove(next_removal++);
+        }
+        const Vec3& q = queries[qi % queries.size()];
+        ASSERT_EQ(locator.nearest(q).site, brute_nearest(h.base(), q)) << "round " << round << " after a change";
+        EXPECT_EQ(locator.walk_graph(), nullptr);  // stale copy dropped
+      }
+      for (int k = 0; k < 120; ++k, ++qi) {
+        const Vec3& q = queries[qi % queries.size()];
+        ASSERT_EQ(locator.nearest(q).site, brute_nearest(h.base(), q)) << "round " << round << " calm";
+      }
+      ASSERT_NE(locator.walk_graph(), nullptr);  // rebuilt after rebuild_after calm queries
+      EXPECT_TRUE(locator.walk_graph()->matches(h));
+    }
+    // A whole new hierarchy in the same object.
+    h = DelaunayHierarchy::build(std::span(pts).subspan(1000, 3000));
+    for (int k = 0; k < 200; ++k) {
+      const Vec3& q = queries[k];
+      ASSERT_EQ(locator.nearest(q).site, brute_nearest(h.base(), q)) << "after the hierarchy was replaced";
+    }
+    h = DelaunayHierarchy::build(std::span(pts).first(5000));
   }
 }
 

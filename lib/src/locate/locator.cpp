@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <queue>
 #include <thread>
 #include <unordered_set>
@@ -89,6 +90,68 @@ double great_circle_m(const Vec3& a, const Vec3& b) {
   return SiteEncoder::kEarthRadiusM * std::atan2(std::sqrt(norm2(cross(a, b))), dot(a, b));
 }
 
+namespace {
+
+// The two layouts the strategies walk, with one interface. Nodes are WalkGraph nodes or site ids.
+struct PackedView {
+  const WalkGraph& g;
+  int num_levels() const { return g.num_levels(); }
+  bool empty(int l) const { return g.num_nodes(l) == 0; }
+  std::uint32_t any(int) const { return WalkGraph::any_node(); }
+  Vec3 point(int l, std::uint32_t v) const { return g.point(l, v); }
+  std::uint32_t up(int l, std::uint32_t v) const { return g.up(l, v); }
+  std::uint32_t down(int l, std::uint32_t v) const { return g.down(l, v); }
+  SiteId site_of(std::uint32_t v) const { return g.site_of(v); }
+  std::uint32_t node_of(SiteId s) const { return g.node_of(s); }
+  template <class F>
+  void for_each_neighbour(int l, std::uint32_t v, F&& f) const {
+    g.for_each_neighbour(l, v, f);
+  }
+};
+
+struct HierarchyView {
+  const DelaunayHierarchy& h;
+  int num_levels() const { return h.num_levels(); }
+  bool empty(int l) const { return h.level(l).num_sites() == 0; }
+  std::uint32_t any(int l) const {
+    const SphericalDelaunay& dt = h.level(l);
+    for (SiteId s = 0; s < dt.site_capacity(); ++s)
+      if (dt.is_live(s)) return s;
+    return kNoIndex;
+  }
+  Vec3 point(int l, std::uint32_t v) const { return h.level(l).site(v); }
+  std::uint32_t up(int l, std::uint32_t v) const { return l + 1 < h.num_levels() ? h.up(l, v) : kNoIndex; }
+  std::uint32_t down(int l, std::uint32_t v) const { return h.down(l, v); }
+  SiteId site_of(std::uint32_t v) const { return v; }
+  std::uint32_t node_of(SiteId s) const { return s; }
+  template <class F>
+  void for_each_neighbour(int l, std::uint32_t v, F&& f) const {
+    const SphericalDelaunay& dt = h.level(l);
+    if (dt.num_triangles() == 0) {  // fewer than 3 sites: each is the others' neighbour
+      for (SiteId s = 0; s < dt.site_capacity(); ++s)
+        if (s != v && dt.is_live(s)) f(s, dt.site(s));
+      return;
+    }
+    const SiteId* tri = dt.triangles().data();
+    const HalfedgeId e0 = dt.site_edge(v);
+    HalfedgeId e = e0;
+    do {
+      const SiteId w = tri[next_halfedge(e)];
+      f(w, dt.site(w));
+      e = dt.next_around_site(e);
+    } while (e != e0);
+  }
+};
+
+// A climbing walk climbs only after this many steps: the first steps from a kept answer are
+// short, and the level above would cost a descent back.
+constexpr int kNoClimbSteps = 1;
+
+// Above this many sites the packed copy's 32-bit record offsets could overflow: walk the hierarchy.
+constexpr std::size_t kMaxPackedSites = std::size_t{1} << 28;
+
+}  // namespace
+
 Locator::Locator(const DelaunayHierarchy& hierarchy, const LocatorOptions& options)
     : h_(&hierarchy), options_(options) {
   reset();
@@ -105,9 +168,17 @@ void Locator::reset() {
     }
   }
   num_landmarks_ = std::max<std::uint32_t>(num_landmarks_, 1);
+  cos_start_.fill(-2.0);
+  for (int l = 0; l + 1 < h_->num_levels(); ++l) {
+    const double n_l = static_cast<double>(std::max<std::size_t>(h_->level(l).num_sites(), 1));
+    const double rad = (l == 0 ? options_.far_spacings : options_.level_spacings) * std::sqrt(4 * std::numbers::pi / n_l);
+    cos_start_[static_cast<std::size_t>(l)] = rad < std::numbers::pi ? std::cos(rad) : -2.0;
+  }
   landmarks_.clear();
+  sample_.clear();
+  landmarks_ready_ = false;
   next_landmark_ = 0;
-  last_ = kNoIndex;
+  last_.nodes.fill(kNoIndex);
   if (options_.strategy == LocateStrategy::JumpWalk) {
     // A fixed random sample of live sites.
     const SphericalDelaunay& base = h_->base();
@@ -118,72 +189,110 @@ void Locator::reset() {
         state = mix(state + 0x9e3779b97f4a7c15ULL);
         s = static_cast<SiteId>(state % base.site_capacity());
       } while (!base.is_live(s));
-      landmarks_.push_back(s);
+      sample_.push_back(s);
     }
   }
 }
 
-SiteId Locator::any_site(int level) const {
-  const SphericalDelaunay& dt = h_->level(level);
-  for (SiteId s = 0; s < dt.site_capacity(); ++s)
-    if (dt.is_live(s)) return s;
-  return kNoIndex;
+void Locator::prepare() {
+  if (options_.packed && h_->base().num_sites() <= kMaxPackedSites && (graph_ == nullptr || !graph_->matches(*h_))) {
+    graph_ = WalkGraph::shared(*h_);
+    seen_.clear();
+    for (int l = 0; l < h_->num_levels(); ++l) seen_.push_back(h_->level(l).revision());
+    reset();
+  }
+}
+
+// Picks the layout for this query: the packed copy while it is current; otherwise the hierarchy
+// itself, until rebuild_after queries found it unchanged (from the first query, or since the last
+// change): a stream too short to pay for the copy never builds it.
+void Locator::sync() {
+  if (graph_ != nullptr && graph_->matches(*h_)) return;
+  bool same = seen_.size() == static_cast<std::size_t>(h_->num_levels());
+  for (std::size_t l = 0; same && l < seen_.size(); ++l) same = seen_[l] == h_->level(static_cast<int>(l)).revision();
+  if (!same) {  // the first query, or the hierarchy changed
+    seen_.clear();
+    for (int l = 0; l < h_->num_levels(); ++l) seen_.push_back(h_->level(l).revision());
+    graph_.reset();
+    unchanged_queries_ = 0;
+    reset();
+    return;
+  }
+  if (!options_.packed || h_->base().num_sites() > kMaxPackedSites) return;
+  const std::uint64_t after =
+      options_.rebuild_after > 0 ? options_.rebuild_after : std::max<std::uint64_t>(1024, h_->base().num_sites() / 8);
+  if (++unchanged_queries_ < after) return;
+  graph_ = WalkGraph::shared(*h_);
+  reset();
 }
 
 // Greedy walk in doubles at one level: moves to the best neighbour while it is better. With
-// stop_at_up (Climb), it stops as soon as a site seen on the way (the current site or one of
-// its neighbours) also lives on the level above, as the thesis' walk stops at a cell with such a
-// vertex (§8.4), and sets *climb; it does not stop where the walk ends anyway.
-SiteId Locator::walk(int level, const Vec3& q, SiteId v, bool stop_at_up, bool* climb) {
+// stop_at_up (Climb), after kNoClimbSteps steps it stops as soon as a site seen on the way (the
+// current site or one of its neighbours) also lives on the level above, as the thesis' walk
+// stops at a cell with such a vertex (§8.4), and sets *climb; it does not stop where the walk
+// ends anyway. At its end, *margin = dot(q, v) - the largest dot(q, w) of v's neighbours.
+template <class G>
+std::uint32_t Locator::walk(const G& g, int level, const Vec3& q, std::uint32_t v, bool stop_at_up, bool* climb,
+                            double* margin) {
   if (climb) *climb = false;
-  const SphericalDelaunay& dt = h_->level(level);
-  if (dt.num_triangles() == 0) {  // fewer than 3 sites: look at all of them
-    for (SiteId s = 0; s < dt.site_capacity(); ++s)
-      if (dt.is_live(s) && dot(q, dt.site(s)) > dot(q, dt.site(v))) v = s;
-    return v;
-  }
-  const bool can_climb = stop_at_up && level + 1 < h_->num_levels();
-  double best = dot(q, dt.site(v));
-  const SiteId* tri = dt.triangles().data();
-  bool first = true;
-  for (;;) {
-    const HalfedgeId e0 = dt.site_edge(v);
-    HalfedgeId e = e0;
-    SiteId next = v, up_site = kNoIndex;
-    double up_best = -3;
-    do {
-      const SiteId w = tri[next_halfedge(e)];
-      const double d = dot(q, dt.site(w));
+  const bool can_climb = stop_at_up && level + 1 < g.num_levels();
+  double best = dot(q, g.point(level, v));
+  for (int step = 0;; ++step) {
+    std::uint32_t next = v, up_site = kNoIndex;
+    double up_best = -3, ring = -3;
+    const bool look_up = can_climb && step >= kNoClimbSteps;
+    g.for_each_neighbour(level, v, [&](std::uint32_t w, const Vec3& p) {
+      const double d = dot(q, p);
+      ring = std::max(ring, d);
       if (d > best) best = d, next = w;
-      if (can_climb && d > up_best && h_->up(level, w) != kNoIndex) up_best = d, up_site = w;
-      e = dt.next_around_site(e);
-    } while (e != e0);
-    if (next == v) return v;  // the nearest site of this level
-    if (can_climb && !first && h_->up(level, v) != kNoIndex) up_site = v;
+      if (look_up && d > up_best && g.up(level, w) != kNoIndex) up_best = d, up_site = w;
+    });
+    if (next == v) {  // the nearest site of this level
+      *margin = best - ring;
+      return v;
+    }
+    if (look_up && step > 0 && g.up(level, v) != kNoIndex) up_site = v;
     if (up_site != kNoIndex) {
       *climb = true;
       return up_site;
     }
     v = next;
-    first = false;
     ++stats_.steps;
   }
 }
 
-SiteId Locator::descend(const Vec3& q, int level, SiteId v) {
-  for (; level > 0; --level) v = walk(level - 1, q, h_->down(level, v), false, nullptr);
+template <class G>
+std::uint32_t Locator::descend(const G& g, const Vec3& q, int level, std::uint32_t v, double* margin) {
+  for (; level > 0; --level) path_[static_cast<std::size_t>(level) - 1] = v = walk(g, level - 1, q, g.down(level, v), false, nullptr, margin);
   return v;
+}
+
+template <class G>
+std::uint32_t Locator::from_top(const G& g, const Vec3& q, double* margin) {
+  int top = g.num_levels() - 1;
+  while (top > 0 && g.empty(top)) --top;  // cannot happen after remove()
+  return from_level(g, q, top, g.any(top), margin);
+}
+
+template <class G>
+std::uint32_t Locator::from_level(const G& g, const Vec3& q, int level, std::uint32_t v, double* margin) {
+  path_[static_cast<std::size_t>(level)] = v = walk(g, level, q, v, false, nullptr, margin);
+  return descend(g, q, level, v, margin);
 }
 
 // Thesis §8.4: walk at level 0; on meeting a site of level 1, continue the walk there, and so
 // on up; when a walk ends (at the nearest site of its level), descend the hierarchy.
-SiteId Locator::climb_and_descend(const Vec3& q, SiteId v) {
+template <class G>
+std::uint32_t Locator::climb_and_descend(const G& g, const Vec3& q, std::uint32_t v, double* margin) {
   int level = 0;
   for (;;) {
     bool climb = false;
-    v = walk(level, q, v, true, &climb);
-    if (!climb) return descend(q, level, v);
-    v = h_->up(level, v);
+    v = walk(g, level, q, v, true, &climb, margin);
+    if (!climb) {
+      path_[static_cast<std::size_t>(level)] = v;
+      return descend(g, q, level, v, margin);
+    }
+    v = g.up(level, v);
     ++level;
     ++stats_.climbs;
   }
@@ -241,53 +350,88 @@ SiteId Locator::certify(const Vec3& q, SiteId v) {
   return best;
 }
 
-SiteId Locator::start_site(const Vec3& q) {
-  const SphericalDelaunay& base = h_->base();
-  const bool last_ok = last_ != kNoIndex && base.is_live(last_);
-  auto best_landmark = [&]() {
-    SiteId best = last_ok ? last_ : kNoIndex;
-    double best_d = best == kNoIndex ? -2.0 : dot(q, base.site(best));
-    for (const SiteId s : landmarks_) {
-      if (!base.is_live(s)) continue;
-      const double d = dot(q, base.site(s));
-      if (d > best_d) best_d = d, best = s;
+template <class G>
+SiteId Locator::locate(const G& g, const Vec3& q) {
+  if (!landmarks_ready_) {
+    for (const SiteId s : sample_) {
+      Landmark l{h_->base().site(s), {}};
+      l.nodes.fill(kNoIndex);
+      l.nodes[0] = g.node_of(s);
+      landmarks_.push_back(l);
     }
-    return best == kNoIndex ? any_site(0) : best;
-  };
+    landmarks_ready_ = true;
+  }
+  // The nearest of the previous answer and the landmarks.
+  const Landmark* start = last_.nodes[0] != kNoIndex ? &last_ : nullptr;
+  double start_d = start != nullptr ? dot(q, last_.p) : -3.0;
+  for (const Landmark& l : landmarks_) {
+    const double d = dot(q, l.p);
+    if (d > start_d) start_d = d, start = &l;
+  }
+  path_.fill(kNoIndex);
+  double margin = 0;
+  std::uint32_t v = kNoIndex;
+  const std::uint32_t v0 = start != nullptr ? start->nodes[0] : g.any(0);
   switch (options_.strategy) {
     case LocateStrategy::Walk:
-      return walk(0, q, last_ok ? last_ : any_site(0), false, nullptr);
     case LocateStrategy::JumpWalk:
     case LocateStrategy::KeepJumpWalk:
-      return walk(0, q, best_landmark(), false, nullptr);
-    case LocateStrategy::Hierarchy: {
-      int top = h_->num_levels() - 1;
-      while (top > 0 && h_->level(top).num_sites() == 0) --top;  // cannot happen after remove()
-      return descend(q, top, walk(top, q, any_site(top), false, nullptr));
-    }
+      v = walk(g, 0, q, v0, false, nullptr, &margin);
+      break;
+    case LocateStrategy::Hierarchy:
+      v = from_top(g, q, &margin);
+      break;
     case LocateStrategy::Climb:
-      return climb_and_descend(q, last_ok ? last_ : any_site(0));
-    case LocateStrategy::KeepJumpClimb:
-      return climb_and_descend(q, best_landmark());
+      v = climb_and_descend(g, q, v0, &margin);
+      break;
+    case LocateStrategy::KeepJumpClimb: {
+      // Near: climb from the landmark. Far: jump to the landmark's nearest site on the lowest
+      // level whose spacing suits the distance, walk and descend from there.
+      int level = 0;
+      const int top = g.num_levels() - 1;
+      while (level < top && start_d < cos_start_[static_cast<std::size_t>(level)]) ++level;
+      if (start == nullptr) {
+        v = from_top(g, q, &margin);
+      } else if (level == 0) {
+        v = climb_and_descend(g, q, v0, &margin);
+      } else if (start->nodes[static_cast<std::size_t>(level)] != kNoIndex) {
+        v = from_level(g, q, level, start->nodes[static_cast<std::size_t>(level)], &margin);
+        ++stats_.climbs;
+      } else {
+        v = from_top(g, q, &margin);
+      }
+      break;
+    }
   }
-  return any_site(0);
+  // Every neighbour of v is farther by more than twice the rounding bound of a dot product
+  // (gamma_3 sum |q_i p_i| <= 3.4e-16 |q|_1 for |p| <= 1 + 2^-50): v is exactly the unique
+  // nearest. Otherwise the exact walk decides, ties included.
+  SiteId s = g.site_of(v);
+  const double bound = 1e-15 * (std::fabs(q.x) + std::fabs(q.y) + std::fabs(q.z)) + 1e-300;
+  if (!(margin > bound)) {
+    s = certify(q, s);
+    v = g.node_of(s);
+  }
+  path_[0] = v;
+  last_ = {g.point(0, v), path_};
+  if (options_.strategy == LocateStrategy::KeepJumpWalk || options_.strategy == LocateStrategy::KeepJumpClimb) {
+    if (landmarks_.size() < num_landmarks_) {
+      landmarks_.push_back(last_);
+    } else {
+      landmarks_[next_landmark_] = last_;
+      next_landmark_ = (next_landmark_ + 1) % num_landmarks_;
+    }
+  }
+  return s;
 }
 
 NearestResult Locator::nearest(const Vec3& q) {
   const SphericalDelaunay& base = h_->base();
   if (base.num_sites() == 0) return {};
+  sync();
   ++stats_.queries;
-  const SiteId v = certify(q, start_site(q));
-  last_ = v;
-  if (options_.strategy == LocateStrategy::KeepJumpWalk || options_.strategy == LocateStrategy::KeepJumpClimb) {
-    if (landmarks_.size() < num_landmarks_) {
-      landmarks_.push_back(v);
-    } else {
-      landmarks_[next_landmark_] = v;
-      next_landmark_ = (next_landmark_ + 1) % num_landmarks_;
-    }
-  }
-  return {v, great_circle_m(q, base.site(v))};
+  const SiteId s = graph_ != nullptr ? locate(PackedView{*graph_}, q) : locate(HierarchyView{*h_}, q);
+  return {s, great_circle_m(q, last_.p)};  // last_.p: the answer's coordinates, already in cache
 }
 
 std::vector<NearestResult> Locator::k_nearest(const Vec3& q, std::size_t k) {
@@ -348,8 +492,13 @@ void nearest_batch(const DelaunayHierarchy& hierarchy, std::span<const Vec3> que
                    std::span<NearestResult> out, int threads, const LocatorOptions& options) {
   if (out.size() < queries.size()) throw Error(ErrorCode::InvalidArgument, "nearest_batch: output too small");
   threads = std::max(1, std::min<int>(threads, static_cast<int>(queries.size() / 1024) + 1));
+  // A batch long enough to pay for the packed copy gets it now, shared by every thread.
+  Locator prototype(hierarchy, options);
+  const std::uint64_t after =
+      options.rebuild_after > 0 ? options.rebuild_after : std::max<std::uint64_t>(1024, hierarchy.base().num_sites() / 8);
+  if (queries.size() >= after) prototype.prepare();
   auto run = [&](std::size_t begin, std::size_t end) {
-    Locator locator(hierarchy, options);
+    Locator locator = prototype;
     for (std::size_t i = begin; i < end; ++i) out[i] = locator.nearest(queries[i]);
   };
   if (threads == 1) {

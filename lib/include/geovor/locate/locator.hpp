@@ -16,18 +16,31 @@
 /// the geocentric directions (see geo/site_encoder.hpp). With nearest_geodesic() the answer is the
 /// nearest site on the WGS84 ellipsoid instead (GeographicLib's geodesics).
 ///
+/// The walks run on a WalkGraph (walk_graph.hpp), a Hilbert-ordered packed copy of the hierarchy
+/// shared by the Locators of one hierarchy state, built once the stream is long enough to pay
+/// for it (LocatorOptions::packed, rebuild_after) or by prepare().
+/// Keep Jump & Climb descends from the top of the hierarchy instead of climbing when its best
+/// landmark is far (LocatorOptions::far_spacings). The last walk's final ring certifies the answer
+/// when every neighbour is worse by more than the dot products' rounding bound; otherwise the
+/// exact walk does.
+///
 /// A Locator is not thread-safe (it keeps its landmarks); use one per thread, or
-/// nearest_batch(). It refers to the hierarchy, which must outlive it; after the hierarchy changes
-/// (insert, remove), call reset().
+/// nearest_batch(). It refers to the hierarchy, which must outlive it. It notices any change of
+/// the hierarchy (insert, remove, moves: SphericalDelaunay::revision()) at the next query: it
+/// forgets its landmarks and walks the hierarchy itself until the packed copy is rebuilt
+/// (LocatorOptions::rebuild_after).
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "geovor/core/types.hpp"
 #include "geovor/locate/delaunay_hierarchy.hpp"
+#include "geovor/locate/walk_graph.hpp"
 
 namespace geovor {
 
@@ -57,6 +70,24 @@ struct LocatorOptions {
   std::uint32_t landmarks = 0;
   /// Seed of JumpWalk's sample. DEFAULT: 1.
   std::uint64_t seed = 1;
+  /// Walk the shared packed copy of the hierarchy (WalkGraph: about 68 bytes per site, built in
+  /// O(n log n), about as long as the hierarchy's own build) once rebuild_after queries have been
+  /// answered (or after prepare()); false: always walk the hierarchy's triangulations. The answers
+  /// are the same. DEFAULT: true.
+  bool packed = true;
+  /// The queries walk the hierarchy itself until this many have been answered with no change of
+  /// the hierarchy (counted from the first query, and again after every change); then the packed
+  /// copy is built or fetched, so that a short stream never pays for it and a long one spreads its
+  /// cost. 0 means max(1024, n / 8). DEFAULT: 0.
+  std::uint64_t rebuild_after = 0;
+  /// KeepJumpClimb: when the best landmark is farther from the query than this many mean site
+  /// spacings sqrt(4 pi / n) (radians), do not climb from it: jump to the nearest site the
+  /// landmark's own query had on the lowest level l >= 1 whose mean spacing sqrt(4 pi / n_l)
+  /// times level_spacings exceeds the distance, walk there and descend; with no such site known,
+  /// descend from the top. DEFAULT: 8.
+  double far_spacings = 8;
+  /// See far_spacings. DEFAULT: 3.
+  double level_spacings = 3;
 };
 
 /// One answer: a level-0 site and its distance.
@@ -65,7 +96,9 @@ struct NearestResult {
   double dist_m = 0;  ///< great-circle metres (geodesic metres for nearest_geodesic)
 };
 
-/// Counters for the benchmark: how much walking the queries took.
+/// Counters for the benchmark: how much walking the queries took. climbs counts the levels
+/// climbed and Keep Jump & Climb's jumps to a landmark's site on a level above; exact_steps the
+/// moves of the exact walk (run only when the last ring's margin does not certify the answer).
 struct LocatorStats {
   std::uint64_t queries = 0, steps = 0, exact_steps = 0, climbs = 0;
 };
@@ -88,25 +121,54 @@ class Locator {
   /// the best geodesic distance found.
   NearestResult nearest_geodesic(double lat_deg, double lon_deg);
 
-  /// Forgets the landmarks and the previous answer (after the hierarchy changed).
+  /// Forgets the landmarks and the previous answer (done by itself when the hierarchy changes).
   void reset();
+  /// Gets the packed copy now (built unless another Locator holds the current one) rather than at
+  /// the first query; copies of this Locator share it. No effect without options().packed.
+  void prepare();
+  /// The packed copy in use, or null (not yet built, walking the hierarchy after a change, or
+  /// options().packed is false).
+  const WalkGraph* walk_graph() const { return graph_.get(); }
   const LocatorStats& stats() const { return stats_; }
   const LocatorOptions& options() const { return options_; }
 
  private:
-  SiteId start_site(const Vec3& q);
-  SiteId walk(int level, const Vec3& q, SiteId v, bool stop_at_up, bool* climb);
-  SiteId climb_and_descend(const Vec3& q, SiteId v);
-  SiteId descend(const Vec3& q, int level, SiteId v);
+  static constexpr int kMaxLevels = 16;  // HierarchyOptions::max_levels <= 16
+  using Path = std::array<std::uint32_t, kMaxLevels>;
+  struct Landmark {
+    Vec3 p;      // the site's coordinates, so that jumping reads no graph
+    Path nodes;  // nodes[l]: the nearest level-l site of the kept query, kNoIndex if not found;
+                 // nodes in the view walked (WalkGraph nodes, or site ids)
+  };
+  void sync();
+  template <class G>
+  SiteId locate(const G& g, const Vec3& q);
+  template <class G>
+  std::uint32_t walk(const G& g, int level, const Vec3& q, std::uint32_t v, bool stop_at_up, bool* climb,
+                     double* margin);
+  template <class G>
+  std::uint32_t climb_and_descend(const G& g, const Vec3& q, std::uint32_t v, double* margin);
+  template <class G>
+  std::uint32_t descend(const G& g, const Vec3& q, int level, std::uint32_t v, double* margin);
+  template <class G>
+  std::uint32_t from_top(const G& g, const Vec3& q, double* margin);
+  template <class G>
+  std::uint32_t from_level(const G& g, const Vec3& q, int level, std::uint32_t v, double* margin);
   SiteId certify(const Vec3& q, SiteId v);
-  SiteId any_site(int level) const;
 
   const DelaunayHierarchy* h_;
   LocatorOptions options_;
   std::uint32_t num_landmarks_ = 0;
-  std::vector<SiteId> landmarks_;  // ring buffer of kept answers, or the fixed sample
+  std::array<double, kMaxLevels> cos_start_{};  // KeepJumpClimb: start on level l if dot(q, p) >= it
+  Path path_{};                      // the nearest site of this query on each level walked to its end
+  std::vector<SiteId> sample_;       // JumpWalk's fixed sample (site ids)
+  std::vector<Landmark> landmarks_;  // ring buffer of kept answers, or the fixed sample
+  bool landmarks_ready_ = false;     // the sample is in landmarks_ (nodes of the view walked)
   std::size_t next_landmark_ = 0;
-  SiteId last_ = kNoIndex;
+  Landmark last_{};                  // the previous answer (last_.nodes[0] == kNoIndex: none)
+  std::shared_ptr<const WalkGraph> graph_;  // null: walk the hierarchy itself
+  std::vector<std::uint64_t> seen_;          // the levels' revisions at the last query
+  std::uint64_t unchanged_queries_ = 0;      // queries since the hierarchy last changed
   LocatorStats stats_;
 };
 

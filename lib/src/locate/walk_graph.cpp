@@ -1,0 +1,119 @@
+#include "geovor/locate/walk_graph.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <mutex>
+
+#include "geovor/core/error.hpp"
+#include "geovor/delaunay/spatial_sort.hpp"
+
+namespace geovor {
+namespace {
+
+template <class T>
+std::size_t bytes_of(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+}  // namespace
+
+WalkGraph::WalkGraph(const DelaunayHierarchy& h) : source_(&h) {
+  const int num_levels = h.num_levels();
+  levels_.resize(static_cast<std::size_t>(num_levels));
+  revisions_.resize(static_cast<std::size_t>(num_levels));
+  std::vector<std::vector<SiteId>> site_of(static_cast<std::size_t>(num_levels));  // in node order
+  std::vector<std::vector<std::uint32_t>> node_of(static_cast<std::size_t>(num_levels));
+  // Hilbert order of each level's live sites, and their record offsets.
+  for (int l = 0; l < num_levels; ++l) {
+    const SphericalDelaunay& dt = h.level(l);
+    revisions_[static_cast<std::size_t>(l)] = dt.revision();
+    std::vector<SiteId> live;
+    std::vector<Vec3> pts;
+    live.reserve(dt.num_sites());
+    pts.reserve(dt.num_sites());
+    for (SiteId s = 0; s < dt.site_capacity(); ++s)
+      if (dt.is_live(s)) live.push_back(s), pts.push_back(dt.site(s));
+    const std::vector<std::uint32_t> order = hilbert_order(pts);
+    std::vector<SiteId>& sites = site_of[static_cast<std::size_t>(l)];
+    std::vector<std::uint32_t>& nodes = node_of[static_cast<std::size_t>(l)];
+    sites.resize(live.size());
+    nodes.assign(dt.site_capacity(), kNoIndex);
+    std::uint64_t offset = 0;
+    for (std::uint32_t i = 0; i < order.size(); ++i) {
+      const SiteId s = live[order[i]];
+      sites[i] = s;
+      nodes[s] = static_cast<std::uint32_t>(offset);
+      const std::uint64_t degree = dt.num_triangles() == 0 ? live.size() - 1 : [&] {
+        std::uint64_t d = 0;
+        const HalfedgeId e0 = dt.site_edge(s);
+        HalfedgeId e = e0;
+        do ++d, e = dt.next_around_site(e);
+        while (e != e0);
+        return d;
+      }();
+      offset += (36 + 4 * degree + 7) / 8;
+    }
+    if (offset >= kNoIndex) throw Error(ErrorCode::InvalidArgument, "walk graph: too many sites");
+    levels_[static_cast<std::size_t>(l)].words.assign(offset, 0);
+    levels_[static_cast<std::size_t>(l)].num_nodes = static_cast<std::uint32_t>(sites.size());
+  }
+  for (int l = 0; l < num_levels; ++l) {
+    const SphericalDelaunay& dt = h.level(l);
+    const std::vector<SiteId>& sites = site_of[static_cast<std::size_t>(l)];
+    const std::vector<std::uint32_t>& nodes = node_of[static_cast<std::size_t>(l)];
+    unsigned char* words = reinterpret_cast<unsigned char*>(levels_[static_cast<std::size_t>(l)].words.data());
+    for (const SiteId s : sites) {
+      unsigned char* rec = words + 8 * std::size_t{nodes[s]};
+      const Vec3 p = dt.site(s);
+      std::memcpy(rec, &p.x, 8);
+      std::memcpy(rec + 8, &p.y, 8);
+      std::memcpy(rec + 16, &p.z, 8);
+      std::uint32_t fields[3] = {kNoIndex, s, 0};
+      if (l + 1 < num_levels && h.up(l, s) != kNoIndex) fields[0] = node_of[static_cast<std::size_t>(l) + 1][h.up(l, s)];
+      if (l > 0) fields[1] = node_of[static_cast<std::size_t>(l) - 1][h.down(l, s)];
+      unsigned char* adj = rec + 36;
+      auto add = [&](std::uint32_t w) {
+        std::memcpy(adj + 4 * fields[2], &w, 4);
+        ++fields[2];
+      };
+      if (dt.num_triangles() == 0) {  // fewer than 3 sites: each is the others' neighbour
+        for (const SiteId t : sites)
+          if (t != s) add(nodes[t]);
+      } else {
+        const HalfedgeId e0 = dt.site_edge(s);
+        HalfedgeId e = e0;
+        do {
+          add(nodes[dt.triangles()[next_halfedge(e)]]);
+          e = dt.next_around_site(e);
+        } while (e != e0);
+      }
+      std::memcpy(rec + 24, fields, 12);
+    }
+  }
+  if (num_levels > 0) node_of_ = std::move(node_of[0]);
+}
+
+std::shared_ptr<const WalkGraph> WalkGraph::shared(const DelaunayHierarchy& h) {
+  static std::mutex mutex;
+  static std::vector<std::weak_ptr<const WalkGraph>> graphs;
+  const std::lock_guard<std::mutex> lock(mutex);  // a second caller waits for the build
+  std::shared_ptr<const WalkGraph> found;
+  std::erase_if(graphs, [&](const std::weak_ptr<const WalkGraph>& w) {
+    std::shared_ptr<const WalkGraph> g = w.lock();
+    if (g == nullptr) return true;
+    if (g->matches(h)) found = std::move(g);
+    return false;
+  });
+  if (found != nullptr) return found;
+  auto g = std::make_shared<const WalkGraph>(h);
+  graphs.push_back(g);
+  return g;
+}
+
+std::size_t WalkGraph::memory_bytes() const {
+  std::size_t bytes = bytes_of(revisions_) + bytes_of(node_of_);
+  for (const Level& l : levels_) bytes += bytes_of(l.words);
+  return bytes;
+}
+
+}  // namespace geovor
