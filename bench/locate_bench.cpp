@@ -7,6 +7,7 @@
 ///                            [--fractions 1,0.5,0.1,0.01,0.001] [--walkers 1,2,4,8,20]
 ///                            [--step F] [--turn RAD] [--sample K] [--leaf L]
 ///                            [--strategies walk,jump-walk,...] [--max-seconds T] [--no-cgal]
+///                            [--site-order input|hilbert] [--kd-hilbert] [--clock wall|cpu]
 ///
 ///  - Sites: N points uniform on the sphere (testing::uniform_on_sphere, default 2^20).
 ///  - Scenario I (proximity): M queries uniform in a spherical cap around a fixed centre whose
@@ -19,6 +20,12 @@
 ///  - --site-order hilbert numbers the same sites along geovor's Hilbert curve instead of in their
 ///    random input order (site ids index every array of the triangulation, so this shows how much
 ///    of each method's time is memory latency); the k-d tree and CGAL get the sites in id order.
+///  - --kd-hilbert adds a second k-d tree over the same sites renumbered along the Hilbert curve
+///    (answers mapped back to site ids), an extra column: the targets are against the plain one.
+///  - --clock cpu times each run by the thread's CPU time instead of the wall clock, so that on a
+///    shared machine the time the benchmark spends descheduled is not counted.
+///  - The Locators share one WalkGraph (the packed copy of the hierarchy, walk_graph.hpp), built
+///    before the first row and printed with the builds.
 /// Every method sees the same query sequence. Times are the best of R runs (steady_clock, single
 /// thread), the methods taking turns within each round; a method whose run took more than T
 /// seconds is not run again, and a Locator or CGAL run is cut short after T seconds (its rate is
@@ -32,6 +39,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <fstream>
 #include <memory>
 #include <optional>
@@ -54,6 +62,18 @@ namespace {
 
 using geovor::Vec3;
 using Clock = std::chrono::steady_clock;
+
+// The clock of the timed runs: wall (steady_clock, the default) or this thread's CPU time
+// (--clock cpu: on a shared machine, time spent descheduled is not counted).
+bool g_cpu_clock = false;
+double now_s() {
+  if (g_cpu_clock) {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+  }
+  return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+}
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -79,13 +99,16 @@ struct Args {
   double max_seconds = 10;
   bool cgal = true;
   bool hilbert_ids = false;  // --site-order hilbert
+  bool kd_hilbert = false;   // --kd-hilbert
+  bool cpu_clock = false;    // --clock cpu
 };
 
 [[noreturn]] void usage(const char* argv0, const std::string& why) {
   std::fprintf(stderr,
                "%s\nusage: %s [--sites N] [--queries M] [--repeat R] [--seed S] [--fractions F1,F2,...|none]\n"
                "          [--walkers W1,W2,...|none] [--step SPACINGS] [--turn RAD] [--sample K] [--leaf L]\n"
-               "          [--strategies S1,S2,...] [--max-seconds T] [--site-order input|hilbert] [--no-cgal]\n",
+               "          [--strategies S1,S2,...] [--max-seconds T] [--site-order input|hilbert] [--no-cgal]\n"
+               "          [--kd-hilbert] [--clock wall|cpu]\n",
                why.c_str(), argv0);
   std::exit(2);
 }
@@ -122,6 +145,10 @@ Args parse_args(int argc, char** argv) {
     if (opt == "--help" || opt == "-h") usage(argv[0], "geovor_bench_locate: Locator vs k-d tree vs CGAL locate");
     if (opt == "--no-cgal") {
       args.cgal = false;
+      continue;
+    }
+    if (opt == "--kd-hilbert") {
+      args.kd_hilbert = true;
       continue;
     }
     if (i + 1 >= argc) usage(argv[0], "missing value after " + opt);
@@ -173,6 +200,9 @@ Args parse_args(int argc, char** argv) {
     } else if (opt == "--max-seconds") {
       args.max_seconds = parse_double(argv[0], value);
       if (!(args.max_seconds > 0)) usage(argv[0], "--max-seconds must be > 0");
+    } else if (opt == "--clock") {
+      if (value != "wall" && value != "cpu") usage(argv[0], "--clock is wall or cpu");
+      args.cpu_clock = value == "cpu";
     } else if (opt == "--site-order") {
       if (value != "input" && value != "hilbert") usage(argv[0], "--site-order is input or hilbert");
       args.hilbert_ids = value == "hilbert";
@@ -293,7 +323,7 @@ struct Timing {
 struct RowResult {
   std::string scenario, param;
   std::vector<Timing> strategies;
-  Timing kd, cgal;
+  Timing kd, kd_hilbert, cgal;
   std::size_t sample = 0, strategy_mismatches = 0, kd_ties = 0, kd_wrong = 0;
   bool checksums_agree = true;
 };
@@ -306,6 +336,8 @@ struct Bench {
   const std::vector<Vec3>& sites;
   const KdTree& kd;
   const geovor::testing::CgalSphereLocator* cgal;
+  const KdTree* kd_hilbert;                       // the same sites in Hilbert order (--kd-hilbert)
+  const std::vector<std::uint32_t>* hilbert_ids;  // its point i is site hilbert_ids[i]
 
   RowResult run(const std::string& scenario, const std::string& param, const std::vector<Vec3>& queries) const {
     RowResult row;
@@ -335,19 +367,20 @@ struct Bench {
         geovor::LocatorOptions options;
         options.strategy = args.strategies[k];
         geovor::Locator locator(h, options);
+        locator.prepare();  // the keeper's WalkGraph, not built again
         std::uint64_t sum = 0;
         std::size_t done = 0;
-        const auto t0 = Clock::now();
-        auto t1 = t0;
+        const double t0 = now_s();
+        double t1 = t0;
         // In blocks, so that a hopeless strategy (a plain walk across 2^20 sites) can be cut
         // short after max_seconds: its rate is then measured on the queries it did.
         while (done < queries.size()) {
           const std::size_t end = std::min(queries.size(), done + 4096);
           for (; done < end; ++done) sum += locator.nearest(queries[done]).site;
-          t1 = Clock::now();
-          if (std::chrono::duration<double>(t1 - t0).count() > args.max_seconds) break;
+          t1 = now_s();
+          if (t1 - t0 > args.max_seconds) break;
         }
-        const double secs = std::chrono::duration<double>(t1 - t0).count();
+        const double secs = t1 - t0;
         if (done < queries.size()) {
           note_partial(t, secs, done);
         } else {
@@ -357,10 +390,15 @@ struct Bench {
       }
       if (!row.kd.done) {
         std::uint64_t sum = 0;
-        const auto t0 = Clock::now();
+        const double t0 = now_s();
         for (const Vec3& q : queries) sum += kd_nearest(kd, q);
-        const auto t1 = Clock::now();
-        note(row.kd, std::chrono::duration<double>(t1 - t0).count(), sum);
+        note(row.kd, now_s() - t0, sum);
+      }
+      if (kd_hilbert != nullptr && !row.kd_hilbert.done) {  // answers mapped back to site ids
+        std::uint64_t sum = 0;
+        const double t0 = now_s();
+        for (const Vec3& q : queries) sum += (*hilbert_ids)[kd_nearest(*kd_hilbert, q)];
+        note(row.kd_hilbert, now_s() - t0, sum);
       }
       if (cgal != nullptr && !row.cgal.done) {
         std::uint64_t sum = 0;
@@ -433,6 +471,7 @@ const char* short_name(geovor::LocateStrategy s) {
 
 int main(int argc, char** argv) {
   const Args args = parse_args(argc, argv);
+  g_cpu_clock = args.cpu_clock;
   std::printf("geovor_bench_locate: Locator::nearest (every strategy) vs nanoflann k-d tree (knnSearch k=1, L2 on the"
               " unit vectors) vs CGAL Delaunay_triangulation_on_sphere_2::locate (Epick, hint = previous face)\n");
   std::printf("machine: %s, %u hardware threads; every run on a single thread\n", cpu_model().c_str(),
@@ -442,9 +481,10 @@ int main(int argc, char** argv) {
 #endif
   const double spacing = std::sqrt(4 * kPi / static_cast<double>(args.sites));
   std::printf("sites: %zu uniform (seed %llu), ids in %s order; queries per row: %zu; times: best of %d runs (a method whose run"
-              " exceeds %.0f s is not repeated)\n",
+              " exceeds %.0f s is not repeated), %s\n",
               args.sites, static_cast<unsigned long long>(args.seed),
-              args.hilbert_ids ? "Hilbert-curve (--site-order hilbert)" : "input (random)", args.queries, args.repeat, args.max_seconds);
+              args.hilbert_ids ? "Hilbert-curve (--site-order hilbert)" : "input (random)", args.queries, args.repeat, args.max_seconds,
+              args.cpu_clock ? "thread CPU time (--clock cpu; CGAL: wall)" : "wall clock");
   std::printf("scenario I: uniform in a cap (area fraction f) around a fixed centre; scenario II: W walkers"
               " round-robin, step %.3g x mean spacing sqrt(4pi/n) = %.3g rad (%.1f km), turn +-%.2f rad per step\n",
               args.step, args.step * spacing, args.step * spacing * 6371.0088, args.turn);
@@ -470,12 +510,35 @@ int main(int argc, char** argv) {
     levels += std::to_string(h.level(l).num_sites());
   }
   std::printf("build: DelaunayHierarchy %.3f s (%d levels, sites %s)", hierarchy_s, h.num_levels(), levels.c_str());
+  // The Locators' shared packed copy (WalkGraph), built once here and held for the whole run:
+  // every timed Locator gets it without building (it is otherwise built at a Locator's first query).
+  geovor::Locator keeper(h);
+  t0 = Clock::now();
+  keeper.prepare();
+  t1 = Clock::now();
+  if (keeper.walk_graph() != nullptr)
+    std::printf("; WalkGraph %.3f s (%.1f bytes/site)", std::chrono::duration<double>(t1 - t0).count(),
+                static_cast<double>(keeper.walk_graph()->memory_bytes()) / static_cast<double>(base.num_sites()));
 
   const SiteCloud cloud{&sites};
   t0 = Clock::now();
   const KdTree kd(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(args.leaf));
   t1 = Clock::now();
   std::printf("; k-d tree %.3f s (leaf size %zu)", std::chrono::duration<double>(t1 - t0).count(), args.leaf);
+  // Optional extra reference: a k-d tree over the same sites renumbered along the Hilbert curve,
+  // to show how much of the k-d tree's time is memory layout (the targets use the plain one).
+  std::vector<std::uint32_t> hilbert_ids;
+  std::vector<Vec3> hilbert_sites;
+  std::unique_ptr<KdTree> kd_hilbert;
+  const SiteCloud hilbert_cloud{&hilbert_sites};
+  if (args.kd_hilbert) {
+    hilbert_ids = geovor::hilbert_order(sites);
+    for (const std::uint32_t i : hilbert_ids) hilbert_sites.push_back(sites[i]);
+    t0 = Clock::now();
+    kd_hilbert = std::make_unique<KdTree>(3, hilbert_cloud, nanoflann::KDTreeSingleIndexAdaptorParams(args.leaf));
+    t1 = Clock::now();
+    std::printf("; Hilbert-ordered k-d tree %.3f s", std::chrono::duration<double>(t1 - t0).count());
+  }
   std::unique_ptr<geovor::testing::CgalSphereLocator> cgal;
   if (args.cgal) {
     double cgal_s = 0;
@@ -490,16 +553,18 @@ int main(int argc, char** argv) {
               static_cast<unsigned>(std::log2(n)));
   std::printf("rates in millions of queries per second (Mq/s); kjc/kd and kjc/hier are ratios of kj-climb's rate to the"
               " k-d tree's and to hierarchy's;\ncolumns: walk, jump-w = jump-walk, kj-walk = keep-jump-walk, hierarchy, climb,"
-              " kj-climb = keep-jump-climb, kd-tree = nanoflann, cgal = CGAL locate (a face, not the nearest site);\n* = run cut short after --max-seconds %.0f s, rate over the queries done"
+              " kj-climb = keep-jump-climb, kd-tree = nanoflann, cgal = CGAL locate (a face, not the nearest site);\nkd-hilb = the k-d tree over the sites in Hilbert order (--kd-hilbert, not a target), kjc/kdh its ratio;\n* = run cut short after --max-seconds %.0f s, rate over the queries done"
               " (LocatorStats likewise)\n\n", args.max_seconds);
 
   // ---- Header ----
   std::printf("%-12s %-7s", "scenario", "param");
   for (const geovor::LocateStrategy s : args.strategies) std::printf(" %9s", short_name(s));
-  std::printf(" %9s %9s %7s %8s\n", "kd-tree", "cgal", "kjc/kd", "kjc/hier");
+  std::printf(" %9s %9s %7s %8s", "kd-tree", "cgal", "kjc/kd", "kjc/hier");
+  if (args.kd_hilbert) std::printf(" %9s %8s", "kd-hilb", "kjc/kdh");
+  std::printf("\n");
   std::fflush(stdout);
 
-  const Bench bench{args, h, sites, kd, cgal.get()};
+  const Bench bench{args, h, sites, kd, cgal.get(), kd_hilbert.get(), &hilbert_ids};
   std::vector<RowResult> rows;
   auto find = [&](const RowResult& row, geovor::LocateStrategy s) -> const Timing* {
     for (std::size_t k = 0; k < args.strategies.size(); ++k)
@@ -530,6 +595,7 @@ int main(int argc, char** argv) {
       } else {
         std::printf(" %8s", "-");
       }
+      if (args.kd_hilbert) std::printf(" %9.3f %8.2f", mqps(row.kd_hilbert, args.queries), row.kd_hilbert.best / kjc->best);
     }
     std::printf("\n");
     std::fflush(stdout);
