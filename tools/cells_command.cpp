@@ -14,6 +14,7 @@
 #include "geovor/io/feature_writer.hpp"
 #include "geovor/voronoi/cell_geometry.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
+#include "output_file.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -79,15 +80,8 @@ std::string lower(std::string s) {
 }
 
 // Every input row and what became of it, for --report.
-void write_report(const std::string& path, const SiteTable& table, const BuildReport& report, bool overwrite) {
-  if (!overwrite) {
-    if (std::FILE* f = std::fopen(path.c_str(), "r")) {
-      std::fclose(f);
-      throw Error(ErrorCode::Io, path + ": exists; use --overwrite");
-    }
-  }
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) throw Error(ErrorCode::Io, path + ": cannot create the report");
+void write_report(OutputFile& out, const SiteTable& table, const BuildReport& report) {
+  std::FILE* f = out.get();
   std::fprintf(f, "row,line,id,status,site_index,detail\n");
   auto quoted = [](const std::string& s) {
     std::string q = "\"";
@@ -105,10 +99,13 @@ void write_report(const std::string& path, const SiteTable& table, const BuildRe
   for (const RejectedRow& r : table.rejected)
     std::fprintf(f, "%llu,%llu,,rejected,,%s\n", static_cast<unsigned long long>(r.row),
                  static_cast<unsigned long long>(r.line), quoted(r.reason).c_str());
-  if (std::fclose(f) != 0) throw Error(ErrorCode::Io, path + ": cannot write the report");
+  out.flush();  // a full disk fails here, before the cells are renamed into place
 }
 
 int run(CellsArgs& args) {
+  // Opened first, so that an existing report is refused before any work; renamed into place last.
+  std::unique_ptr<OutputFile> report_file;
+  if (!args.report.empty()) report_file = std::make_unique<OutputFile>(args.report, args.overwrite);
   const SiteTable table = read_site_input(args.sites);
   const std::vector<Vec3> points = site_points(table);
   BuildReport report;
@@ -202,9 +199,10 @@ int run(CellsArgs& args) {
     if (ahead.valid()) ahead.get();
     std::swap(current, next);
   }
+  if (report_file) write_report(*report_file, table, report);
   writer->finish();
   progress.finish();
-  if (!args.report.empty()) write_report(args.report, table, report, args.overwrite);
+  if (report_file) report_file->commit();
   if (!args.quiet)
     std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s\n",
                  table.source.c_str(), static_cast<unsigned long long>(table.rows_read), dt.num_sites(),

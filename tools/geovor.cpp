@@ -3,7 +3,9 @@
 // errors to exit codes.
 #include <CLI/CLI.hpp>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <string>
 #include <utility>
@@ -40,7 +42,13 @@ int main(int argc, char** argv) {
   }
   try {
     for (const auto& [name, run] : commands)
-      if (app.got_subcommand(name)) return run();
+      if (app.got_subcommand(name)) {
+        const int code = run();
+        // What went to stdout (info's summary, a full disk behind `> file`) must not fail silently.
+        if (std::fflush(stdout) != 0 || std::ferror(stdout))
+          throw geovor::Error(geovor::ErrorCode::Io, std::string("<stdout>: write error: ") + std::strerror(errno));
+        return code;
+      }
   } catch (const geovor::Error& e) {
     std::fprintf(stderr, "geovor: %s\n", e.what());
     switch (e.code()) {

@@ -31,6 +31,7 @@
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/locate/index_file.hpp"
 #include "geovor/locate/locator.hpp"
+#include "output_file.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -502,7 +503,7 @@ int run(NearestArgs& args) {
   LocatorOptions locator_options;
   locator_options.strategy = parse_strategy(args.locator);
   struct stat st;
-  if (args.output != "-" && !args.overwrite && stat(args.output.c_str(), &st) == 0)
+  if (args.output != "-" && !args.overwrite && stat(args.output.c_str(), &st) == 0 && S_ISREG(st.st_mode))
     throw Error(ErrorCode::Io, args.output + ": exists; use --overwrite to replace it");
 
   // The sites: an index file, or a table built here.
@@ -523,16 +524,8 @@ int run(NearestArgs& args) {
   File in(args.queries == "-" ? stdin : std::fopen(args.queries.c_str(), "rb"));
   const std::string qname = args.queries == "-" ? "<stdin>" : args.queries;
   if (!in) throw Error(ErrorCode::Io, args.queries + ": cannot open: " + std::strerror(errno));
-  File out(args.output == "-" ? stdout : std::fopen(args.output.c_str(), args.overwrite ? "wb" : "wbx"));
-  if (!out) {
-    if (errno == EEXIST) throw Error(ErrorCode::Io, args.output + ": exists; use --overwrite to replace it");
-    throw Error(ErrorCode::Io, args.output + ": cannot create: " + std::strerror(errno));
-  }
-  const std::string oname = args.output == "-" ? "<stdout>" : args.output;
-  auto write = [&](std::string_view s) {
-    if (!s.empty() && std::fwrite(s.data(), 1, s.size(), out.get()) != s.size())
-      throw Error(ErrorCode::Io, oname + ": write error: " + std::strerror(errno));
-  };
+  OutputFile out(args.output, args.overwrite);  // a temporary file renamed by commit(): never half-written
+  auto write = [&](std::string_view s) { out.write(s.data(), s.size()); };
 
   LineBlocks blocks(in.get(), qname);
   Context ctx;
@@ -601,13 +594,13 @@ int run(NearestArgs& args) {
       for (const auto& [line, reason] : w->errors)
         std::fprintf(stderr, "%s: line %llu: %s\n", qname.c_str(), static_cast<unsigned long long>(line), reason.c_str());
       if (w->stopped) {
-        std::fflush(out.get());
+        out.commit();  // the answers before the malformed line are kept
         throw Error(ErrorCode::BadData, qname + ": stopped at the first malformed query (--strict); " +
                                             std::to_string(answered) + " queries answered before it");
       }
     }
   }
-  if (std::fflush(out.get()) != 0) throw Error(ErrorCode::Io, oname + ": write error: " + std::strerror(errno));
+  out.commit();
   if (rejected > 0)
     std::fprintf(stderr, "geovor nearest: %llu queries answered, %llu malformed lines skipped\n",
                  static_cast<unsigned long long>(answered), static_cast<unsigned long long>(rejected));

@@ -9,6 +9,7 @@
 #include <array>
 #include <cerrno>
 #include <charconv>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -157,6 +158,15 @@ SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& optio
   GDALDatasetUniquePtr dataset(
       GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR));
   if (!dataset) {
+    // GDAL does not look inside a plain .gz on its own; say how to make it.
+    char magic[2] = {};
+    if (std::FILE* f = special ? nullptr : std::fopen(path.c_str(), "rb")) {
+      const bool gzip = std::fread(magic, 1, 2, f) == 2 && magic[0] == '\x1f' && magic[1] == '\x8b';
+      std::fclose(f);
+      if (gzip)
+        throw Error(ErrorCode::BadData, path + ": gzip-compressed; decompress it (gzip -dk " + path +
+                                            ") or give it to GDAL as /vsigzip/" + path);
+    }
     throw Error(special ? ErrorCode::Io : ErrorCode::BadData,
                 path + ": not a vector data source GDAL can read" + capture.detail());
   }

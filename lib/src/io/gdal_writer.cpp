@@ -196,6 +196,10 @@ class GdalWriter final : public FeatureWriter {
       if (fs::is_directory(fs::status(p, ec))) {
         throw Error(ErrorCode::Io, p.string() + ": is a directory");
       }
+      // Renaming over a device or a FIFO (/dev/null as root) would replace it.
+      if (fs::exists(fs::status(p, ec)) && !fs::is_regular_file(fs::status(p, ec))) {
+        throw Error(ErrorCode::Io, p.string() + ": not a regular file; " + driver_ + " output must be one");
+      }
       if (!overwrite) {
         throw Error(ErrorCode::Io, p.string() + ": exists; use --overwrite to replace it");
       }

@@ -133,13 +133,17 @@ std::atomic<unsigned> g_temp_counter{0};
 
 std::string errno_text(int err) { return std::strerror(err); }
 
-// Error(Io) if `path` exists and may not be replaced.
-void check_target(const std::string& path, bool overwrite) {
+// Error(Io) if `path` exists and may not be replaced; true if it is a device or a FIFO
+// (/dev/stdout, /dev/null), written in place: renaming over it would replace it.
+bool check_target(const std::string& path, bool overwrite) {
   std::error_code ec;
   const fs::file_status st = fs::symlink_status(path, ec);
-  if (ec || !fs::exists(st)) return;
-  if (fs::is_directory(fs::status(path, ec))) throw Error(ErrorCode::Io, path + ": is a directory");
+  if (ec || !fs::exists(st)) return false;
+  const fs::file_status target = fs::status(path, ec);
+  if (fs::is_directory(target)) throw Error(ErrorCode::Io, path + ": is a directory");
+  if (fs::exists(target) && !fs::is_regular_file(target)) return true;
   if (!overwrite) throw Error(ErrorCode::Io, path + ": exists; use --overwrite to replace it");
+  return false;
 }
 
 // Buffered output of one GeoJSON file (or stdout).
@@ -175,8 +179,12 @@ class GeoJsonWriter final : public FeatureWriter {
     if (path_ == "-") {
       file_ = stdout;
     } else {
-      check_target(path_, options.overwrite);
-      open_temporary();
+      if (check_target(path_, options.overwrite)) {
+        file_ = std::fopen(path_.c_str(), "wb");
+        if (file_ == nullptr) throw Error(ErrorCode::Io, path_ + ": cannot open: " + errno_text(errno));
+      } else {
+        open_temporary();
+      }
     }
     if (framing_ == GeoJsonFraming::FeatureCollection) {
       put("{\"type\":\"FeatureCollection\",\"name\":");
@@ -256,6 +264,11 @@ class GeoJsonWriter final : public FeatureWriter {
     }
     // Durable before it becomes visible under its name; errors of a full disk can surface here.
     if (std::fflush(file_) != 0) fail("cannot write", errno);
+    if (temp_path_.empty()) {  // a device or a FIFO, written in place
+      if (std::fclose(std::exchange(file_, nullptr)) != 0) fail("cannot write", errno);
+      finished_ = true;
+      return;
+    }
     if (::fsync(::fileno(file_)) != 0 && errno != EINVAL && errno != EROFS) fail("cannot write", errno);
     FILE* f = std::exchange(file_, nullptr);
     if (std::fclose(f) != 0) fail("cannot write", errno);

@@ -517,6 +517,9 @@ void save_index(const std::string& path, const DelaunayHierarchy& h, const SiteA
 
   if (!overwrite && access(path.c_str(), F_OK) == 0)
     throw Error(ErrorCode::Io, path + ": exists (use --overwrite to replace it)");
+  // Renaming over a device or a FIFO (/dev/null as root) would replace it.
+  if (struct stat st; stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    throw Error(ErrorCode::Io, path + ": not a regular file; an index must be one");
   std::string tmp = path + ".tmp-XXXXXX";
   const int fd = mkstemp(tmp.data());
   if (fd < 0) throw Error(ErrorCode::Io, path + ": cannot create a temporary file " + tmp + ": " + sys_reason());

@@ -74,6 +74,8 @@ struct WriterOptions {
 /// succeeds (written to a temporary file or directory ".NAME.tmp-PID-N" next to it, then
 /// renamed); a failure, or destruction without finish(), removes the temporary files, so no
 /// partial output is ever left (a process killed by a signal can leave the hidden temporary).
+/// An existing device or FIFO (/dev/null, /dev/stdout) is not replaced: GeoJSON and GeoJSONSeq
+/// write to it in place, the GDAL formats refuse it with Error(Io).
 /// After an Error(Io) the writer is dead: every later call throws. A feature refused with
 /// Error(InvalidArgument) (checked before anything is written) leaves the writer usable.
 class FeatureWriter {

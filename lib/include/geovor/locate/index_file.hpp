@@ -127,7 +127,8 @@ inline constexpr std::uint32_t kIndexVersion = 1;
 /// `path` is either untouched or complete. Empty levels at the top of the hierarchy (after
 /// removals) are not saved. With overwrite false, an existing `path` is refused.
 /// @exception Error(InvalidArgument) if the attributes do not have one entry per level-0 site;
-///   Error(Io) if the file cannot be written, or exists and overwrite is false.
+///   Error(Io) if the file cannot be written, exists and overwrite is false, or is not a
+///   regular file (a device or FIFO would be replaced by the rename).
 void save_index(const std::string& path, const DelaunayHierarchy& hierarchy,
                 const SiteAttributes& attributes, bool overwrite = false);
 

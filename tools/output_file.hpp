@@ -1,0 +1,42 @@
+// A text output of the tool (nearest's CSV, cells' --report) that never leaves a half-written
+// file: written under a temporary name next to the target and renamed into place by commit().
+#pragma once
+
+#include <cstdio>
+#include <string>
+
+namespace geovor::tools {
+
+class OutputFile {
+ public:
+  /// Opens `path` for writing: "-" is stdout; an existing regular file is refused (Error(Io))
+  /// unless `overwrite`; an existing device or FIFO (/dev/null, /dev/stdout) is written in place,
+  /// since renaming over it would replace it; anything else gets a temporary file
+  /// `.NAME.tmp-PID-N` in the target's directory.
+  OutputFile(const std::string& path, bool overwrite);
+  /// Removes the temporary file unless commit() succeeded.
+  ~OutputFile();
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+
+  std::FILE* get() const { return file_; }
+  /// "<stdout>" or the path, for messages.
+  const std::string& name() const { return name_; }
+  /// Writes `n` bytes; Error(Io) naming the file and the reason if they cannot be written.
+  void write(const char* data, std::size_t n);
+  /// Flushes the buffer; Error(Io) on failure (a full disk), with the temporary file removed.
+  void flush();
+  /// Flushes, syncs, closes and renames the file into place; Error(Io) on failure (a full disk),
+  /// with the temporary file removed.
+  void commit();
+
+ private:
+  [[noreturn]] void fail(const std::string& what, int err);
+  void discard() noexcept;
+
+  std::string path_, name_, temp_;
+  std::FILE* file_ = nullptr;
+  bool committed_ = false;
+};
+
+}  // namespace geovor::tools
