@@ -28,6 +28,13 @@ std::size_t bytes_of(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
 }
 
+// Scratch buffers are vectors whose size is their capacity: grows one, returns its new data.
+template <class T>
+[[gnu::noinline]] T* grow(std::vector<T>& v) {
+  v.resize(2 * v.size() + 64);
+  return v.data();
+}
+
 std::string num(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", x);
@@ -235,7 +242,7 @@ InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
   const Placement where = place(p, prio, hint);
   if (where.merged_into != kNoIndex) return {where.merged_into, true, where.chord, where.hidden};
   find_cavity(p, prio, where.conflict);
-  if (boundary_.size() != cavity_.size() + 2) {
+  if (num_boundary_ != num_cavity_ + 2) {
     abandon_cavity();
     // Not a disk: a site is inside the cavity, which only a point on (or extremely near) a site
     // not met so far can cause.
@@ -247,9 +254,12 @@ InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
   // (every vertex of a disk-shaped cavity is): the merge test needs no search of its own.
   SiteId closest = kNoIndex;
   double best = md2;
-  for (const CavityEdge& b : boundary_) {
-    const double d2 = chord2(p, sites_[b.a]);
-    if (d2 < best) best = d2, closest = b.a;
+  const Vec3* const S = sites_.data();
+  const CavityEdge* const bnd = boundary_.data();
+  for (std::size_t k = 0; k < num_boundary_; ++k) {
+    const double d2 = chord2(p, S[bnd[k].a]);
+    if (d2 < best) [[unlikely]]
+      best = d2, closest = bnd[k].a;
   }
   if (closest != kNoIndex) {
     abandon_cavity();
@@ -311,21 +321,24 @@ SphericalDelaunay::Placement SphericalDelaunay::place(const Vec3& p, std::uint32
   // Fast path: consecutive sites in a spatial order are near, so the triangles around the last
   // site are often in conflict already. Those found not in conflict stay marked as tested, so
   // the cavity search does not test them again.
-  tested_.clear();
   const HalfedgeId e0 = site_edge_[hint];
   HalfedgeId e = e0;
+  TriId* tested = tested_.data();
+  std::size_t nt = 0;
   do {
     const TriId t = tri_of(e);
     if (in_conflict(t, p, prio)) {
       where.conflict = t;
+      num_tested_ = nt;
       return where;
     }
     triangles_[3 * t + 1] |= kMark;
-    tested_.push_back(t);
+    if (nt == tested_.size()) tested = grow(tested_);
+    tested[nt++] = t;
     e = next_around_site(e);
   } while (e != e0);
-  for (const TriId t : tested_) triangles_[3 * t + 1] &= ~kMark;
-  tested_.clear();
+  for (std::size_t k = 0; k < nt; ++k) triangles_[3 * tested[k] + 1] &= ~kMark;
+  num_tested_ = 0;
   // Slow path: walk to the nearest site; a point on or next to it merges before any exhaustive
   // search (a duplicate can be hidden inside the hull).
   const SiteId v = walk_to_nearest(p, hint);
@@ -372,57 +385,128 @@ void SphericalDelaunay::make_first_triangles(SiteId a, SiteId b, SiteId c) {
   site_edge_[c] = 2;
 }
 
+// The common case, with no call in the loop so that its state stays in registers: every test
+// decided by the filter, every buffer large enough.
+bool SphericalDelaunay::find_cavity_filtered(const Vec3& p, TriId seed) {
+  TriId* const cavity = cavity_.data();
+  TriId* const tested = tested_.data();
+  CavityEdge* const boundary = boundary_.data();
+  const std::size_t cap_c = cavity_.size(), cap_t = tested_.size(), cap_b = boundary_.size();
+  SiteId* const tri = triangles_.data();
+  const HalfedgeId* const twin = halfedges_.data();
+  const Vec3* const site = sites_.data();
+  const std::size_t nt0 = num_tested_;
+  std::size_t nc = 0, nt = nt0, nb = 0;
+  if (cap_c == 0) return false;
+  cavity[nc++] = seed;
+  tri[3 * seed] |= kMark;
+  // The neighbour across edge a -> b of a cavity triangle: false if the filter cannot decide.
+  auto visit = [&](HalfedgeId o, SiteId a, SiteId b) {
+    const TriId u = tri_of(o);
+    const SiteId u0 = tri[3 * u], u1 = tri[3 * u + 1];
+    if (u0 & kMark) return true;  // in the cavity: an inner edge
+    if (!(u1 & kMark)) {          // not tested before
+      const int c = kernel::detail::in_sphere_unit_filter(site[u0], site[u1], site[tri[3 * u + 2]], p);
+      if (c == 0) return false;
+      if (c > 0) {
+        tri[3 * u] = u0 | kMark;
+        cavity[nc++] = u;
+        return true;
+      }
+      tri[3 * u + 1] = u1 | kMark;
+      tested[nt++] = u;
+    }
+    boundary[nb++] = {a, b, o};
+    return true;
+  };
+  bool ok = true;
+  for (std::size_t next = 0; next < nc; ++next) {
+    if (nc + 3 > cap_c || nt + 3 > cap_t || nb + 3 > cap_b) {  // at most 3 of each per triangle
+      ok = false;
+      break;
+    }
+    const TriId t = cavity[next];
+    const SiteId v0 = tri[3 * t] & ~kMark, v1 = tri[3 * t + 1], v2 = tri[3 * t + 2];
+    if (!visit(twin[3 * t], v0, v1) || !visit(twin[3 * t + 1], v1, v2) || !visit(twin[3 * t + 2], v2, v0)) {
+      ok = false;
+      break;
+    }
+  }
+  if (!ok) {  // undo this search's marks; place()'s stay for find_cavity()
+    for (std::size_t k = 0; k < nc; ++k) tri[3 * cavity[k]] &= ~kMark;
+    for (std::size_t k = nt0; k < nt; ++k) tri[3 * tested[k] + 1] &= ~kMark;
+    return false;
+  }
+  for (std::size_t k = 0; k < nt; ++k) tri[3 * tested[k] + 1] &= ~kMark;
+  num_cavity_ = nc;
+  num_boundary_ = nb;
+  num_tested_ = 0;
+  return true;
+}
+
 void SphericalDelaunay::find_cavity(const Vec3& p, std::uint32_t prio, TriId seed) {
+  if (find_cavity_filtered(p, seed)) return;
   // tested_ holds the triangles place() found not in conflict; they are still marked.
-  cavity_.clear();
-  boundary_.clear();
   // Grow the set of triangles in conflict with p (connected: the faces of the hull visible from
   // p), breadth first with cavity_ as the queue, marking faces so each is tested once.
-  cavity_.push_back(seed);
+  TriId* cavity = cavity_.data();
+  TriId* tested = tested_.data();
+  CavityEdge* boundary = boundary_.data();
+  std::size_t nc = 0, nt = num_tested_, nb = 0;
+  if (cavity_.empty()) cavity = grow(cavity_);
+  std::size_t cap_c = cavity_.size(), cap_t = tested_.size(), cap_b = boundary_.size();
+  cavity[nc++] = seed;
   SiteId* const tri = triangles_.data();  // no reallocation below
   const HalfedgeId* const twin = halfedges_.data();
   tri[3 * seed] |= kMark;
-  for (std::size_t next = 0; next < cavity_.size(); ++next) {
-    const TriId t = cavity_[next];
+  for (std::size_t next = 0; next < nc; ++next) {
+    const TriId t = cavity[next];
     // Entry 0 of t carries the cavity mark: the boundary records strip it.
     const SiteId v[3] = {tri[3 * t] & ~kMark, tri[3 * t + 1], tri[3 * t + 2]};
     for (int j = 0; j < 3; ++j) {
       const HalfedgeId o = twin[3 * t + j];
-      const TriId nt = tri_of(o);
-      const SiteId n0 = tri[3 * nt], n1 = tri[3 * nt + 1];
-      if (n0 & kMark) continue;  // in the cavity: an inner edge
-      if (!(n1 & kMark)) {       // not tested before
-        if (in_conflict(nt, p, prio)) {
-          tri[3 * nt] = n0 | kMark;
-          cavity_.push_back(nt);
+      const TriId u = tri_of(o);
+      const SiteId u0 = tri[3 * u], u1 = tri[3 * u + 1];
+      if (u0 & kMark) continue;  // in the cavity: an inner edge
+      if (!(u1 & kMark)) {       // not tested before
+        if (in_conflict(u, p, prio)) {
+          tri[3 * u] = u0 | kMark;
+          if (nc == cap_c) cavity = grow(cavity_), cap_c = cavity_.size();
+          cavity[nc++] = u;
           continue;
         }
-        tri[3 * nt + 1] = n1 | kMark;
-        tested_.push_back(nt);
+        tri[3 * u + 1] = u1 | kMark;
+        if (nt == cap_t) tested = grow(tested_), cap_t = tested_.size();
+        tested[nt++] = u;
       }
-      boundary_.push_back({v[j], v[j == 2 ? 0 : j + 1], o});
+      if (nb == cap_b) boundary = grow(boundary_), cap_b = boundary_.size();
+      boundary[nb++] = {v[j], v[j == 2 ? 0 : j + 1], o};
     }
   }
-  for (const TriId t : tested_) tri[3 * t + 1] &= ~kMark;
+  for (std::size_t k = 0; k < nt; ++k) tri[3 * tested[k] + 1] &= ~kMark;
+  num_cavity_ = nc;
+  num_boundary_ = nb;
+  num_tested_ = 0;
   // The cavity's marks stay: fill_cavity() overwrites those triangles, abandon_cavity() clears.
 }
 
 void SphericalDelaunay::abandon_cavity() {
-  for (const TriId t : cavity_) triangles_[3 * t] &= ~kMark;
+  for (std::size_t k = 0; k < num_cavity_; ++k) triangles_[3 * cavity_[k]] &= ~kMark;
 }
 
 void SphericalDelaunay::fill_cavity(SiteId s) {
-  GEOVOR_ASSERT(boundary_.size() == cavity_.size() + 2);
+  GEOVOR_ASSERT(num_boundary_ == num_cavity_ + 2);
   // Replace the cavity by the fan of triangles (a, b, s), one per boundary edge a -> b, reusing
   // the cavity's slots and adding two.
   const TriId first_new = static_cast<TriId>(num_triangles());
   triangles_.resize(triangles_.size() + 6);
   halfedges_.resize(halfedges_.size() + 6);
-  cavity_.push_back(first_new);  // cavity_[k] is the slot of the k-th fan triangle
-  cavity_.push_back(first_new + 1);
-  const std::size_t nb = boundary_.size();
+  const std::size_t nb = num_boundary_;
+  if (nb > cavity_.size()) grow(cavity_);
+  TriId* const slot = cavity_.data();  // slot[k]: the triangle of the k-th fan triangle
+  slot[num_cavity_] = first_new;
+  slot[num_cavity_ + 1] = first_new + 1;
   const CavityEdge* const bnd = boundary_.data();
-  const TriId* const slot = cavity_.data();
   SiteId* const tri = triangles_.data();
   HalfedgeId* const twin = halfedges_.data();
   HalfedgeId* const site_edge = site_edge_.data();
@@ -442,7 +526,9 @@ void SphericalDelaunay::fill_cavity(SiteId s) {
     twin[e + 1] = f + 2;
     twin[f + 2] = e + 1;
   }
-  site_edge[s] = 3 * slot[0] + 2;
+  // The last boundary edges found lie farthest from the seed, which faces the previous site: the
+  // next site, further along the curve, is most often in conflict with the fan triangles there.
+  site_edge[s] = 3 * slot[nb - 1] + 2;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -276,6 +276,9 @@ class SphericalDelaunay {
   void make_first_triangles(SiteId a, SiteId b, SiteId c);
   // The triangles in conflict with p, grown from seed, and the half-edges bounding them.
   void find_cavity(const Vec3& p, std::uint32_t prio, TriId seed);
+  // find_cavity() by the filter alone and without a call; false (its marks undone) when a test
+  // needs the exact stage or a scratch buffer is full.
+  bool find_cavity_filtered(const Vec3& p, TriId seed);
   // Replaces the cavity found last by the fan of triangles joining its boundary to site s.
   void fill_cavity(SiteId s);
   // Gives up the cavity found last (p merges instead): clears its marks.
@@ -324,8 +327,10 @@ class SphericalDelaunay {
     SiteId a, b;       // the boundary edge a -> b of the cavity
     HalfedgeId outer;  // its twin, in the triangle outside
   };
+  // Their sizes are capacities (grown by doubling, never shrunk): the counts below are the data.
   std::vector<TriId> cavity_, tested_;
   std::vector<CavityEdge> boundary_;
+  std::size_t num_cavity_ = 0, num_tested_ = 0, num_boundary_ = 0;
 
   // Relocation (Algorithm 1): reference positions and squared tolerances, empty when not current.
   std::vector<Vec3> reference_;
