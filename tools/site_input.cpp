@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "geovor/core/error.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
 
@@ -19,6 +20,7 @@ void add_site_input_options(CLI::App* cmd, SiteInputArgs& args) {
   cmd->add_option("--id-field", args.reader.id_field,
                   "Identifier column (default: id, icao, code or name; else the row number)");
   cmd->add_option("--ecef-fields", args.ecef_fields, "X,Y,Z columns of ECEF metres instead of latitude/longitude");
+  cmd->add_option("--layer", args.layer, "Layer of a multi-layer OGR input (GeoPackage, ...); not for CSV");
   cmd->add_option("--merge-m", args.merge_m,
                   "Merge sites closer than this many metres (default and minimum: 2^-24 R = 0.38 m)");
 }
@@ -35,7 +37,10 @@ SiteTable read_site_input(SiteInputArgs& args) {
       }
     }
   }
-  SiteTable table = read_sites(args.input, args.reader);
+  if (!args.layer.empty() && is_csv_site_path(args.input))
+    throw Error(ErrorCode::InvalidArgument, args.input + ": --layer is for OGR sources; a CSV file has one table");
+  SiteTable table = args.layer.empty() ? read_sites(args.input, args.reader)
+                                       : read_sites_ogr(args.input, args.reader, args.layer);
   for (const RejectedRow& r : table.rejected) {
     if (r.line > 0)  // CSV rows have a line; OGR features do not (their reason names the feature)
       std::fprintf(stderr, "%s: row %llu (line %llu) rejected: %s\n", table.source.c_str(),

@@ -18,6 +18,7 @@ struct SiteInputArgs {
   std::string input;
   SiteReaderOptions reader;
   std::string ecef_fields;  // "X,Y,Z"
+  std::string layer;        // OGR layer; "" for the only one
   double merge_m = 0;       // 0: the minimum separation
 };
 

@@ -186,7 +186,7 @@ SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& optio
   } else if (layer_names.size() > 1) {
     throw Error(ErrorCode::InvalidArgument,
                 path + ": " + std::to_string(layer_names.size()) +
-                    " layers; choose one of: " + list_names(layer_names));
+                    " layers; choose one of them (--layer NAME): " + list_names(layer_names));
   } else {
     layer = dataset->GetLayer(0);
   }
