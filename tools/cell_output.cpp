@@ -67,7 +67,7 @@ std::string lower(std::string s) {
 }  // namespace
 
 std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
-                        const SphericalDelaunay& dt) {
+                        const SphericalDelaunay& dt, const std::function<void()>& before_finish) {
   const VoronoiDiagram diagram(dt);
   CellGeometryOptions geometry_options;
   geometry_options.densify_m = args.densify_m;
@@ -156,6 +156,7 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
     if (ahead.valid()) ahead.get();
     std::swap(current, next);
   }
+  if (before_finish) before_finish();
   writer->finish();
   progress.finish();
   return written;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 
 #include "geovor/delaunay/spherical_delaunay.hpp"
@@ -24,8 +25,10 @@ struct CellOutputArgs {
 
 /// Writes the Voronoi cell of every live site of `dt` (site s built from the rows
 /// rows_of_sites(report) names) to args.output; returns the number of cells written.
+/// `before_finish`, if given, runs after the last cell and before the file is moved into place
+/// (so that a companion file that fails, such as the row report, leaves no cells file either).
 /// @exception Error as open_feature_writer and the writer.
 std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
-                        const SphericalDelaunay& dt);
+                        const SphericalDelaunay& dt, const std::function<void()>& before_finish = {});
 
 }  // namespace geovor::tools
