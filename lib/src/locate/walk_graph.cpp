@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cstring>
 #include <mutex>
+#include <new>
+
+#include <sys/mman.h>
 
 #include "geovor/core/error.hpp"
 #include "geovor/delaunay/spatial_sort.hpp"
@@ -10,12 +13,26 @@
 namespace geovor {
 namespace {
 
-template <class T>
-std::size_t bytes_of(const std::vector<T>& v) {
+template <class T, class A>
+std::size_t bytes_of(const std::vector<T, A>& v) {
   return v.capacity() * sizeof(T);
 }
 
 }  // namespace
+
+template <class T>
+T* WalkGraph::HugePageAllocator<T>::allocate(std::size_t n) {
+  constexpr std::size_t kHuge = std::size_t{2} << 20;
+  const std::size_t bytes = n * sizeof(T);
+  const std::size_t align = bytes >= kHuge ? kHuge : 64;
+  void* p = std::aligned_alloc(align, (bytes + align - 1) / align * align);
+  if (p == nullptr) throw std::bad_alloc();
+#ifdef MADV_HUGEPAGE
+  if (bytes >= kHuge) madvise(p, (bytes + align - 1) / align * align, MADV_HUGEPAGE);  // a hint: failure is harmless
+#endif
+  return static_cast<T*>(p);
+}
+template struct WalkGraph::HugePageAllocator<std::uint64_t>;
 
 WalkGraph::WalkGraph(const DelaunayHierarchy& h) : source_(&h) {
   const int num_levels = h.num_levels();

@@ -23,6 +23,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <span>
@@ -79,8 +80,20 @@ class WalkGraph {
   std::size_t memory_bytes() const;
 
  private:
+  // Large levels in transparent huge pages (where the system allows them on request): a walk
+  // touches records all over the level, and with 4 KiB pages most of its misses also miss the TLB.
+  template <class T>
+  struct HugePageAllocator {
+    using value_type = T;
+    HugePageAllocator() = default;
+    template <class U>
+    HugePageAllocator(const HugePageAllocator<U>&) {}
+    T* allocate(std::size_t n);
+    void deallocate(T* p, std::size_t) { std::free(p); }
+    friend bool operator==(const HugePageAllocator&, const HugePageAllocator&) { return true; }
+  };
   struct Level {
-    std::vector<std::uint64_t> words;  // the records, back to back
+    std::vector<std::uint64_t, HugePageAllocator<std::uint64_t>> words;  // the records, back to back
     std::uint32_t num_nodes = 0;
   };
   // Records are read and written with memcpy: the words hold doubles and 32-bit fields.
