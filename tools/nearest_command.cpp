@@ -28,6 +28,7 @@
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/geo/lat_lon.hpp"
+#include "geovor/geo/query_line.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/locate/index_file.hpp"
 #include "geovor/locate/locator.hpp"
@@ -52,9 +53,6 @@ struct NearestArgs {
 };
 
 constexpr std::size_t kBlockBytes = std::size_t{4} << 20;
-constexpr std::string_view kLatNames[] = {"lat", "latitude", "lat_deg", "y"};
-constexpr std::string_view kLonNames[] = {"lon", "lng", "long", "longitude", "lon_deg", "x"};
-constexpr std::string_view kIdNames[] = {"query_id", "id", "icao", "code", "name"};
 
 struct FileCloser {
   void operator()(std::FILE* f) const {
@@ -62,86 +60,6 @@ struct FileCloser {
   }
 };
 using File = std::unique_ptr<std::FILE, FileCloser>;
-
-std::string_view trim(std::string_view s) {
-  constexpr std::string_view kSpace = " \t\r\n\v\f";
-  const auto first = s.find_first_not_of(kSpace);
-  if (first == std::string_view::npos) return {};
-  return s.substr(first, s.find_last_not_of(kSpace) - first + 1);
-}
-
-template <std::size_t N>
-int detect(const std::vector<std::string>& columns, const std::string_view (&names)[N]) {
-  return find_column(columns, std::span<const std::string_view>(names, N));
-}
-
-std::string quoted(std::string_view v) {
-  constexpr std::size_t kMax = 40;
-  if (v.size() <= kMax) return "'" + std::string(v) + "'";
-  return "'" + std::string(v.substr(0, kMax)) + "...' (" + std::to_string(v.size()) + " characters)";
-}
-
-// A number as the site reader takes it: spaces around, an optional leading '+'. Returns "" or
-// the reason.
-const char* parse_number(std::string_view text, double& value) {
-  std::string_view s = text;
-  if (!s.empty() && (s.front() == ' ' || s.back() == ' ' || s.front() == '\t' || s.back() == '\t')) s = trim(s);
-  if (s.empty()) return "empty value";
-  if (s.size() > 1 && s[0] == '+' && s[1] != '-' && s[1] != '+') s.remove_prefix(1);
-  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
-  if (ec == std::errc::result_out_of_range) return "is out of the range of a double";
-  if (ec != std::errc() || ptr != s.data() + s.size()) return "is not a number";
-  return "";
-}
-
-// Splits one line (no line end) into fields, RFC 4180 quoting within the line. Unquoted fields
-// point into the line, quoted ones into `scratch`. Returns "" or the reason.
-const char* split_fields(std::string_view line, std::vector<std::string_view>& out, std::string& scratch) {
-  out.clear();
-  if (std::memchr(line.data(), '"', line.size()) == nullptr) {
-    std::size_t start = 0;
-    for (;;) {
-      const void* comma = std::memchr(line.data() + start, ',', line.size() - start);
-      if (!comma) {
-        out.push_back(line.substr(start));
-        return "";
-      }
-      const std::size_t at = static_cast<const char*>(comma) - line.data();
-      out.push_back(line.substr(start, at - start));
-      start = at + 1;
-    }
-  }
-  scratch.clear();
-  scratch.reserve(line.size());  // never reallocated below: the views into it stay valid
-  std::size_t i = 0;
-  for (;;) {
-    if (i < line.size() && line[i] == '"') {
-      const std::size_t begin = scratch.size();
-      ++i;
-      for (;;) {
-        if (i >= line.size()) return "unterminated quoted field (a query cannot span lines)";
-        if (line[i] == '"') {
-          if (i + 1 < line.size() && line[i + 1] == '"') {
-            scratch.push_back('"');
-            i += 2;
-            continue;
-          }
-          ++i;
-          break;
-        }
-        scratch.push_back(line[i++]);
-      }
-      while (i < line.size() && line[i] != ',') scratch.push_back(line[i++]);  // "ab"c -> abc
-      out.push_back(std::string_view(scratch).substr(begin));
-    } else {
-      const std::size_t begin = i;
-      while (i < line.size() && line[i] != ',') ++i;
-      out.push_back(line.substr(begin, i - begin));
-    }
-    if (i >= line.size()) return "";
-    ++i;  // the comma
-  }
-}
 
 // Output buffer with direct to_chars into its tail.
 class OutBuf {
@@ -181,14 +99,6 @@ class OutBuf {
   std::size_t size_ = 0;
 };
 
-// Where the columns of a query line are.
-struct QueryFormat {
-  bool header = false;
-  std::vector<std::string> columns;  // the header's names
-  std::size_t fields = 0;            // fields per line with a header
-  int lat = 0, lon = 1, id = -1;     // column indices (headerless: 0, 1, and 2 if present)
-};
-
 // One parsed query of a batch.
 struct Query {
   std::uint64_t line = 0;
@@ -201,8 +111,9 @@ struct Query {
 // One thread's part of a block, and its state kept from block to block.
 struct Worker {
   Locator locator;
-  std::vector<std::string_view> fields;
-  std::string scratch;
+  QueryLineParser parser;
+  QueryLine parsed;
+  std::string reason;
   std::vector<Query> batch;
   std::vector<std::string> quoted_ids;  // ids of the batch that were quoted fields
   std::vector<NearestResult> results, k_results;
@@ -211,7 +122,7 @@ struct Worker {
   std::uint64_t answered = 0;
   bool stopped = false;  // --strict: stopped at the first malformed line
 
-  Worker(const DelaunayHierarchy& h, const LocatorOptions& o) : locator(h, o) {}
+  Worker(const DelaunayHierarchy& h, const LocatorOptions& o, const QueryFormat& f) : locator(h, o), parser(f) {}
 };
 
 struct Context {
@@ -349,7 +260,6 @@ void process(const Context& ctx, Worker& w, const char* begin, const char* end, 
   w.batch.clear();
   w.quoted_ids.clear();
   w.quoted_ids.reserve(kBatch);  // never reallocated within a batch: the views stay valid
-  const QueryFormat& fmt = ctx.format;
   std::uint64_t line_no = first_line;
   for (const char* p = begin; p < end && !w.stopped; ++line_no) {
     const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
@@ -362,41 +272,18 @@ void process(const Context& ctx, Worker& w, const char* begin, const char* end, 
       w.errors.emplace_back(line_no, std::move(reason));
       if (ctx.strict) w.stopped = true;
     };
-    if (const char* why = split_fields(line, w.fields, w.scratch); *why) {
-      reject(why);
-      continue;
-    }
-    const std::size_t nf = w.fields.size();
-    if (fmt.header ? nf != fmt.fields : nf != 2 && nf != 3) {
-      reject("expected " + (fmt.header ? std::to_string(fmt.fields) : std::string("2 or 3 (lat,lon[,id])")) +
-             " fields, found " + std::to_string(nf));
+    if (!w.parser.parse(line, w.parsed, w.reason)) {
+      reject(std::move(w.reason));
       continue;
     }
     Query q;
     q.line = line_no;
-    const char* why = parse_number(w.fields[fmt.lat], q.lat);
-    int bad_column = fmt.lat;
-    if (!*why) why = parse_number(w.fields[fmt.lon], q.lon), bad_column = fmt.lon;
-    std::string reason;
-    if (*why) {
-      const std::string name = fmt.header ? fmt.columns[bad_column] : bad_column == 0 ? "lat" : "lon";
-      reason = name + ": " +
-               (std::strcmp(why, "empty value") == 0 ? std::string(why) : quoted(trim(w.fields[bad_column])) + " " + why);
-    } else {
-      reason = normalize_lat_lon(q.lat, q.lon);
-    }
-    if (!reason.empty()) {
-      reject(std::move(reason));
-      continue;
-    }
-    const int id_col = fmt.header ? fmt.id : (nf == 3 ? 2 : -1);
-    if (id_col >= 0) {
-      q.id = w.fields[id_col];
-      if (q.id.data() == nullptr) q.id = std::string_view(line.data(), 0);  // never null: null means "no id"
-      if (!w.scratch.empty() && q.id.data() >= w.scratch.data() && q.id.data() <= w.scratch.data() + w.scratch.size()) {
-        w.quoted_ids.emplace_back(q.id);  // the scratch is reused by the next line
-        q.id = w.quoted_ids.back();
-      }
+    q.lat = w.parsed.lat_deg;
+    q.lon = w.parsed.lon_deg;
+    q.id = w.parsed.id;
+    if (w.parsed.id_quoted) {
+      w.quoted_ids.emplace_back(q.id);  // the parser's buffer is reused by the next line
+      q.id = w.quoted_ids.back();
     }
     q.q = SiteEncoder::from_lat_lon(q.lat, q.lon);
     w.batch.push_back(q);
@@ -466,32 +353,6 @@ class LineBlocks {
   bool eof_ = false;
 };
 
-QueryFormat detect_format(std::string_view first, const std::string& source) {
-  if (!first.empty() && first.back() == '\r') first.remove_suffix(1);
-  std::vector<std::string_view> fields;
-  std::string scratch;
-  QueryFormat fmt;
-  double v;
-  if (!*split_fields(first, fields, scratch) && fields.size() >= 2 && !*parse_number(fields[0], v) &&
-      !*parse_number(fields[1], v))
-    return fmt;  // headerless: lat,lon[,id]
-  fmt.header = true;
-  for (const std::string_view f : fields) fmt.columns.emplace_back(trim(f));
-  fmt.fields = fmt.columns.size();
-  fmt.lat = detect(fmt.columns, kLatNames);
-  fmt.lon = detect(fmt.columns, kLonNames);
-  fmt.id = detect(fmt.columns, kIdNames);
-  if (fmt.lat < 0 || fmt.lon < 0 || fmt.lat == fmt.lon) {
-    std::string found;
-    for (const auto& c : fmt.columns) found += (found.empty() ? "" : ", ") + c;
-    throw Error(ErrorCode::BadData,
-                source + ": no latitude/longitude columns in the header line (" + found +
-                    "); looked for lat, latitude, lat_deg, y and lon, lng, long, longitude, lon_deg, x; "
-                    "or give lines of lat,lon[,id] without a header");
-  }
-  return fmt;
-}
-
 int run(NearestArgs& args) {
   const std::string& sites_path = args.sites.input;
   if (args.queries == "-" && sites_path == "-")
@@ -537,7 +398,7 @@ int run(NearestArgs& args) {
   prepare_site_ids(ctx);
   const std::optional<std::string_view> first = blocks.first_line();
   std::uint64_t line_no = 1;  // of the next line to process
-  if (first) ctx.format = detect_format(*first, qname);
+  if (first) ctx.format = detect_query_format(*first, qname);
   if (ctx.format.header) {
     blocks.skip_first_line();
     line_no = 2;
@@ -547,7 +408,7 @@ int run(NearestArgs& args) {
   const int threads = args.threads;
   std::vector<std::unique_ptr<Worker>> workers;
   for (int t = 0; t < threads; ++t)
-    workers.push_back(std::make_unique<Worker>(index.hierarchy, locator_options));
+    workers.push_back(std::make_unique<Worker>(index.hierarchy, locator_options, ctx.format));
   std::uint64_t answered = 0, rejected = 0;
   for (;;) {
     const std::string_view block = blocks.next();
