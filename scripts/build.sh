@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Usage: scripts/build.sh [release|asan] [TARGET...]
 #   release (default): build/, Release, tests and benchmarks.
-#   asan: build-asan/, RelWithDebInfo at -O1 with AddressSanitizer + UBSan, no benchmarks.
+#   asan: build-asan/, Clang 14, RelWithDebInfo at -O1 with AddressSanitizer + UBSan, no
+#     benchmarks; also the libFuzzer targets of tests/fuzz/ (GEOVOR_BUILD_FUZZ).
 # Installs missing packages (install-deps.sh), configures with Ninja when needed and builds the
 # given targets (default: all) with -j2. Re-running only rebuilds what changed.
 set -euo pipefail
@@ -18,7 +19,8 @@ case $mode in
   asan)
     dir=build-asan
     args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g -DNDEBUG"
-          -DGEOVOR_BUILD_TESTS=ON -DGEOVOR_BUILD_BENCH=OFF -DGEOVOR_SANITIZE=ON)
+          -DGEOVOR_BUILD_TESTS=ON -DGEOVOR_BUILD_BENCH=OFF -DGEOVOR_SANITIZE=ON
+          -DCMAKE_CXX_COMPILER=clang++-14 -DGEOVOR_BUILD_FUZZ=ON)
     ;;
   *)
     echo "usage: scripts/build.sh [release|asan] [TARGET...]" >&2
@@ -43,6 +45,9 @@ fi
 stamp=$dir/.build-sh-args
 if [[ ! -f $dir/build.ninja || ! -f $stamp || "$(cat "$stamp")" != "${args[*]}" ]]; then
   rm -f "$stamp"
+  # A fresh configuration (and so a full rebuild): CMake cannot switch the compiler of a
+  # configured directory.
+  rm -rf "$dir/CMakeCache.txt" "$dir/CMakeFiles"
   cmake -S . -B "$dir" -G Ninja "${args[@]}"
   printf '%s' "${args[*]}" >"$stamp"
 fi

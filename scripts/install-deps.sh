@@ -7,6 +7,7 @@ packages=(
   build-essential cmake ninja-build
   libcgal-dev libgmp-dev libmpfr-dev libgeographiclib-dev libgdal-dev gdal-bin
   libgtest-dev libgmock-dev libcli11-dev libbenchmark-dev libnanoflann-dev
+  clang-14 libclang-rt-14-dev llvm-14
 )
 
 missing=()

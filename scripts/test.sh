@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # The test command: release build and all its tests, then the ASan/UBSan build and all its tests
-# except those labelled package or nosan. Exits non-zero if any stage fails. Ends with one summary
-# line per stage (with elapsed seconds) and the total of tests passed and failed.
+# except those labelled package or nosan, then 60 s of each libFuzzer target (tests labelled fuzz,
+# docs/fuzzing.md). Exits non-zero if any stage fails. Ends with one summary line per stage (with
+# elapsed seconds) and the total of tests passed and failed.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 ctest_args=(--output-on-failure -j2 --timeout 600 --no-tests=error)
 ctest_env=()
+ctest_log=ctest.log
 summary=()
 failed=0
 tests_passed=0
@@ -34,14 +36,14 @@ skip() {
 }
 
 # run_ctest DIR [CTEST_ARG...]: ctest on DIR with ctest_env set; its output also goes to
-# DIR/ctest.log. Adds the counts from ctest's closing line to the totals.
+# DIR/$ctest_log. Adds the counts from ctest's closing line to the totals.
 # shellcheck disable=SC2317  # called through stage
 run_ctest() {
   local dir=$1 rc=0 line
   shift
   env "${ctest_env[@]}" ctest --test-dir "$dir" "${ctest_args[@]}" "$@" 2>&1 |
-    tee "$dir/ctest.log" || rc=$?
-  line=$(grep -E '[0-9]+ tests? failed out of [0-9]+' "$dir/ctest.log" | tail -n 1 || true)
+    tee "$dir/$ctest_log" || rc=$?
+  line=$(grep -E '[0-9]+ tests? failed out of [0-9]+' "$dir/$ctest_log" | tail -n 1 || true)
   if [[ $line =~ ([0-9]+)\ tests?\ failed\ out\ of\ ([0-9]+) ]]; then
     tests_failed=$((tests_failed + BASH_REMATCH[1]))
     tests_passed=$((tests_passed + BASH_REMATCH[2] - BASH_REMATCH[1]))
@@ -58,9 +60,13 @@ fi
 if stage build-asan scripts/build.sh asan; then
   ctest_env=(ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
              UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1)
-  stage test-asan run_ctest build-asan -LE 'package|nosan' || true
+  stage test-asan run_ctest build-asan -LE 'package|nosan|^fuzz$' || true
+  # A failing target leaves its input in build-asan/tests/fuzz/<name>/artifacts/ (path in the log).
+  ctest_log=ctest-fuzz.log
+  stage fuzz run_ctest build-asan -L '^fuzz$' || true
 else
   skip test-asan "the asan build failed"
+  skip fuzz "the asan build failed"
 fi
 
 echo

@@ -342,11 +342,12 @@ std::uint64_t xxh64(const void* data, std::size_t size, std::uint64_t seed) {
     h = seed + kP5;
   }
   h += static_cast<std::uint64_t>(size);
-  for (; p + 8 <= end; p += 8) {
+  // Compare what is left, never p + 8 with end: a pointer past the end (or off null) is UB.
+  for (; end - p >= 8; p += 8) {
     h ^= xxh_round(0, load64(p));
     h = std::rotl(h, 27) * kP1 + kP4;
   }
-  if (p + 4 <= end) {
+  if (end - p >= 4) {
     h ^= static_cast<std::uint64_t>(load32(p)) * kP1;
     h = std::rotl(h, 23) * kP2 + kP3;
     p += 4;
