@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "geovor/delaunay/spatial_sort.hpp"
@@ -63,9 +64,13 @@ void expect_copy_of(const WalkGraph& g, const DelaunayHierarchy& h) {
       in_order.push_back(p);
       EXPECT_GE(g.degree(l, v), std::min<std::uint32_t>(g.num_nodes(l) - 1, 3));
     }
-    // Nodes along the Hilbert curve: sorting them again changes nothing.
-    const std::vector<std::uint32_t> order = hilbert_order(in_order);
-    for (std::uint32_t i = 0; i < order.size(); ++i) ASSERT_EQ(order[i], i) << "level " << l;
+    // Nodes along the Hilbert curve: the base by hilbert_key(), the others as hilbert_order().
+    if (l == 0) {
+      for (std::size_t i = 1; i < in_order.size(); ++i) ASSERT_LE(hilbert_key(in_order[i - 1]), hilbert_key(in_order[i]));
+    } else {
+      const std::vector<std::uint32_t> order = hilbert_order(in_order);
+      for (std::uint32_t i = 0; i < order.size(); ++i) ASSERT_EQ(order[i], i) << "level " << l;
+    }
     // Now that every node of the level is mapped, compare the lists exactly.
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       const SiteId s = sites[i];
@@ -103,6 +108,27 @@ TEST(WalkGraph, IsACopyOfTheHierarchy) {
   const double bytes_per_site = static_cast<double>(g.memory_bytes()) / static_cast<double>(h.base().num_sites());
   EXPECT_LT(bytes_per_site, 80.0);
   EXPECT_GT(bytes_per_site, 56.0);
+}
+
+// curve_start gives a base node, usually near q: within 8 mean spacings for most queries.
+TEST(WalkGraph, CurveStartIsANearNodeMostOfTheTime) {
+  const std::size_t n = 50000;
+  const DelaunayHierarchy h = DelaunayHierarchy::build(testing::uniform_on_sphere(n, 74));
+  const WalkGraph g(h);
+  const double spacing = std::sqrt(4 * 3.14159265358979 / static_cast<double>(n));
+  std::size_t near = 0;
+  const auto queries = testing::uniform_on_sphere(2000, 75);
+  for (const Vec3& q : queries) {
+    const std::uint32_t v = g.curve_start(q);
+    ASSERT_NE(v, kNoIndex);
+    const SiteId s = g.site_of(v);
+    ASSERT_TRUE(h.base().is_live(s));
+    ASSERT_EQ(g.node_of(s), v);
+    if (std::acos(std::min(1.0, dot(q, g.point(0, v)))) < 8 * spacing) ++near;
+  }
+  EXPECT_GT(near, queries.size() * 9 / 10);
+  const DelaunayHierarchy empty = DelaunayHierarchy::build(std::vector<Vec3>{});
+  EXPECT_EQ(WalkGraph(empty).curve_start(queries[0]), kNoIndex);
 }
 
 TEST(WalkGraph, AfterRemovalsAndFewSites) {

@@ -103,6 +103,7 @@ struct PackedView {
   std::uint32_t down(int l, std::uint32_t v) const { return g.down(l, v); }
   SiteId site_of(std::uint32_t v) const { return g.site_of(v); }
   std::uint32_t node_of(SiteId s) const { return g.node_of(s); }
+  std::uint32_t curve_start(const Vec3& q) const { return g.curve_start(q); }
   template <class F>
   void for_each_neighbour(int l, std::uint32_t v, F&& f) const {
     g.for_each_neighbour(l, v, f);
@@ -124,6 +125,7 @@ struct HierarchyView {
   std::uint32_t down(int l, std::uint32_t v) const { return h.down(l, v); }
   SiteId site_of(std::uint32_t v) const { return v; }
   std::uint32_t node_of(SiteId s) const { return s; }
+  std::uint32_t curve_start(const Vec3&) const { return kNoIndex; }  // no curve index here
   template <class F>
   void for_each_neighbour(int l, std::uint32_t v, F&& f) const {
     const SphericalDelaunay& dt = h.level(l);
@@ -385,12 +387,20 @@ SiteId Locator::locate(const G& g, const Vec3& q) {
       v = climb_and_descend(g, q, v0, &margin);
       break;
     case LocateStrategy::KeepJumpClimb: {
-      // Near: climb from the landmark. Far: jump to the landmark's nearest site on the lowest
-      // level whose spacing suits the distance, walk and descend from there.
+      // Near: climb from the landmark. Far: from the curve's site if it is near, else jump to the
+      // landmark's nearest site on the lowest level whose spacing suits the distance, walk and
+      // descend from there (from the top if the landmark's query never reached that level).
       int level = 0;
       const int top = g.num_levels() - 1;
       while (level < top && start_d < cos_start_[static_cast<std::size_t>(level)]) ++level;
-      if (start == nullptr) {
+      // No near landmark: try the Hilbert curve's sample first (packed copy only); its node is
+      // usually near, but the curve jumps at some cell borders, hence the check.
+      std::uint32_t curve = kNoIndex;
+      double curve_d = -3;
+      if ((start == nullptr || level > 0) && (curve = g.curve_start(q)) != kNoIndex) curve_d = dot(q, g.point(0, curve));
+      if (curve != kNoIndex && curve_d > start_d && curve_d >= cos_start_[0]) {
+        v = climb_and_descend(g, q, curve, &margin);
+      } else if (start == nullptr) {
         v = from_top(g, q, &margin);
       } else if (level == 0) {
         v = climb_and_descend(g, q, v0, &margin);

@@ -50,7 +50,18 @@ WalkGraph::WalkGraph(const DelaunayHierarchy& h) : source_(&h) {
     pts.reserve(dt.num_sites());
     for (SiteId s = 0; s < dt.site_capacity(); ++s)
       if (dt.is_live(s)) live.push_back(s), pts.push_back(dt.site(s));
-    const std::vector<std::uint32_t> order = hilbert_order(pts);
+    // The base in the order of the full-resolution curve keys, so that a query's key finds its
+    // place among them (curve_start()); the levels above in hilbert_order()'s.
+    std::vector<std::uint32_t> order;
+    std::vector<std::uint64_t> keys;
+    if (l == 0) {
+      std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(pts.size());
+      for (std::uint32_t i = 0; i < pts.size(); ++i) keyed[i] = {hilbert_key(pts[i]), i};
+      std::sort(keyed.begin(), keyed.end());
+      for (const auto& [key, i] : keyed) order.push_back(i), keys.push_back(key);
+    } else {
+      order = hilbert_order(pts);
+    }
     std::vector<SiteId>& sites = site_of[static_cast<std::size_t>(l)];
     std::vector<std::uint32_t>& nodes = node_of[static_cast<std::size_t>(l)];
     sites.resize(live.size());
@@ -68,6 +79,7 @@ WalkGraph::WalkGraph(const DelaunayHierarchy& h) : source_(&h) {
         while (e != e0);
         return d;
       }();
+      if (l == 0 && i % kCurveSample == 0) curve_keys_.push_back(keys[i]), curve_nodes_.push_back(static_cast<std::uint32_t>(offset));
       offset += (36 + 4 * degree + 7) / 8;
     }
     if (offset >= kNoIndex) throw Error(ErrorCode::InvalidArgument, "walk graph: too many sites");
@@ -127,8 +139,19 @@ std::shared_ptr<const WalkGraph> WalkGraph::shared(const DelaunayHierarchy& h) {
   return g;
 }
 
+std::uint32_t WalkGraph::curve_start(const Vec3& q) const {
+  if (curve_keys_.empty()) return kNoIndex;
+  const std::uint64_t key = hilbert_key(q);
+  const std::size_t i = static_cast<std::size_t>(std::upper_bound(curve_keys_.begin(), curve_keys_.end(), key) - curve_keys_.begin());
+  if (i == 0) return curve_nodes_.front();
+  if (i == curve_keys_.size()) return curve_nodes_.back();
+  // The sampled nodes on either side of q's place on the curve: the nearer one.
+  const std::uint32_t a = curve_nodes_[i - 1], b = curve_nodes_[i];
+  return dot(q, point(0, a)) >= dot(q, point(0, b)) ? a : b;
+}
+
 std::size_t WalkGraph::memory_bytes() const {
-  std::size_t bytes = bytes_of(revisions_) + bytes_of(node_of_);
+  std::size_t bytes = bytes_of(revisions_) + bytes_of(node_of_) + bytes_of(curve_keys_) + bytes_of(curve_nodes_);
   for (const Level& l : levels_) bytes += bytes_of(l.words);
   return bytes;
 }

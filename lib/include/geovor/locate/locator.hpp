@@ -19,8 +19,10 @@
 /// The walks run on a WalkGraph (walk_graph.hpp), a Hilbert-ordered packed copy of the hierarchy
 /// shared by the Locators of one hierarchy state, built once the stream is long enough to pay
 /// for it (LocatorOptions::packed, rebuild_after) or by prepare().
-/// Keep Jump & Climb descends from the top of the hierarchy instead of climbing when its best
-/// landmark is far (LocatorOptions::far_spacings). The last walk's final ring certifies the answer
+/// Keep Jump & Climb climbs from its best landmark when that is near (LocatorOptions::
+/// far_spacings); otherwise it starts from the site the packed copy's Hilbert-curve sample gives
+/// for q (WalkGraph::curve_start) when that one is near, or else jumps to the landmark's own
+/// nearest site on a level whose spacing suits the distance and descends from there. The last walk's final ring certifies the answer
 /// when every neighbour is worse by more than the dot products' rounding bound; otherwise the
 /// exact walk does.
 ///
@@ -81,8 +83,9 @@ struct LocatorOptions {
   /// cost. 0 means max(1024, n / 8). DEFAULT: 0.
   std::uint64_t rebuild_after = 0;
   /// KeepJumpClimb: when the best landmark is farther from the query than this many mean site
-  /// spacings sqrt(4 pi / n) (radians), do not climb from it: jump to the nearest site the
-  /// landmark's own query had on the lowest level l >= 1 whose mean spacing sqrt(4 pi / n_l)
+  /// spacings sqrt(4 pi / n) (radians), do not climb from it. Climb instead from the packed
+  /// copy's curve site for q if that is within this distance; otherwise jump to the nearest site
+  /// the landmark's own query had on the lowest level l >= 1 whose mean spacing sqrt(4 pi / n_l)
   /// times level_spacings exceeds the distance, walk there and descend; with no such site known,
   /// descend from the top. DEFAULT: 8.
   double far_spacings = 8;

@@ -4,7 +4,8 @@
 /// A walk reads a site's neighbours, then their coordinates. In the triangulation that is three
 /// dependent loads per neighbour (half-edge, twin, site) into arrays indexed by site ids in input
 /// order, so at 2^20 random sites nearly every one is a cache miss. Here, on every level, the live
-/// sites are renumbered along the Hilbert curve (spatial_sort.hpp), so that neighbours are mostly
+/// sites are renumbered along the Hilbert curve (spatial_sort.hpp; the base by hilbert_key(), with
+/// one node in 16 kept with its key for curve_start()), so that neighbours are mostly
 /// close in memory, and each site is one record holding everything a walk reads of it:
 ///   coordinates (3 doubles) | node above | site id (base) or node below | degree | neighbours,
 /// 36 + 4 * degree bytes rounded up to 8. A walk step needs the records of the current site's
@@ -12,7 +13,8 @@
 /// one memory access, not two. A node is its record's offset in 8-byte words on its level.
 ///
 /// Memory: about 64 bytes per site on the base (degree 6 on average), + 4 per site id (node of
-/// each site); the levels above add about 1/29 of that. The coordinates are copies of the
+/// each site), + 0.75 for the curve sample; the levels above add about 1/29 of that (68 bytes
+/// per site measured at 2^20 uniform sites). The coordinates are copies of the
 /// triangulation's doubles (bit for bit), so any comparison made on them is the one the
 /// triangulation would make.
 ///
@@ -65,6 +67,12 @@ class WalkGraph {
   /// The site id of base node v, and the base node of live site s.
   SiteId site_of(std::uint32_t v) const { return field(level_(0).words.data() + v, 1); }
   std::uint32_t node_of(SiteId s) const { return node_of_[s]; }
+  /// A base node near q found through the Hilbert curve: the base nodes are in the order of
+  /// their hilbert_key(), and one in kCurveSample is kept with its key; of the two kept nodes
+  /// around q's key, the nearer to q (kNoIndex if there is no site). Curve neighbours are
+  /// usually, not always, near (the curve jumps at some cell borders): a start, no answer.
+  std::uint32_t curve_start(const Vec3& q) const;
+  static constexpr std::uint32_t kCurveSample = 16;
   /// f(w, point of w) for every neighbour w of node v of level l, counter-clockwise.
   template <class F>
   void for_each_neighbour(int l, std::uint32_t v, F&& f) const {
@@ -115,6 +123,8 @@ class WalkGraph {
   std::vector<std::uint64_t> revisions_;
   std::vector<Level> levels_;
   std::vector<std::uint32_t> node_of_;
+  std::vector<std::uint64_t> curve_keys_;   // hilbert_key() of every kCurveSample-th base node
+  std::vector<std::uint32_t> curve_nodes_;  // and that node
 };
 
 }  // namespace geovor
