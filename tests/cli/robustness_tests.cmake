@@ -350,4 +350,5 @@ add_test(NAME cli.robust.nearest_constant_memory
   COMMAND geovor_test_nearest_soak --geovor $<TARGET_FILE:geovor_cli> --sites ${stations}
           --queries 3000000 --first 1000000 --interval 1000 --check-constant-memory
   WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-set_tests_properties(cli.robust.nearest_constant_memory PROPERTIES LABELS cli)
+# nosan: ASan keeps freed memory in quarantine, so the peak grows with the work done.
+set_tests_properties(cli.robust.nearest_constant_memory PROPERTIES LABELS "cli;nosan")
