@@ -76,7 +76,7 @@ void expect_filter_invariant(SphericalDelaunay& dt, const std::string& what) {
 }
 
 void expect_stats_add_up(const MoveStats& st, std::size_t asked, const std::string& what) {
-  EXPECT_EQ(st.moved, st.filtered + st.flipped + st.reinserted) << what;
+  EXPECT_EQ(st.moved, st.filtered + st.flipped + st.reinserted + st.rebuilt) << what;
   EXPECT_EQ(st.moved + st.refused, asked) << what;
 }
 
@@ -165,7 +165,41 @@ TEST(Relocation, DriftBySmallSteps) {
       if (::testing::Test::HasFailure()) return;
     }
     EXPECT_GT(all.filtered, all.moved / 2) << name;
+    EXPECT_GT(all.reanchored, 0u) << name;  // the second test (tolerances at the new position)
     EXPECT_GT(all.flipped, 0u) << name;
+  }
+}
+
+// move_all()'s policy: from 16384 sites, large moves rebuild in place (same ids, same triangles),
+// small ones are filtered; the option off, nothing is rebuilt.
+TEST(Relocation, RebuildWhenFaster) {
+  const auto pts = testing::uniform_on_sphere(20000, 31);
+  const double spacing = std::sqrt(4 * M_PI / 20000);
+  for (const bool policy : {true, false}) {
+    SphericalDelaunay dt = SphericalDelaunay::build(pts);
+    RelocationOptions opt;
+    opt.rebuild_when_faster = policy;
+    std::mt19937_64 rng(9);
+    MoveStats all;
+    double last = 1;  // the policy looks at the previous batch (none at first: no tolerances)
+    for (const double rel : {0.3, 0.3, 1e-4, 1e-4, 1e-4, 0.5, 0.5, 1e-4}) {
+      std::vector<Vec3> target(dt.sites().begin(), dt.sites().end());
+      for (Vec3& p : target) p = jitter(p, rel * spacing, rng);
+      const MoveStats st = dt.move_all(target, opt);
+      const std::string what = std::string(policy ? "policy" : "no policy") + ", step " + std::to_string(rel);
+      expect_stats_add_up(st, target.size(), what);
+      EXPECT_EQ(st.refused, 0u) << what;
+      EXPECT_TRUE(std::equal(target.begin(), target.end(), dt.sites().begin())) << what;
+      expect_as_rebuilt(dt, what);
+      if (policy && rel > 0.1 && last > 0.1) EXPECT_EQ(st.rebuilt, st.moved) << what;
+      if (rel > 0.1 && last < 0.1) EXPECT_EQ(st.rebuilt, 0u) << what;  // relocated, then seen
+      if (rel < 0.1) EXPECT_EQ(st.rebuilt, 0u) << what;
+      if (rel < 0.1) EXPECT_GT(st.filtered, st.moved * 9 / 10) << what;
+      if (::testing::Test::HasFailure()) return;
+      all += st;
+      last = rel;
+    }
+    if (!policy) EXPECT_EQ(all.rebuilt, 0u);
   }
 }
 

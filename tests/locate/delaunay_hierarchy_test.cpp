@@ -54,7 +54,7 @@ TEST(DelaunayHierarchy, StaysRightUnderMoves) {
     std::vector<Vec3> target(h.base().sites().begin(), h.base().sites().end());
     for (Vec3& p : target) p = testing::normalized(p + rel * spacing * Vec3{g(rng), g(rng), g(rng)});
     const MoveStats st = h.move_all(target);
-    EXPECT_EQ(st.moved, st.filtered + st.flipped + st.reinserted);
+    EXPECT_EQ(st.moved, st.filtered + st.flipped + st.reinserted + st.rebuilt);
     EXPECT_EQ(st.moved + st.refused, target.size());
     const Validation v = h.validate();
     ASSERT_TRUE(v.ok()) << rel << ": " << v.errors.front();

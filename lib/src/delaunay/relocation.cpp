@@ -5,9 +5,12 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "geovor/core/assert.hpp"
 #include "geovor/core/error.hpp"
+#include "geovor/delaunay/spatial_sort.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/kernel/predicates.hpp"
 #include "kernel/in_sphere_filter.hpp"
@@ -50,10 +53,90 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
       throw Error(ErrorCode::InvalidArgument, "move_all: position of site " + std::to_string(s) + " is not a unit vector");
   GEOVOR_ASSERT(priority_.empty());
   MoveStats total;
-  for (SiteId s = 0; s < sites_.size(); ++s)
-    if (!(positions[s] == sites_[s]) && alive(s)) total += move_one(s, positions[s], options);
+  if (!options.filter || num_live_ < 4) {
+    for (SiteId s = 0; s < sites_.size(); ++s)
+      if (!(positions[s] == sites_[s]) && alive(s)) total += move_one(s, positions[s], options);
+    if (total.moved) touch();
+    return total;
+  }
+  if (options.rebuild_when_faster && num_live_ >= kRebuildMinSites && num_live_ == sites_.size() &&
+      priority_.empty() && (tolerance2_.empty() || relocated_share_ > kRelocatedShareToRebuild)) {
+    // Relocating most sites costs several times a rebuild: estimate the share of moves the filter
+    // would miss with tolerances computed afresh, and rebuild if it is large.
+    if (fresh_failure_share(positions) > kFreshFailureShareToFilter) {
+      if (rebuild_in_place(positions, total)) {
+        touch();
+        return total;
+      }
+    } else {
+      drop_tolerances();  // recomputed afresh below: their drift made the last batch slow
+    }
+  }
+  // The same moves one at a time (move_one() in some order is exact in any order), ordered for
+  // speed: first every move the filter certifies, then the others along the Hilbert curve of their
+  // targets, so that consecutive relocations work in the same neighbourhood (site ids are in no
+  // spatial order, and a relocation's cost is mostly its cache misses).
+  if (tolerance2_.empty()) init_tolerances();
+  std::vector<std::pair<std::uint64_t, SiteId>> pending;
+  for (SiteId s = 0; s < sites_.size(); ++s) {
+    if (positions[s] == sites_[s] || !alive(s)) continue;
+    if (norm2(positions[s] - reference_[s]) < tolerance2_[s]) {  // move_one()'s filter, inline
+      sites_[s] = positions[s];
+      ++total.moved;
+      ++total.filtered;
+    } else {
+      pending.emplace_back(hilbert_key(positions[s]), s);
+    }
+  }
+  std::sort(pending.begin(), pending.end());
+  for (const auto& [key, s] : pending) total += move_one(s, positions[s], options);
+  relocated_share_ = static_cast<double>(total.flipped + total.reinserted) / static_cast<double>(num_live_);
   if (total.moved) touch();
   return total;
+}
+
+double SphericalDelaunay::fresh_failure_share(std::span<const Vec3> positions) const {
+  // About 512 sites spread over the ids; each one's tolerance at the current positions, stopping
+  // at the first bi-cell whose tolerance is below its move. (Only a policy: nothing depends on it
+  // being right.)
+  const std::size_t stride = std::max<std::size_t>(1, sites_.size() / 512);
+  std::size_t tested = 0, failed = 0;
+  const Vec3* f = sites_.data();
+  for (SiteId s = 0; s < sites_.size(); s += static_cast<SiteId>(stride)) {
+    if (!alive(s)) continue;
+    ++tested;
+    if (positions[s] == sites_[s]) continue;
+    const double d2 = norm2(positions[s] - sites_[s]);
+    const HalfedgeId e0 = site_edge_[s];
+    HalfedgeId e = e0;
+    bool fails = false;
+    do {
+      for (const HalfedgeId h : {e, next_halfedge(e)}) {
+        const double tau = bicell_tolerance(f[triangles_[h]], f[triangles_[next_halfedge(h)]],
+                                            f[triangles_[prev_halfedge(h)]],
+                                            f[triangles_[prev_halfedge(halfedges_[h])]], options_.merge_distance);
+        fails = fails || !(d2 < tau * tau);
+      }
+      e = next_around_site(e);
+    } while (!fails && e != e0);
+    failed += fails;
+  }
+  return tested ? static_cast<double>(failed) / static_cast<double>(tested) : 0;
+}
+
+bool SphericalDelaunay::rebuild_in_place(std::span<const Vec3> positions, MoveStats& stats) {
+  // Ids are input indices (no site is removed) and the perturbed triangulation is unique: the
+  // same triangles as relocating every site. A merge means some move must be refused, which the
+  // one-by-one moves decide: give up then.
+  BuildReport report;
+  SphericalDelaunay next = build(positions, options_, &report);
+  if (!report.merges.empty()) return false;
+  std::size_t moved = 0;
+  for (SiteId s = 0; s < sites_.size(); ++s) moved += !(positions[s] == sites_[s]);
+  *this = std::move(next);  // no tolerances: the next batch estimates again
+  stats.moved += moved;
+  stats.rebuilt += moved;
+  return true;
 }
 
 MoveStats SphericalDelaunay::move_one(SiteId s, const Vec3& p, const RelocationOptions& options) {
@@ -66,6 +149,10 @@ MoveStats SphericalDelaunay::move_one(SiteId s, const Vec3& p, const RelocationO
     if (norm2(p - reference_[s]) < tolerance2_[s]) {
       sites_[s] = p;
       st.moved = st.filtered = 1;
+      return st;
+    }
+    if (reanchor(s, p)) {
+      st.moved = st.filtered = st.reanchored = 1;
       return st;
     }
   }
@@ -99,6 +186,69 @@ MoveStats SphericalDelaunay::move_one(SiteId s, const Vec3& p, const RelocationO
   update_around_link();  // the hole left by a removal was retriangulated around them
   st.refreshed = settle_queue();
   return st;
+}
+
+bool SphericalDelaunay::reanchor(SiteId s, const Vec3& p) {
+  // The second test (the filter failed: p is too far from s's reference f_s). Before the move the
+  // sign of each bi-cell B containing s is the one at its references (Algorithm 1's invariant),
+  // and also the one with s at its current position m_s instead: |m_s - f_s| < eps_s <= tau_B.
+  // With tau_B' the tolerance of B recomputed with f_s := p, if |p - m_s| < tau_B', the
+  // configurations (m_s, f) and (p, f) have the same sign, hence so does (p, f) and, if every
+  // other site w of B is within tau_B' of f_w, the current positions: nothing changes but f_s,
+  // eps_s and the eps of the other sites, each still within its new eps. The edge term of tau_B'
+  // keeps every edge at s longer than the merge distance, as for the filter. A site moving
+  // steadily fails the filter once its drift from f_s exceeds eps_s, while its step is far below
+  // eps_s: this certifies it at the cost of a tolerance refresh, without a relocation.
+  const Vec3 m = sites_[s];
+  const double step2 = norm2(p - m);
+  if (!(step2 < tolerance2_[s])) return false;  // would fail too, most likely: relocate now
+  // Any unit vector f may be the new reference if |f - m_s| < tau_B' and |p - f| < tau_B' (the
+  // argument above with f for p). Sites drift steadily (Lloyd's iterations), so f is p moved on
+  // by the same step beta times, beta set to use about 60% of the old tolerance: the next test
+  // then fails after about 1.6 times as many steps.
+  const double beta = std::floor(0.8 * std::sqrt(tolerance2_[s] / step2)) - 1;
+  const Vec3 f_new = beta > 0 ? (1 / std::sqrt(norm2(p + beta * (p - m)))) * (p + beta * (p - m)) : p;
+  const double from_m2 = norm2(f_new - m), to_p2 = norm2(p - f_new);
+  const Vec3 f_old = reference_[s];
+  reference_[s] = f_new;
+  tau2_.clear();
+  bool ok = true;
+  const HalfedgeId e0 = site_edge_[s];
+  HalfedgeId e = e0;
+  do {  // the bi-cells of the edges at s and of the link edges opposite s, as refresh_site()
+    for (const HalfedgeId h : {e, next_halfedge(e)}) {
+      const SiteId q[4] = {triangles_[h], triangles_[next_halfedge(h)], triangles_[prev_halfedge(h)],
+                           triangles_[prev_halfedge(halfedges_[h])]};
+      const Vec3* f = reference_.data();
+      const double tau =
+          bicell_tolerance(f[q[0]], f[q[1]], f[q[2]], f[q[3]], options_.merge_distance) * (1 - 0x1p-48);
+      const double tau2 = tau * tau;
+      ok = from_m2 < tau2 && to_p2 < tau2;
+      for (int i = 0; i < 4 && ok; ++i)
+        ok = q[i] == s || sites_[q[i]] == f[q[i]] || norm2(sites_[q[i]] - f[q[i]]) < tau2;
+      if (!ok) break;
+      tau2_.push_back(tau2);
+    }
+    e = next_around_site(e);
+  } while (ok && e != e0);
+  if (!ok) {
+    reference_[s] = f_old;
+    return false;
+  }
+  sites_[s] = p;
+  tolerance2_[s] = std::numeric_limits<double>::infinity();
+  std::size_t k = 0;
+  e = e0;
+  do {  // every site is within each new tau (checked above): no refresh follows
+    for (const HalfedgeId h : {e, next_halfedge(e)}) {
+      const double tau2 = tau2_[k++];
+      const SiteId q[4] = {triangles_[h], triangles_[next_halfedge(h)], triangles_[prev_halfedge(h)],
+                           triangles_[prev_halfedge(halfedges_[h])]};
+      for (const SiteId w : q) tolerance2_[w] = std::min(tolerance2_[w], tau2);
+    }
+    e = next_around_site(e);
+  } while (e != e0);
+  return true;
 }
 
 void SphericalDelaunay::collect_link(SiteId s) {
@@ -300,62 +450,18 @@ bool SphericalDelaunay::relocate_by_flips(SiteId s, const Vec3& p) {
 
 namespace {
 
-// Lower bound of half the minimal width of the tetrahedron (a, b, c, d), up to a relative
-// rounding of a few 2^-53 that the caller's margin covers; 0 when (nearly) flat.
-double half_width_lower(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  // 6 x volume = |det(b - a, c - a, d - a)|, minus Shewchuk's bound of its rounding.
-  double permanent;
-  const double det = kernel::detail::in_sphere_det(a, b, c, d, &permanent);
-  const double volume6 = std::fabs(det) - kernel::detail::kO3dErrBound * permanent;
-  if (!(volume6 > 0)) return 0;  // coplanar, or too close to tell
-  // Each height and each distance between opposite edges' lines is 6V / |u x v| for two edges u,
-  // v (of the face, or the two opposite edges); the width of a tetrahedron is the least of these
-  // seven (it is attained by a face and a vertex or by two edges): 6V over the largest |u x v|.
-  const Vec3 ab = b - a, ac = c - a, ad = d - a, bc = c - b, bd = d - b, cd = d - c;
-  const double m2 = std::max({norm2(cross(ab, ac)), norm2(cross(ab, ad)), norm2(cross(ac, ad)),
-                              norm2(cross(bc, bd)), norm2(cross(ab, cd)), norm2(cross(ac, bd)),
-                              norm2(cross(ad, bc))});
-  // Rounding: the edges are within 2^-53 per component, each product and difference too, so each
-  // component of a cross product is within 8 2^-53 L^2 of the exact one (L the longest edge), its
-  // norm within 2^-49 L^2.
-  const double l2 = std::max({norm2(ab), norm2(ac), norm2(ad), norm2(bc), norm2(bd), norm2(cd)});
-  return volume6 / (2 * (std::sqrt(m2) + 0x1p-48 * l2));
-}
-
-// The bound for points moving on the sphere (see spherical_delaunay.hpp): the four points seen
-// through T, which stretches the component along their mean direction by 1/S. Sets S (1: no
-// gain over the isotropic bound).
-double spherical_half_tolerance(const Vec3 (&f)[4], double& S) {
-  S = 1;
-  Vec3 c = f[0] + f[1] + f[2] + f[3];
-  const double c2 = norm2(c);
-  if (!(c2 > 0.25)) return 0;  // spread over the sphere: the isotropic bound does as well
-  c = (1 / std::sqrt(c2)) * c;
-  // s0: the largest sine of the angle between c and a point, |c x f| / (|c| |f|), rounded up
-  // (|c|^2 and |f|^2 are within 2^-48 of 1).
-  double s2 = 0;
-  for (const Vec3& p : f) s2 = std::max(s2, norm2(cross(c, p)));
-  const double s0 = std::sqrt(s2) * (1 + 0x1p-46) + 0x1p-48;
-  // Moves up to tau_cap turn a point by at most A; a move of chord D then changes its component
-  // along c by at most S D + eps. (The tolerance is far below s0 but for ties of huge bi-cells.)
-  const double tau_cap = std::min(s0 / 16, 0.5);
-  const double A = 1.05 * (tau_cap + 0x1p-49);
-  S = std::min(1.05 * (s0 + A), 1.0);
-  const double eps = 0x1p-49 * (1 + S);
-  // y_i = T (f_i - f_0), T = I + (1/S - 1) c c^T / |c|^2; each within e of the exact image.
-  const double k = (1 / S - 1) / norm2(c) * (1 - 0x1p-50);
-  Vec3 y[4];
-  double d2max = 0;
-  for (int i = 0; i < 4; ++i) {
-    const Vec3 d = f[i] - f[0];
-    d2max = std::max(d2max, norm2(d));
-    y[i] = d + (k * dot(d, c)) * c;
-  }
-  const double e = 0x1p-48 * (1 + 1 / S) * std::sqrt(d2max);
-  // Each moved point's image moves by at most sqrt(2) D + eps / S: below half the width, no four
-  // images, hence no four points, become coplanar.
-  const double half = (half_width_lower(y[0], y[1], y[2], y[3]) - e - eps / S) * 0x1.6a09e667f3bcdp-1;
-  return std::min(half, tau_cap);
+// Upper bound of the largest product |u| |v| over the seven pairs of edges (u, v) that bound the
+// width of the tetrahedron: two edges of each face (the face's least product, as 2 x area is at
+// most the product of any two of its edges) and the three pairs of opposite edges. q[k] bounds
+// the squared length of edge k, in the order 01, 02, 03, 12, 13, 23.
+double max_edge_product(const double (&q)[6]) {
+  const double f012 = std::min({q[0] * q[1], q[0] * q[3], q[1] * q[3]});
+  const double f013 = std::min({q[0] * q[2], q[0] * q[4], q[2] * q[4]});
+  const double f023 = std::min({q[1] * q[2], q[1] * q[5], q[2] * q[5]});
+  const double f123 = std::min({q[3] * q[4], q[3] * q[5], q[4] * q[5]});
+  const double m2 = std::max({f012, f013, f023, f123, q[0] * q[5], q[1] * q[4], q[2] * q[3]});
+  // Each q is within a relative 2^-49 of its exact bound, each product and the root within 2^-52.
+  return std::sqrt(m2) * (1 + 0x1p-44);
 }
 
 }  // namespace
@@ -363,12 +469,57 @@ double spherical_half_tolerance(const Vec3 (&f)[4], double& S) {
 double SphericalDelaunay::bicell_tolerance(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
                                            double merge_distance) {
   const Vec3 f[4] = {a, b, c, d};
-  // Motions on the sphere: a bi-cell's tetrahedron is flat (height ~ edge^2), but its points are
-  // not near one circle; any motion in R^3 by less than half its width keeps the sign too, the
-  // better bound for bi-cells spanning a large part of the sphere.
-  double S;
-  double half_width = spherical_half_tolerance(f, S);
-  if (S > 0.25) half_width = std::max(half_width, half_width_lower(a, b, c, d));
+  // 6 x the volume of the tetrahedron, |det(b - a, c - a, d - a)|, minus Shewchuk's bound of its
+  // rounding: the orientation certificate itself, computed once for both bounds below.
+  double permanent;
+  const double det = kernel::detail::in_sphere_det(a, b, c, d, &permanent);
+  const double volume6 = std::fabs(det) - kernel::detail::kO3dErrBound * permanent;
+  if (!(volume6 > 0)) return 0;  // coplanar (a tie), or too close to tell
+  // Squared edge lengths, each within a relative 2^-50 of the exact one.
+  const Vec3 e[6] = {b - a, c - a, d - a, c - b, d - b, d - c};
+  double l2[6];
+  for (int k = 0; k < 6; ++k) l2[k] = norm2(e[k]) * (1 + 0x1p-49);
+  // Any motion in R^3 by less than half the width w keeps the sign; w >= 6V / max |u||v|.
+  double S = 1;
+  double half_width = 0;
+  // Motions on the sphere: the same width after the linear map T that stretches the component
+  // along the four points' mean direction c by 1/S. det T = 1/S, so 6 V_T = 6 V / S exactly, and
+  // an edge's image has |T u|^2 = |u|^2 + (1/S^2 - 1) (u.c)^2, bounded from four dot products.
+  Vec3 cm = f[0] + f[1] + f[2] + f[3];
+  const double c2 = norm2(cm);
+  if (c2 > 0.25) {  // spread over the sphere: the isotropic bound does as well
+    cm = (1 / std::sqrt(c2)) * cm;
+    // s0: the largest sine of the angle between c and a point, |c x f| / (|c| |f|), rounded up
+    // (|c|^2 and |f|^2 are within 2^-48 of 1).
+    double s2 = 0;
+    for (const Vec3& p : f) s2 = std::max(s2, norm2(cross(cm, p)));
+    const double s0 = std::sqrt(s2) * (1 + 0x1p-46) + 0x1p-48;
+    // Moves up to tau_cap turn a point by at most A; a move of chord D then changes its component
+    // along c by at most S D + eps. (The tolerance is far below s0 but for ties of huge bi-cells.)
+    const double tau_cap = std::min(s0 / 16, 0.5);
+    const double A = 1.05 * (tau_cap + 0x1p-49);
+    S = std::min(1.05 * (s0 + A), 1.0);
+    const double eps = 0x1p-49 * (1 + S);
+    // u.c for the edge f_j - f_i is t_j - t_i, t_i = f_i.c; each computed t is within 2^-49 of
+    // f_i.c for the exact unit c (the computed c is within 2^-50 of it), their difference
+    // within a relative 2^-52 more: 2^-47 covers it.
+    double t[4];
+    for (int i = 0; i < 4; ++i) t[i] = dot(f[i], cm);
+    const double inv_s = 1 / S;
+    const int from[6] = {0, 0, 0, 1, 1, 2}, to[6] = {1, 2, 3, 2, 3, 3};
+    double q[6];
+    for (int k = 0; k < 6; ++k) {
+      const double uc = (std::fabs(t[to[k]] - t[from[k]]) + 0x1p-47) * inv_s;
+      q[k] = (l2[k] + uc * uc) * (1 + 0x1p-50);
+    }
+    // Each moved point's image moves by at most sqrt(2) D + eps / S: below half the width, no four
+    // images, hence no four points, become coplanar.
+    const double half_t = volume6 * inv_s / (2 * max_edge_product(q));
+    half_width = std::min((half_t - eps * inv_s) * 0x1.6a09e667f3bcdp-1, tau_cap);
+  }
+  // Any motion in R^3 by less than half the width keeps the sign too: the better bound for
+  // bi-cells spanning a large part of the sphere.
+  if (S > 0.25) half_width = std::max(half_width, volume6 / (2 * max_edge_product(l2)));
   // The shared edge a-b must stay longer than the merge distance (with room for the rounding of
   // the merge test's own chord).
   const double edge = (std::sqrt(norm2(b - a)) - merge_distance * (1 + 0x1p-40)) / 2;

@@ -89,19 +89,28 @@ struct RelocationOptions {
   /// Relocate by flips when the move inverts no incident triangle (thesis §5.2.1); otherwise, and
   /// when this is false, by remove + insert keeping the id. DEFAULT: true.
   bool flips = true;
+  /// move_all() only, with the filter, from kRebuildMinSites (16384) live sites and none removed:
+  /// when the tolerances are not current or the last batch relocated more than 12% of the sites,
+  /// estimate (from about 512 sites) the share of moves that tolerances computed afresh would
+  /// miss; above 4%, rebuild the triangulation from the new positions in place (same ids, same
+  /// triangles: MoveStats::rebuilt) and drop the tolerances, since relocating a site costs about
+  /// ten times its share of a rebuild. DEFAULT: true. The result does not depend on it.
+  bool rebuild_when_faster = true;
 };
 
-/// What move()/move_all() did (counts of sites). moved = filtered + flipped + reinserted.
+/// What move()/move_all() did (counts of sites). moved = filtered + flipped + reinserted + rebuilt.
 struct MoveStats {
   std::size_t moved = 0;       ///< sites whose position changed
   std::size_t filtered = 0;    ///< moves certified by the tolerance filter (no combinatorial change)
   std::size_t flipped = 0;     ///< relocated by flips
   std::size_t reinserted = 0;  ///< relocated by remove + insert
+  std::size_t rebuilt = 0;     ///< moved by a rebuild in place (RelocationOptions::rebuild_when_faster)
+  std::size_t reanchored = 0;  ///< of the filtered moves, those certified by the second test (tolerances recomputed at the new position)
   std::size_t refused = 0;     ///< moves refused (new position within merge distance of another site); site left where it was
   std::size_t refreshed = 0;   ///< tolerance refreshes of sites that did not move (Algorithm 1's queue)
   MoveStats& operator+=(const MoveStats& o) {
-    moved += o.moved, filtered += o.filtered, flipped += o.flipped, reinserted += o.reinserted;
-    refused += o.refused, refreshed += o.refreshed;
+    moved += o.moved, filtered += o.filtered, flipped += o.flipped, reinserted += o.reinserted, rebuilt += o.rebuilt;
+    reanchored += o.reanchored, refused += o.refused, refreshed += o.refreshed;
     return *this;
   }
 };
@@ -293,6 +302,12 @@ class SphericalDelaunay {
 
   // Relocation (relocation.cpp).
   MoveStats move_one(SiteId s, const Vec3& p, const RelocationOptions& options);
+  bool reanchor(SiteId s, const Vec3& p);           // the second test: f_s := p, no relocation
+  // move_all()'s policy (RelocationOptions::rebuild_when_faster).
+  static constexpr std::size_t kRebuildMinSites = 16384;
+  static constexpr double kRelocatedShareToRebuild = 0.12, kFreshFailureShareToFilter = 0.04;
+  double fresh_failure_share(std::span<const Vec3> positions) const;
+  bool rebuild_in_place(std::span<const Vec3> positions, MoveStats& stats);  // false: a merge
   bool refuse_move(SiteId s, const Vec3& p) const;  // p within merge distance of another site
   bool relocate_by_flips(SiteId s, const Vec3& p);  // false: nothing changed, reinsert instead
   void flip(HalfedgeId e);                           // the diagonal of the two triangles at e
@@ -339,6 +354,8 @@ class SphericalDelaunay {
   std::vector<SiteId> queue_, link_;
   std::vector<HalfedgeId> stack_, flipped_;
   std::vector<TriId> touched_;
+  std::vector<double> tau2_;  // reanchor()'s bi-cell tolerances, squared
+  double relocated_share_ = 0;  // of the last filtered move_all(): (flipped + reinserted) / live sites
 
   friend class SphericalDelaunayTester;
 };
