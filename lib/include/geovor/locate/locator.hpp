@@ -22,9 +22,14 @@
 /// Keep Jump & Climb climbs from its best landmark when that is near (LocatorOptions::
 /// far_spacings); otherwise it starts from the site the packed copy's Hilbert-curve sample gives
 /// for q (WalkGraph::curve_start) when that one is near, or else jumps to the landmark's own
-/// nearest site on a level whose spacing suits the distance and descends from there. The last walk's final ring certifies the answer
-/// when every neighbour is worse by more than the dot products' rounding bound; otherwise the
-/// exact walk does.
+/// nearest site on a level whose spacing suits the distance and descends from there.
+///
+/// Certification: the last walk's final ring certifies the answer when every neighbour's dot
+/// product is below the answer's by more than 1e-15 |q|_1. Each dot product of q with a site
+/// (|p| <= 1 + 2^-50) computed in doubles without FMA is within gamma_3 sum |q_i p_i| <=
+/// 3.34e-16 |q|_1 of the exact value, so that margin exceeds both errors and the answer is
+/// strictly nearer than every neighbour, hence the unique nearest site. Otherwise the exact walk
+/// (kernel::compare_dot, ties to the lowest id) decides.
 ///
 /// A Locator is not thread-safe (it keeps its landmarks); use one per thread, or
 /// nearest_batch(). It refers to the hierarchy, which must outlive it. It notices any change of
