@@ -45,15 +45,20 @@ struct DelaunayOptions {
   /// REQUIRES: merge_distance >= kMinSeparation (below it, Lemma 9 no longer holds).
   double merge_distance = 0x1p-24;
   /// Insert in a spatially coherent order: along a Hilbert curve drawn on the faces of the cube.
+  /// From 1024 points on, a few sparse random rounds go first (each point independently in round
+  /// j with probability about 32^-j, each round along the curve): they keep the cavities ahead of
+  /// the curve small (4.5 triangles instead of 5.9 at 2^20 uniform points, 12 conflict tests per
+  /// site instead of 15) while 97% of the points are in the last round, one Hilbert pass.
   /// DEFAULT: true. Disabling it (input order) only costs time.
   bool spatial_sort = true;
-  /// Sort in BRIO rounds (random rounds of growing size, each along the Hilbert curve), which
-  /// bounds the expected cost on any input; one Hilbert pass is faster on real and uniform data
-  /// (the previous site is then a neighbour of the next 94% of the time, against 62%).
+  /// Sort in BRIO rounds instead (random rounds doubling in size, each along the Hilbert curve),
+  /// which bounds the expected cost on any input; the default order is faster on real and uniform
+  /// data (the previous site is then a neighbour of the next 92% of the time, against 62%).
   /// DEFAULT: false.
   bool brio = false;
-  /// Seed of the BRIO rounds. DEFAULT: 1. The result does not depend on it (unique perturbed
-  /// triangulation); only the running time does.
+  /// Seed of the random rounds (BRIO or sparse). DEFAULT: 1. The triangulation does not depend on
+  /// it (unique perturbed triangulation); the running time does, and so does which of two points
+  /// closer than merge_distance is kept (the first inserted).
   std::uint64_t seed = 1;
 };
 
