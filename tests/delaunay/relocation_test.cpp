@@ -191,15 +191,23 @@ TEST(Relocation, RebuildWhenFaster) {
       EXPECT_EQ(st.refused, 0u) << what;
       EXPECT_TRUE(std::equal(target.begin(), target.end(), dt.sites().begin())) << what;
       expect_as_rebuilt(dt, what);
-      if (policy && rel > 0.1 && last > 0.1) EXPECT_EQ(st.rebuilt, st.moved) << what;
-      if (rel > 0.1 && last < 0.1) EXPECT_EQ(st.rebuilt, 0u) << what;  // relocated, then seen
-      if (rel < 0.1) EXPECT_EQ(st.rebuilt, 0u) << what;
-      if (rel < 0.1) EXPECT_GT(st.filtered, st.moved * 9 / 10) << what;
+      if (policy && rel > 0.1 && last > 0.1) {
+        EXPECT_EQ(st.rebuilt, st.moved) << what;
+      }
+      if (rel > 0.1 && last < 0.1) {
+        EXPECT_EQ(st.rebuilt, 0u) << what;  // relocated, then seen
+      }
+      if (rel < 0.1) {
+        EXPECT_EQ(st.rebuilt, 0u) << what;
+        EXPECT_GT(st.filtered, st.moved * 9 / 10) << what;
+      }
       if (::testing::Test::HasFailure()) return;
       all += st;
       last = rel;
     }
-    if (!policy) EXPECT_EQ(all.rebuilt, 0u);
+    if (!policy) {
+      EXPECT_EQ(all.rebuilt, 0u);
+    }
   }
 }
 

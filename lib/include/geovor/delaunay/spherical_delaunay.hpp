@@ -97,9 +97,10 @@ struct RelocationOptions {
   /// move_all() only, with the filter, from kRebuildMinSites (16384) live sites and none removed:
   /// when the tolerances are not current or the last batch relocated more than 12% of the sites,
   /// estimate (from about 512 sites) the share of moves that tolerances computed afresh would
-  /// miss; above 4%, rebuild the triangulation from the new positions in place (same ids, same
+  /// miss; above 2%, rebuild the triangulation from the new positions in place (same ids, same
   /// triangles: MoveStats::rebuilt) and drop the tolerances, since relocating a site costs about
-  /// ten times its share of a rebuild. DEFAULT: true. The result does not depend on it.
+  /// eight times its share of a rebuild and computing all tolerances about one rebuild.
+  /// DEFAULT: true. The result does not depend on it.
   bool rebuild_when_faster = true;
 };
 
@@ -176,7 +177,9 @@ class SphericalDelaunay {
   ///   tau = min(max(w / 2, w_T / (2 sqrt 2) - margin), (|a - b| - merge_distance) / 2):
   ///  - w, the minimal width of the tetrahedron of the four points (the thinnest slab holding
   ///    them: the least of the four vertex-face heights and the three distances between the lines
-  ///    of opposite edges, 6 V / max |u x v|). If each point moves (anywhere in R^3) by less than
+  ///    of opposite edges, 6 V / max |u x v|; bounded below by 6 V over the largest product |u||v|
+  ///    of two edges of a face, the face's least, or of two opposite edges, as 2 x area <= |u||v|).
+  ///    If each point moves (anywhere in R^3) by less than
   ///    w/2, the four moved points lie on no plane P: the original ones would all be within < w/2
   ///    of P, in a slab thinner than w. Moving them along straight segments, every intermediate
   ///    configuration is as close, so the determinant never vanishes and keeps its sign.
@@ -186,17 +189,28 @@ class SphericalDelaunay {
   ///    changes its component along c by at most S D + 2^-49 (1 + S), S = 1.05 (s0 + 1.05 s0/16)
   ///    (mean value theorem on the cosine; 2^-49 for sites 2^-50 off the sphere), and its other
   ///    components by at most D: its image under T moves by at most sqrt(2) D + 2^-49 (1 + S)/S.
-  ///    T keeps coplanarity, so the first argument applies to the images. A small bi-cell's
+  ///    T keeps coplanarity, so the first argument applies to the images; det T = 1/S, so
+  ///    6 V_T = 6 V / S, and an edge u maps to |T u|^2 <= |u|^2 + (u.c)^2 / S^2, u.c a difference
+  ///    of two of the four dot products f_i.c: the orientation determinant is computed once, no
+  ///    image is. A small bi-cell's
   ///    tetrahedron is flat (height ~ edge^2, so w ~ edge^2) but its images are not: w_T ~ edge
   ///    times how far the four sites are from one circle, as in the plane.
   ///  - the edge term keeps every edge longer than the merge distance; the nearest site of a site
   ///    is a Delaunay neighbour, so a filtered move never comes within the merge distance of one.
   /// tau is computed in doubles and shrunk by certified bounds of the rounding (Shewchuk's orient3d
-  /// bound for the volume, 2^-48 L^2 for the cross products of edges up to L, 2^-48 per point for T's
-  /// images, a relative 2^-46 margin for the rest), so it stays a lower bound; a coplanar (tied)
+  /// bound for the volume, 2^-47 for each u.c, relative margins of 2^-49 on the squared lengths and
+  /// 2^-44 on the largest product, 2^-46 for the rest), so it stays a lower bound; a coplanar (tied)
   /// bi-cell gets 0. As in Algorithm 1, a real relocation of s sets f_s to its new position and
   /// recomputes the tolerances of the bi-cells it changed (lowering their other sites' eps); a site
   /// whose eps falls below its own displacement is refreshed the same way (MoveStats::refreshed).
+  /// The second test (MoveStats::reanchored, counted as filtered): when a move to p fails the
+  /// filter but the step from the current position m_s is below eps_s (a site drifting steadily),
+  /// the tolerances tau_B' of s's bi-cells are recomputed with a new reference f (p, or p moved on
+  /// along the step to use about 80% of eps_s). If every tau_B' exceeds |f - m_s| and |p - f| and
+  /// the drift of B's other sites, the sign is kept: (m_s, f_others) has the sign of the references
+  /// (|m_s - f_s| < eps_s <= tau_B), so has (f, f_others) (s moved by < tau_B'), so have the
+  /// current positions (all within tau_B'). Then f_s = f and the eps are lowered, and nothing is
+  /// relocated; otherwise the move is relocated as below.
   /// Whatever the order of moves, between calls every site satisfies |m_s - f_s| < eps_s or
   /// m_s = f_s, hence every certificate has the sign it had when the structure was last decided
   /// exactly. Memory: 32 bytes per site (f_s and eps_s^2), allocated at the first filtered move,
@@ -212,7 +226,12 @@ class SphericalDelaunay {
   /// Moves live site s to unit vector p (|p|^2 within 2^-49 of 1); keeps its id.
   /// @exception Error(InvalidArgument) if s is not live or p is not a unit vector.
   MoveStats move(SiteId s, const Vec3& p, const RelocationOptions& options = {});
-  /// Moves every live site s to positions[s], one after the other in id order.
+  /// Moves every live site s to positions[s], one after the other: first, in id order, the moves
+  /// the filter certifies, then the others in the Hilbert-curve order of their targets (ties by
+  /// id), which keeps consecutive relocations in cache; so when two targets are within the merge
+  /// distance, which one is refused depends on that order. With
+  /// RelocationOptions::rebuild_when_faster, may rebuild the triangulation in place instead (same
+  /// ids and triangles; never when a move would be refused).
   /// positions.size() == site_capacity(); removed sites' entries are ignored.
   /// @exception Error(InvalidArgument) for a wrong size or a live site's non-unit position
   ///   (checked before anything moves).
@@ -310,7 +329,7 @@ class SphericalDelaunay {
   bool reanchor(SiteId s, const Vec3& p);           // the second test: f_s := p, no relocation
   // move_all()'s policy (RelocationOptions::rebuild_when_faster).
   static constexpr std::size_t kRebuildMinSites = 16384;
-  static constexpr double kRelocatedShareToRebuild = 0.12, kFreshFailureShareToFilter = 0.04;
+  static constexpr double kRelocatedShareToRebuild = 0.12, kFreshFailureShareToFilter = 0.02;
   double fresh_failure_share(std::span<const Vec3> positions) const;
   bool rebuild_in_place(std::span<const Vec3> positions, MoveStats& stats);  // false: a merge
   bool refuse_move(SiteId s, const Vec3& p) const;  // p within merge distance of another site
