@@ -224,8 +224,9 @@ bool SphericalDelaunay::reanchor(SiteId s, const Vec3& p) {
           bicell_tolerance(f[q[0]], f[q[1]], f[q[2]], f[q[3]], options_.merge_distance) * (1 - 0x1p-48);
       const double tau2 = tau * tau;
       ok = from_m2 < tau2 && to_p2 < tau2;
+      // Within eps_w <= tau_B' (the invariant) needs no look at the site's position.
       for (int i = 0; i < 4 && ok; ++i)
-        ok = q[i] == s || sites_[q[i]] == f[q[i]] || norm2(sites_[q[i]] - f[q[i]]) < tau2;
+        ok = q[i] == s || tau2 >= tolerance2_[q[i]] || sites_[q[i]] == f[q[i]] || norm2(sites_[q[i]] - f[q[i]]) < tau2;
       if (!ok) break;
       tau2_.push_back(tau2);
     }
