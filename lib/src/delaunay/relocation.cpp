@@ -61,8 +61,8 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
   }
   if (options.rebuild_when_faster && num_live_ >= kRebuildMinSites && num_live_ == sites_.size() &&
       priority_.empty() && (tolerance2_.empty() || relocated_share_ > kRelocatedShareToRebuild)) {
-    // Relocating most sites costs several times a rebuild: estimate the share of moves the filter
-    // would miss with tolerances computed afresh, and rebuild if it is large.
+    // Relocating most sites costs several times a rebuild: estimate the share of sites whose move
+    // the filter would miss with tolerances computed afresh, and rebuild if it is large.
     if (fresh_failure_share(positions) > kFreshFailureShareToFilter) {
       if (rebuild_in_place(positions, total)) {
         touch();

@@ -96,8 +96,8 @@ struct RelocationOptions {
   bool flips = true;
   /// move_all() only, with the filter, from kRebuildMinSites (16384) live sites and none removed:
   /// when the tolerances are not current or the last batch relocated more than 12% of the sites,
-  /// estimate (from about 512 sites) the share of moves that tolerances computed afresh would
-  /// miss; above 2%, rebuild the triangulation from the new positions in place (same ids, same
+  /// estimate (from about 512 sites) the share of live sites whose move tolerances computed afresh
+  /// would miss; above 2%, rebuild the triangulation from the new positions in place (same ids, same
   /// triangles: MoveStats::rebuilt) and drop the tolerances, since relocating a site costs about
   /// eight times its share of a rebuild and computing all tolerances about one rebuild.
   /// DEFAULT: true. The result does not depend on it.
