@@ -115,7 +115,7 @@ struct Args {
   std::string cities;  // empty: look in the default places; "none": skip
   int repeat = 3;
   std::uint64_t seed = 42;
-  geovor::DelaunayOptions options;  // --brio: BRIO rounds instead of one Hilbert pass
+  geovor::DelaunayOptions options;  // --brio: BRIO rounds instead of the default order
 };
 
 [[noreturn]] void usage(const char* argv0, const char* why) {
@@ -240,7 +240,7 @@ int main(int argc, char** argv) {
 #ifndef NDEBUG
   std::printf("WARNING: assertions enabled (not a Release build): times are not representative\n");
 #endif
-  std::printf("insertion order: %s\n", args.options.brio ? "BRIO rounds along the Hilbert curve (--brio)" : "one Hilbert pass (default)");
+  std::printf("insertion order: %s\n", args.options.brio ? "BRIO rounds along the Hilbert curve (--brio)" : "Hilbert curve, sparse rounds first from 1024 points (default)");
   print_header();
   for (std::size_t i = 0; i < args.sizes.size(); ++i) {
     const std::vector<geovor::Vec3> points = geovor::testing::uniform_on_sphere(args.sizes[i], args.seed);
