@@ -19,7 +19,6 @@
 
 #include <algorithm>
 #include <charconv>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -1013,43 +1012,6 @@ TEST(SafeOutput, FullFileSystem) {
     std::vector<std::string> left;
     for (const auto& entry : fs::directory_iterator(mnt)) left.push_back(entry.path().filename());
     EXPECT_TRUE(left.empty()) << left.front();
-  }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Speed (run with --gtest_also_run_disabled_tests): 171k cells of 20 vertices.
-
-TEST(FeatureWriterSpeed, DISABLED_Cells171k) {
-  TempDir dir;
-  std::vector<MultiPolygon> geoms;
-  std::mt19937_64 rng(1);
-  std::uniform_real_distribution<double> lon(-170, 170), lat(-80, 80);
-  for (int i = 0; i < 171000; ++i) {
-    const double cx = lon(rng), cy = lat(rng);
-    Ring r;
-    for (int k = 0; k < 20; ++k) {
-      const double a = 2 * M_PI * k / 20;
-      r.push_back({cx + 0.3 * std::cos(a), cy + 0.2 * std::sin(a)});
-    }
-    r.push_back(r.front());
-    geoms.push_back({Polygon{r, {}}});
-  }
-  const std::vector<Field> schema{{"site_id", FieldType::Integer}, {"name", FieldType::String},
-                                  {"area", FieldType::Real}};
-  for (const std::string name : {"s.geojson", "s.geojsonl", "s.gpkg", "s.fgb", "s.shp", "s.csv"}) {
-    const auto t0 = std::chrono::steady_clock::now();
-    auto w = open_feature_writer(dir / name, GeometryType::MultiPolygon, schema, {});
-    std::vector<FieldValue> v(3);
-    for (std::size_t i = 0; i < geoms.size(); ++i) {
-      v[0] = static_cast<std::int64_t>(i);
-      v[1] = std::string(1, 'K') += std::to_string(i);
-      v[2] = 1234.5 + static_cast<double>(i) * 0.001;
-      w->write(geoms[i], v);
-    }
-    w->finish();
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("%-12s %7.3f s  %8.1f MB\n", name.c_str(), s,
-                static_cast<double>(fs::file_size(dir / name)) / 1e6);
   }
 }
 

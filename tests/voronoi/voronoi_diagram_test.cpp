@@ -8,7 +8,6 @@
 #include <GeographicLib/Geodesic.hpp>
 #include <GeographicLib/PolygonArea.hpp>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -320,17 +319,8 @@ TEST(VoronoiDiagram, WeatherStations) {
 TEST(VoronoiDiagram, LargeUniformSetSumsTo4Pi) {
   const std::vector<Vec3> pts = testing::uniform_on_sphere(1 << 17, 31);
   const SphericalDelaunay dt = SphericalDelaunay::build(pts);
-  const auto t0 = std::chrono::steady_clock::now();
   const VoronoiDiagram vd(dt);
-  const auto t1 = std::chrono::steady_clock::now();
-  const double sum = total_area(vd);
-  const auto t2 = std::chrono::steady_clock::now();
-  std::printf(
-      "2^17 uniform: diagram %.3f s, all areas %.3f s, %.1f bytes/site, sum/4pi - 1 = %.3g\n",
-      std::chrono::duration<double>(t1 - t0).count(),
-      std::chrono::duration<double>(t2 - t1).count(),
-      static_cast<double>(vd.memory_bytes()) / vd.num_cells(), sum / (4 * kPi) - 1);
-  EXPECT_NEAR(sum / (4 * kPi), 1, 1e-12);
+  EXPECT_NEAR(total_area(vd) / (4 * kPi), 1, 1e-12);
 }
 
 TEST(VoronoiDiagram, ArcMidpointHandles180DegreeArcs) {
