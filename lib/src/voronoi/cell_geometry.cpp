@@ -52,12 +52,7 @@ double planar_area_deg2(const Ring& ring) {
 
 CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOptions& options)
     : vd_(&diagram), options_(options) {
-  if (!(options.densify_m > 0) || !std::isfinite(options.densify_m))
-    throw Error(ErrorCode::InvalidArgument, "densify_m must be a positive number of metres");
-  if (!(options.max_step_deg > 0) || !(options.max_step_deg <= 180))
-    throw Error(ErrorCode::InvalidArgument, "max_step_deg must be in (0, 180]");
-  if (options.max_depth < 1 || options.max_depth > 40)
-    throw Error(ErrorCode::InvalidArgument, "max_depth must be in [1, 40]");
+  lonlat::check_densify_options(options.densify_m, options.max_step_deg, options.max_depth);
   if (!(options.collapse_m >= 0) || !(options.collapse_m < 0.1))
     throw Error(ErrorCode::InvalidArgument, "collapse_m must be in [0, 0.1) metres");
   if (diagram.kind() != VoronoiDiagram::Kind::Cells) return;

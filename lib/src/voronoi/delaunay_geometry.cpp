@@ -42,12 +42,7 @@ const char* to_string(FaceKind kind) {
 
 DelaunayGeometry::DelaunayGeometry(const SphericalDelaunay& dt, const DelaunayGeometryOptions& options)
     : dt_(&dt), options_(options) {
-  if (!(options.densify_m > 0) || !std::isfinite(options.densify_m))
-    throw Error(ErrorCode::InvalidArgument, "densify_m must be a positive number of metres");
-  if (!(options.max_step_deg > 0) || !(options.max_step_deg <= 180))
-    throw Error(ErrorCode::InvalidArgument, "max_step_deg must be in (0, 180]");
-  if (options.max_depth < 1 || options.max_depth > 40)
-    throw Error(ErrorCode::InvalidArgument, "max_depth must be in [1, 40]");
+  lonlat::check_densify_options(options.densify_m, options.max_step_deg, options.max_depth);
   sites_.resize(dt.site_capacity());
   // A site this close to a pole (chord, unit sphere) is drawn at the pole: straight lon/lat sides
   // to a vertex a metre from the pole at another longitude can cross each other (GEOS-invalid).

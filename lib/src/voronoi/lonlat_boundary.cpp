@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "geovor/core/assert.hpp"
+#include "geovor/core/error.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/voronoi/cell_geometry.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
@@ -147,6 +148,14 @@ Pt make_pt(const Vec3& raw) {
   const Vec3 v = snap(raw);
   const LatLon ll = SiteEncoder::to_lat_lon(v);
   return {v, ll.lon_deg, ll.lat_deg};
+}
+
+void check_densify_options(double densify_m, double max_step_deg, int max_depth) {
+  if (!(densify_m > 0) || !std::isfinite(densify_m))
+    throw Error(ErrorCode::InvalidArgument, "densify_m must be a positive number of metres");
+  if (!(max_step_deg > 0) || !(max_step_deg <= 180))
+    throw Error(ErrorCode::InvalidArgument, "max_step_deg must be in (0, 180]");
+  if (max_depth < 1 || max_depth > 40) throw Error(ErrorCode::InvalidArgument, "max_depth must be in [1, 40]");
 }
 
 Densifier::Densifier(double densify_m, double max_step_deg, int max_depth, std::vector<Pt>& out)

@@ -26,6 +26,10 @@ struct Pt {
 };
 Pt make_pt(const Vec3& raw);
 
+/// Checks the Densifier's options. @exception Error(InvalidArgument) naming the one out of range:
+/// densify_m not a positive number, max_step_deg outside (0, 180], max_depth outside [1, 40].
+void check_densify_options(double densify_m, double max_step_deg, int max_depth);
+
 /// Adaptive bisection of great-circle arcs: see CellGeometry's file comment, step 1.
 class Densifier {
  public:
