@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <vector>
 
 #include "support/generators.hpp"
 
@@ -77,6 +78,42 @@ TEST(Predicates, OrientAndInSphereMatchExactOnRandomAndNearDegenerateInput) {
     zero_in_sphere += expected == 0;
   }
   EXPECT_GT(zero_in_sphere, 0);  // the test did reach exact ties
+}
+
+// Subnormal coordinates: the floating-point products underflow, so the filters' relative error
+// bounds alone certify wrong signs (found by fuzzing the triangulation: four sites nearly on the
+// great circle y = 0, one with y = -2^-1072, gave an in-sphere sign that changed under a cyclic
+// rotation). Every predicate must agree with exact rationals here.
+TEST(Predicates, SubnormalCoordinatesMatchExact) {
+  const std::array<Vec3, 4> fuzzed = {Vec3{-0x1.ecaddd3bdc6abp-2, -0x0.0000000000004p-1022, 0x1.c0d8074fb322p-1},
+                                      Vec3{-0x1p+0, 0x0p+0, 0x0p+0},
+                                      Vec3{-0x1.f9b84717e03fcp-5, 0x0p+0, -0x1.ff0600d41ef4bp-1},
+                                      Vec3{0x0p+0, 0x0p+0, -0x1p+0}};
+  std::mt19937_64 rng(11);
+  std::vector<std::array<Vec3, 4>> cases = {fuzzed};
+  const auto pts = testing::uniform_on_sphere(64, 5);
+  for (int trial = 0; trial < 4000; ++trial) {
+    // Points on the plane y = 0 (or x, z), some moved off it by a few subnormal steps.
+    std::array<Vec3, 4> c;
+    const int axis = trial % 3;
+    for (auto& p : c) {
+      p = pts[rng() % pts.size()];
+      double* coord[3] = {&p.x, &p.y, &p.z};
+      *coord[axis] = (rng() % 3 == 0) ? std::ldexp(double(int(rng() % 9) - 4), -1074) : 0.0;
+    }
+    cases.push_back(c);
+  }
+  for (const auto& c : cases) {
+    const auto q = [&](int i) { return q3(c[static_cast<std::size_t>(i)]); };
+    // Every cyclic rotation of the first three, and against the exact determinant.
+    for (int rot = 0; rot < 3; ++rot) {
+      const int a = rot, b = (rot + 1) % 3, d = (rot + 2) % 3;
+      EXPECT_EQ(sgn(in_sphere_sign(c[a], c[b], c[d], c[3])), exact_in_sphere(q(a), q(b), q(d), q(3)));
+      EXPECT_EQ(sgn(orient(c[a], c[b], c[d])), sgn(det3(q(a), q(b), q(d))));
+    }
+    const Q dot_diff = q(0)[0] * (q(1)[0] - q(2)[0]) + q(0)[1] * (q(1)[1] - q(2)[1]) + q(0)[2] * (q(1)[2] - q(2)[2]);
+    EXPECT_EQ(sgn(compare_dot(c[0], c[1], c[2])), sgn(dot_diff));
+  }
 }
 
 // Four coplanar points with integer coordinates, no three collinear, in every kind of plane.

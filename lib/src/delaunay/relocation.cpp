@@ -474,7 +474,8 @@ double SphericalDelaunay::bicell_tolerance(const Vec3& a, const Vec3& b, const V
   // rounding: the orientation certificate itself, computed once for both bounds below.
   double permanent;
   const double det = kernel::detail::in_sphere_det(a, b, c, d, &permanent);
-  const double volume6 = std::fabs(det) - kernel::detail::kO3dErrBound * permanent;
+  const double volume6 = std::fabs(det) - kernel::detail::kO3dErrBound * permanent -
+                        kernel::detail::underflow_margin(b.x - a.x, b.y - a.y, b.z - a.z);
   if (!(volume6 > 0)) return 0;  // coplanar (a tie), or too close to tell
   // Squared edge lengths, each within a relative 2^-50 of the exact one.
   const Vec3 e[6] = {b - a, c - a, d - a, c - b, d - b, d - c};

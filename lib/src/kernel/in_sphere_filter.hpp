@@ -36,11 +36,19 @@ inline double in_sphere_det(const Vec3& p, const Vec3& q, const Vec3& r, const V
   return bx * (cydz - czdy) + by * (czdx - cxdz) + bz * (cxdy - cydx);
 }
 
+/// Shewchuk's bounds assume no underflow. A product that underflows is off by up to 2^-1075 in
+/// absolute terms, and reaches the determinant multiplied by at most 1 + |bx| + |by| + |bz| (the
+/// outer factors): a margin of 2^-1070 times that covers every such error with room to spare.
+/// (Found by fuzzing: sites with a subnormal coordinate made the relative bound vanish.)
+inline double underflow_margin(double ax, double ay, double az) noexcept {
+  return 0x1p-1070 * (1 + std::fabs(ax) + std::fabs(ay) + std::fabs(az));
+}
+
 /// The filter alone: +1 or -1 when the double evaluation is certified, 0 when it cannot decide.
 inline int in_sphere_filter_only(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
   double perm;
   const double det = in_sphere_det(p, q, r, s, &perm);
-  const double bound = kO3dErrBound * perm;
+  const double bound = kO3dErrBound * perm + underflow_margin(q.x - p.x, q.y - p.y, q.z - p.z);
   return (det > bound) - (-det > bound);
 }
 

@@ -53,7 +53,7 @@ Sign orient(const Vec3& p, const Vec3& q, const Vec3& r) noexcept {
   const double perm = (std::fabs(qyrz) + std::fabs(qzry)) * std::fabs(p.x) +
                       (std::fabs(qzrx) + std::fabs(qxrz)) * std::fabs(p.y) +
                       (std::fabs(qxry) + std::fabs(qyrx)) * std::fabs(p.z);
-  const double bound = kO3dErrBound * perm;
+  const double bound = kO3dErrBound * perm + detail::underflow_margin(p.x, p.y, p.z);
   if (det > bound) return Sign::Positive;
   if (-det > bound) return Sign::Negative;
   ++g_stats.orient_exact;
@@ -131,7 +131,8 @@ Sign compare_dot(const Vec3& x, const Vec3& a, const Vec3& b) noexcept {
   const double diff = (xa + ya + za) - (xb + yb + zb);
   const double mag = std::fabs(xa) + std::fabs(ya) + std::fabs(za) + std::fabs(xb) +
                      std::fabs(yb) + std::fabs(zb);
-  const double bound = kDotErrBound * mag;
+  // Six products may underflow, each by up to 2^-1075 (see detail::underflow_margin).
+  const double bound = kDotErrBound * mag + 0x1p-1070;
   if (diff > bound) return Sign::Positive;
   if (-diff > bound) return Sign::Negative;
   ++g_stats.compare_dot_exact;
