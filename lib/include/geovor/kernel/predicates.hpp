@@ -3,7 +3,8 @@
 ///
 /// Every function here takes its double arguments as exact rational numbers and returns the exact
 /// sign. Each is a cascade: a floating-point evaluation with a certified static error bound
-/// (Shewchuk's bounds, "Adaptive precision floating-point arithmetic", 1997), and when the bound
+/// (Shewchuk's bounds, "Adaptive precision floating-point arithmetic", 1997, plus an absolute
+/// margin for products that underflow, which his relative bounds assume away), and when the bound
 /// cannot decide, CGAL's Exact_predicates_inexact_constructions_kernel (interval filter, then GMP).
 /// No CGAL or GMP type appears in this header; only lib/src/kernel/ sees CGAL.
 ///
