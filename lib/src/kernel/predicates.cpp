@@ -131,8 +131,9 @@ Sign compare_dot(const Vec3& x, const Vec3& a, const Vec3& b) noexcept {
   const double diff = (xa + ya + za) - (xb + yb + zb);
   const double mag = std::fabs(xa) + std::fabs(ya) + std::fabs(za) + std::fabs(xb) +
                      std::fabs(yb) + std::fabs(zb);
-  // Six products may underflow, each by up to 2^-1075 (see detail::underflow_margin).
-  const double bound = kDotErrBound * mag + 0x1p-1070;
+  // Six products may underflow, each by up to 2^-1075 (see detail::underflow_margin); 2^-1022,
+  // a normal double, covers them without subnormal arithmetic.
+  const double bound = kDotErrBound * mag + 0x1p-1022;
   if (diff > bound) return Sign::Positive;
   if (-diff > bound) return Sign::Negative;
   ++g_stats.compare_dot_exact;
