@@ -89,7 +89,39 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
     }
   }
   std::sort(pending.begin(), pending.end());
-  for (const auto& [key, s] : pending) total += move_one(s, positions[s], options);
+  // Consecutive pending sites are still a few sites apart, so each move would start with cache
+  // misses on its star: prefetch the stars a few moves ahead, in stages (the site, its first
+  // triangle, then its neighbours), each stage reading only what an earlier one fetched.
+  const std::size_t np = pending.size();
+  for (std::size_t i = 0; i < np; ++i) {
+    if (i + 12 < np) {
+      const SiteId a = pending[i + 12].second;
+      __builtin_prefetch(&site_edge_[a]);
+      __builtin_prefetch(&positions[a]);
+      __builtin_prefetch(&reference_[a]);
+      __builtin_prefetch(&tolerance2_[a]);
+    }
+    if (i + 8 < np) {
+      const HalfedgeId e = site_edge_[pending[i + 8].second];
+      __builtin_prefetch(&triangles_[e]);
+      __builtin_prefetch(&halfedges_[e]);
+    }
+    if (i + 4 < np) {
+      const HalfedgeId e0 = site_edge_[pending[i + 4].second];
+      HalfedgeId e = e0;
+      int guard = 0;  // only a prefetch: bounded in case a star is huge
+      do {
+        const SiteId w = triangles_[next_halfedge(e)];
+        __builtin_prefetch(&reference_[w]);
+        __builtin_prefetch(&sites_[w]);
+        __builtin_prefetch(&tolerance2_[w]);
+        __builtin_prefetch(&halfedges_[next_halfedge(e)]);
+        e = next_around_site(e);
+      } while (e != e0 && ++guard < 16);
+    }
+    const SiteId s = pending[i].second;
+    total += move_one(s, positions[s], options);
+  }
   relocated_share_ = static_cast<double>(total.flipped + total.reinserted) / static_cast<double>(num_live_);
   if (total.moved) touch();
   return total;
