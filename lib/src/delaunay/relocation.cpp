@@ -91,23 +91,24 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
   std::sort(pending.begin(), pending.end());
   // Consecutive pending sites are still a few sites apart, so each move would start with cache
   // misses on its star: prefetch the stars a few moves ahead, in stages (the site, its first
-  // triangle, then its neighbours), each stage reading only what an earlier one fetched.
+  // triangle, then its neighbours and the triangles across its link, then the far vertices of
+  // the link bi-cells), each stage reading only what an earlier one fetched.
   const std::size_t np = pending.size();
   for (std::size_t i = 0; i < np; ++i) {
-    if (i + 12 < np) {
-      const SiteId a = pending[i + 12].second;
+    if (i + 16 < np) {
+      const SiteId a = pending[i + 16].second;
       __builtin_prefetch(&site_edge_[a]);
       __builtin_prefetch(&positions[a]);
       __builtin_prefetch(&reference_[a]);
       __builtin_prefetch(&tolerance2_[a]);
     }
-    if (i + 8 < np) {
-      const HalfedgeId e = site_edge_[pending[i + 8].second];
+    if (i + 10 < np) {
+      const HalfedgeId e = site_edge_[pending[i + 10].second];
       __builtin_prefetch(&triangles_[e]);
       __builtin_prefetch(&halfedges_[e]);
     }
-    if (i + 4 < np) {
-      const HalfedgeId e0 = site_edge_[pending[i + 4].second];
+    if (i + 5 < np) {
+      const HalfedgeId e0 = site_edge_[pending[i + 5].second];
       HalfedgeId e = e0;
       int guard = 0;  // only a prefetch: bounded in case a star is huge
       do {
@@ -115,7 +116,20 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
         __builtin_prefetch(&reference_[w]);
         __builtin_prefetch(&sites_[w]);
         __builtin_prefetch(&tolerance2_[w]);
-        __builtin_prefetch(&halfedges_[next_halfedge(e)]);
+        const HalfedgeId t = halfedges_[next_halfedge(e)];  // across the link edge
+        __builtin_prefetch(&triangles_[t]);
+        e = next_around_site(e);
+      } while (e != e0 && ++guard < 16);
+    }
+    if (i + 2 < np) {
+      const HalfedgeId e0 = site_edge_[pending[i + 2].second];
+      HalfedgeId e = e0;
+      int guard = 0;
+      do {  // the far vertex of each link edge's bi-cell
+        const SiteId x = triangles_[prev_halfedge(halfedges_[next_halfedge(e)])];
+        __builtin_prefetch(&reference_[x]);
+        __builtin_prefetch(&sites_[x]);
+        __builtin_prefetch(&tolerance2_[x]);
         e = next_around_site(e);
       } while (e != e0 && ++guard < 16);
     }
