@@ -10,3 +10,25 @@ function(ogr_sql file query out_var)
   endif()
   set(${out_var} ${CMAKE_MATCH_1} PARENT_SCOPE)
 endfunction()
+
+# check_cell_tiling(FILE LAYER GEOM CELLS FAILURES_VAR): the checks every cells file passes, read
+# back by ogrinfo: CELLS features, none invalid for GEOS, and a planar lon/lat area sum of 64800
+# square degrees (the cells tile the Earth, cut at +-180 and closed at the poles). Appends a
+# message per failed check to the list FAILURES_VAR.
+function(check_cell_tiling file layer geom cells failures_var)
+  ogr_sql(${file} "SELECT COUNT(*) AS v FROM \"${layer}\"" count)
+  ogr_sql(${file} "SELECT COUNT(*) AS v FROM \"${layer}\" WHERE NOT ST_IsValid(${geom})" invalid)
+  ogr_sql(${file} "SELECT SUM(ST_Area(${geom})) AS v FROM \"${layer}\"" area)
+  set(failures ${${failures_var}})
+  if(NOT count EQUAL cells)
+    list(APPEND failures "${count} cells, expected ${cells}")
+  endif()
+  if(NOT invalid EQUAL 0)
+    list(APPEND failures "${invalid} polygons invalid for GEOS")
+  endif()
+  # CMake has no floats: compare the text of the sum.
+  if(NOT area MATCHES "^(64800(\\.0*[0-9]*)?|64799\\.99999[0-9]*)$")
+    list(APPEND failures "planar area sum ${area}, expected 64800")
+  endif()
+  set(${failures_var} ${failures} PARENT_SCOPE)
+endfunction()
