@@ -67,17 +67,8 @@ Args parse_args(int argc, char** argv) {
     if (i + 1 >= argc) usage(argv[0], "missing value after " + opt);
     const std::string value = argv[++i];
     if (opt == "--sizes") {
-      args.sizes.clear();
-      std::size_t start = 0;
-      while (start <= value.size()) {
-        const std::size_t comma = std::min(value.find(',', start), value.size());
-        const std::string item = value.substr(start, comma - start);
-        char* end = nullptr;
-        const unsigned long long n = std::strtoull(item.c_str(), &end, 10);
-        if (item.empty() || *end != '\0' || n < 4) usage(argv[0], "bad size: " + item);
-        args.sizes.push_back(static_cast<std::size_t>(n));
-        start = comma + 1;
-      }
+      std::string bad;
+      if (!geovor::bench::parse_sizes(value, 4, args.sizes, bad)) usage(argv[0], "bad size: " + bad);
     } else if (opt == "--iterations") {
       args.iterations = std::atoi(value.c_str());
       if (args.iterations < 1) usage(argv[0], "--iterations must be >= 1");

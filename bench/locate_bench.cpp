@@ -113,17 +113,6 @@ struct Args {
   std::exit(2);
 }
 
-std::vector<std::string> split(const std::string& value) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (start <= value.size()) {
-    const std::size_t comma = std::min(value.find(',', start), value.size());
-    out.push_back(value.substr(start, comma - start));
-    start = comma + 1;
-  }
-  return out;
-}
-
 double parse_double(const char* argv0, const std::string& s) {
   char* end = nullptr;
   const double v = std::strtod(s.c_str(), &end);
@@ -166,14 +155,14 @@ Args parse_args(int argc, char** argv) {
       args.seed = parse_size(argv[0], value);
     } else if (opt == "--fractions") {
       args.fractions.clear();
-      for (const std::string& s : value == "none" ? std::vector<std::string>{} : split(value)) {
+      for (const std::string& s : value == "none" ? std::vector<std::string>{} : geovor::bench::split_commas(value)) {
         const double f = parse_double(argv[0], s);
         if (!(f > 0 && f <= 1)) usage(argv[0], "fractions must be in (0, 1]");
         args.fractions.push_back(f);
       }
     } else if (opt == "--walkers") {
       args.walkers.clear();
-      for (const std::string& s : value == "none" ? std::vector<std::string>{} : split(value)) {
+      for (const std::string& s : value == "none" ? std::vector<std::string>{} : geovor::bench::split_commas(value)) {
         const std::size_t w = parse_size(argv[0], s);
         if (w < 1) usage(argv[0], "walkers must be >= 1");
         args.walkers.push_back(static_cast<double>(w));
@@ -190,7 +179,7 @@ Args parse_args(int argc, char** argv) {
       if (args.leaf < 1) usage(argv[0], "--leaf must be >= 1");
     } else if (opt == "--strategies") {
       args.strategies.clear();
-      for (const std::string& s : split(value)) {
+      for (const std::string& s : geovor::bench::split_commas(value)) {
         try {
           args.strategies.push_back(geovor::parse_strategy(s));
         } catch (const std::exception& e) {

@@ -137,17 +137,8 @@ Args parse_args(int argc, char** argv) {
     if (i + 1 >= argc) usage(argv[0], ("missing value after " + opt).c_str());
     const std::string value = argv[++i];
     if (opt == "--sizes") {
-      args.sizes.clear();
-      std::size_t start = 0;
-      while (start <= value.size()) {
-        const std::size_t comma = std::min(value.find(',', start), value.size());
-        const std::string item = value.substr(start, comma - start);
-        char* end = nullptr;
-        const unsigned long long n = std::strtoull(item.c_str(), &end, 10);
-        if (item.empty() || *end != '\0' || n < 4) usage(argv[0], ("bad size: " + item).c_str());
-        args.sizes.push_back(static_cast<std::size_t>(n));
-        start = comma + 1;
-      }
+      std::string bad;
+      if (!geovor::bench::parse_sizes(value, 4, args.sizes, bad)) usage(argv[0], ("bad size: " + bad).c_str());
       std::sort(args.sizes.begin(), args.sizes.end());
     } else if (opt == "--cities") {
       args.cities = value;
