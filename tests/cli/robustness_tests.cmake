@@ -15,22 +15,6 @@ set(full_disk ${CMAKE_CURRENT_SOURCE_DIR}/full_disk.cmake)
 add_test(NAME cli.robust.make_big_fixtures
   COMMAND ${CMAKE_COMMAND} -DDIR=${big} -P ${CMAKE_CURRENT_SOURCE_DIR}/make_big_fixtures.cmake)
 set_tests_properties(cli.robust.make_big_fixtures PROPERTIES LABELS cli FIXTURES_SETUP robust_big)
-# robust_expect_sh(name exit_code [STDOUT re] [STDERR re] SCRIPT text): as geovor_cli_expect, for
-# `sh -c text` with $0 the geovor executable (redirections).
-function(robust_expect_sh name exit_code)
-  cmake_parse_arguments(ARG "" "STDOUT;STDERR;SCRIPT" "" ${ARGN})
-  set(defs -DEXPECT_EXIT=${exit_code})
-  if(DEFINED ARG_STDOUT)
-    list(APPEND defs "-DSTDOUT_REGEX=${ARG_STDOUT}")
-  endif()
-  if(DEFINED ARG_STDERR)
-    list(APPEND defs "-DSTDERR_REGEX=${ARG_STDERR}")
-  endif()
-  add_test(NAME ${name}
-    COMMAND ${CMAKE_COMMAND} ${defs} -P ${expect_exit} -- sh -c "${ARG_SCRIPT}" $<TARGET_FILE:geovor_cli>
-    WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  set_tests_properties(${name} PROPERTIES LABELS cli)
-endfunction()
 function(robust_needs_big)
   set_tests_properties(${ARGN} PROPERTIES FIXTURES_REQUIRED robust_big)
 endfunction()
@@ -222,7 +206,7 @@ geovor_cli_expect(cli.robust.vsigzip 0 STDOUT "\nrows: 3\nsites: 3\n"
   COMMAND info /vsigzip/${robust_out}/three_sites.csv.gz)
 
 # Standard input.
-robust_expect_sh(cli.robust.stdin 0 STDOUT "input: <stdin>\nrows: 3\nsites: 3\n"
+geovor_cli_expect(cli.robust.stdin 0 STDOUT "input: <stdin>\nrows: 3\nsites: 3\n"
   SCRIPT "exec \"$0\" info - < ${fixtures}/three_sites.csv")
 geovor_cli_expect(cli.robust.stdin_twice 2 STDERR "--sites and --queries cannot both be standard input"
   COMMAND nearest --sites - --queries -)
@@ -301,7 +285,7 @@ foreach(cmd info cells nearest index)
   else()
     set(args "index ${fixtures}/three_sites.csv -o ${robust_out}/full_stdout.gvi --overwrite")
   endif()
-  robust_expect_sh(cli.robust.dev_full_stdout.${cmd} 4 STDERR "(<stdout>|-): (write error|cannot write to stdout): No space left on device"
+  geovor_cli_expect(cli.robust.dev_full_stdout.${cmd} 4 STDERR "(<stdout>|-): (write error|cannot write to stdout): No space left on device"
     SCRIPT "exec \"$0\" ${args} > /dev/full")
 endforeach()
 # /dev/full as the target (a device: written in place).
