@@ -54,16 +54,14 @@ DelaunayGeometry::DelaunayGeometry(const SphericalDelaunay& dt, const DelaunayGe
     const Pt p = lonlat::make_pt(v);
     sites_[s] = {p.v, p.lon, p.lat};
   }
-}
-
-FaceKind DelaunayGeometry::kind(TriId t) const {
-  const SphericalDelaunay& dt = *dt_;
-  switch (kernel::orient(dt.site(dt.tri_site(t, 0)), dt.site(dt.tri_site(t, 1)), dt.site(dt.tri_site(t, 2)))) {
-    case Sign::Positive: return FaceKind::Proper;
-    case Sign::Zero: return FaceKind::GreatCircle;
-    case Sign::Negative: return FaceKind::Ghost;
+  kinds_.resize(dt.num_triangles());
+  for (TriId t = 0; t < dt.num_triangles(); ++t) {
+    switch (kernel::orient(dt.site(dt.tri_site(t, 0)), dt.site(dt.tri_site(t, 1)), dt.site(dt.tri_site(t, 2)))) {
+      case Sign::Positive: kinds_[t] = FaceKind::Proper; break;
+      case Sign::Zero: kinds_[t] = FaceKind::GreatCircle; break;
+      case Sign::Negative: kinds_[t] = FaceKind::Ghost; break;
+    }
   }
-  return FaceKind::Proper;
 }
 
 namespace {

@@ -43,13 +43,14 @@ struct DelaunayGeometryOptions {
   int max_depth = 20;
 };
 
-enum class FaceKind { Proper, GreatCircle, Ghost };
+enum class FaceKind : std::uint8_t { Proper, GreatCircle, Ghost };
 
 /// "proper", "great_circle" or "ghost".
 const char* to_string(FaceKind kind);
 
 /// Builds the lon/lat geometry of the triangles and edges of one triangulation, which must
-/// outlive this object. Construction converts every site once (O(n)); each triangle or edge is
+/// outlive this object. Construction converts every site and classifies every triangle once
+/// (O(n)); each triangle or edge is
 /// then built in O(its output size). Thread-safe after construction.
 class DelaunayGeometry {
  public:
@@ -61,8 +62,9 @@ class DelaunayGeometry {
   /// @exception Error(InvalidArgument) if an option is out of range.
   explicit DelaunayGeometry(const SphericalDelaunay& dt, const DelaunayGeometryOptions& options = {});
 
-  /// Exact kind of triangle t (see the file comment).
-  FaceKind kind(TriId t) const;
+  /// Exact kind of triangle t (see the file comment), decided once for every triangle at
+  /// construction.
+  FaceKind kind(TriId t) const { return kinds_[t]; }
 
   /// The polygon written for triangle t (see the file comment), reusing `out`'s storage.
   void triangle_polygon(TriId t, MultiPolygon& out) const;
@@ -95,6 +97,7 @@ class DelaunayGeometry {
     double lon, lat;
   };
   std::vector<SitePt> sites_;  // snapped position and lon/lat (degrees) of every site
+  std::vector<FaceKind> kinds_;  // by triangle
 };
 
 }  // namespace geovor
