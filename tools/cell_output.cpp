@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
-#include <future>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
 #include <memory>
 #include <string>
 #include <thread>
@@ -117,44 +119,117 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   };
   const unsigned threads = args.threads > 0 ? static_cast<unsigned>(args.threads)
                                             : std::max(1u, std::thread::hardware_concurrency());
-  auto compute = [&](CellBlock& block) {
-    block.polygons.resize(block.sites.size());
-    block.values.resize(block.sites.size());
-    auto work = [&](std::size_t begin, std::size_t step) {
-      std::string buffer;
-      for (std::size_t i = begin; i < block.sites.size(); i += step)
-        make_cell(block.sites[i], block.polygons[i], block.values[i], buffer);
-    };
-    std::vector<std::thread> pool;
-    for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, t, threads);
-    work(0, threads);
-    for (auto& th : pool) th.join();
-  };
-  // Cells in site order, in blocks: the next block is computed while this one is written.
-  constexpr std::size_t kBlock = 4096;
   std::vector<SiteId> order;
   for (SiteId s = 0; s < dt.site_capacity(); ++s)
     if (diagram.has_cell(s)) order.push_back(s);
-  auto fill = [&](CellBlock& block, std::size_t begin) {
-    block.sites.assign(order.begin() + static_cast<std::ptrdiff_t>(begin),
-                       order.begin() + static_cast<std::ptrdiff_t>(std::min(order.size(), begin + kBlock)));
+
+  // A pipeline: worker threads take blocks of consecutive cells (in site order) and compute
+  // them, and encode them too when the format has an encoder (GeoJSON), while this thread
+  // writes the finished blocks in order. At most kWindow blocks are in flight, in reused slots.
+  const FeatureEncoder* encoder = writer->encoder();
+  constexpr std::size_t kBlock = 1024;
+  const std::size_t num_blocks = (order.size() + kBlock - 1) / kBlock;
+  const std::size_t window = 2 * static_cast<std::size_t>(threads) + 2;
+  struct Slot {
+    CellBlock cells;        // without an encoder: the block's polygons and values
+    EncodedFeatures text;   // with an encoder: the block's features as text
+    std::exception_ptr error;
+    bool ready = false;
   };
+  std::vector<Slot> slots(window);
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::size_t next_block = 0, blocks_written = 0;
+  bool stop = false;
+
+  auto compute = [&](std::size_t b, Slot& slot, std::string& buffer, MultiPolygon& polygon,
+                     std::vector<FieldValue>& values) {
+    const std::size_t begin = b * kBlock, end = std::min(order.size(), begin + kBlock);
+    if (encoder) {
+      slot.text.clear();
+      for (std::size_t i = begin; i < end; ++i) {
+        make_cell(order[i], polygon, values, buffer);
+        encoder->encode(polygon, values, i + 1, slot.text);
+      }
+      return;
+    }
+    CellBlock& block = slot.cells;
+    block.sites.assign(order.begin() + static_cast<std::ptrdiff_t>(begin),
+                       order.begin() + static_cast<std::ptrdiff_t>(end));
+    block.polygons.resize(block.sites.size());
+    block.values.resize(block.sites.size());
+    for (std::size_t i = 0; i < block.sites.size(); ++i)
+      make_cell(block.sites[i], block.polygons[i], block.values[i], buffer);
+  };
+  auto work = [&] {
+    std::string buffer;
+    MultiPolygon polygon;
+    std::vector<FieldValue> values;
+    for (;;) {
+      std::size_t b;
+      {
+        std::unique_lock lock(mutex);
+        changed.wait(lock, [&] { return stop || next_block >= num_blocks || next_block < blocks_written + window; });
+        if (stop || next_block >= num_blocks) return;
+        b = next_block++;
+      }
+      Slot& slot = slots[b % window];
+      std::exception_ptr error;
+      try {
+        compute(b, slot, buffer, polygon, values);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      {
+        std::lock_guard lock(mutex);
+        slot.error = error;
+        slot.ready = true;
+      }
+      changed.notify_all();
+    }
+  };
+  std::vector<std::thread> pool;
+  // Stops and joins the workers however this function ends.
+  struct Joiner {
+    std::vector<std::thread>& pool;
+    std::mutex& mutex;
+    std::condition_variable& changed;
+    bool& stop;
+    ~Joiner() {
+      {
+        std::lock_guard lock(mutex);
+        stop = true;
+      }
+      changed.notify_all();
+      for (std::thread& t : pool) t.join();
+    }
+  } joiner{pool, mutex, changed, stop};
+  for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work);
+
   Progress progress(order.size(), args.quiet);
   std::size_t written = 0;
-  CellBlock current, next;
-  fill(current, 0);
-  compute(current);
-  for (std::size_t begin = 0; begin < order.size(); begin += kBlock) {
-    std::future<void> ahead;
-    if (begin + kBlock < order.size()) {
-      fill(next, begin + kBlock);
-      ahead = std::async(std::launch::async, [&] { compute(next); });
+  for (std::size_t b = 0; b < num_blocks; ++b) {
+    Slot& slot = slots[b % window];
+    {
+      std::unique_lock lock(mutex);
+      changed.wait(lock, [&] { return slot.ready; });
+      slot.ready = false;
     }
-    for (std::size_t i = 0; i < current.sites.size(); ++i) writer->write(current.polygons[i], current.values[i]);
-    written += current.sites.size();
+    if (slot.error) std::rethrow_exception(slot.error);
+    if (encoder) {
+      writer->write_encoded(slot.text);
+      written += slot.text.boxes.size();
+    } else {
+      const CellBlock& block = slot.cells;
+      for (std::size_t i = 0; i < block.sites.size(); ++i) writer->write(block.polygons[i], block.values[i]);
+      written += block.sites.size();
+    }
     progress.advance(written);
-    if (ahead.valid()) ahead.get();
-    std::swap(current, next);
+    {
+      std::lock_guard lock(mutex);
+      blocks_written = b + 1;
+    }
+    changed.notify_all();
   }
   if (before_finish) before_finish();
   writer->finish();

@@ -31,6 +31,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "geovor/core/error.hpp"
@@ -612,6 +613,48 @@ TEST(GeoJson, NewlineDelimitedForGeojsonlAndSeqFormat) {
     }
     EXPECT_EQ(n, 4);
   }
+}
+
+// Features encoded on other threads and written in blocks give the bytes write() gives, in
+// every framing, with a block that starts the file, an empty block and a one-feature block; a
+// feature the encoder refuses names its number and leaves the block and the writer usable.
+TEST(GeoJson, EncodedBlocksWriteTheSameBytesAsWrite) {
+  TempDir dir;
+  for (const std::string name : {"cells.geojson", "cells.geojsons", "cells.geojsonl"}) {
+    const std::string plain = dir / ("plain_" + name), encoded = dir / ("encoded_" + name);
+    WriterOptions options;
+    options.id_field = "site_id";
+    write_cells(plain, options);
+    auto writer = open_feature_writer(encoded, GeometryType::MultiPolygon, cell_schema(), options);
+    const FeatureEncoder* encoder = writer->encoder();
+    ASSERT_NE(encoder, nullptr);
+    const std::vector<Cell>& cs = cells();
+    // Blocks {0, 1}, {}, {2}, {3}, each encoded on its own thread.
+    const std::vector<std::pair<std::size_t, std::size_t>> blocks = {{0, 2}, {2, 2}, {2, 3}, {3, 4}};
+    std::vector<EncodedFeatures> texts(blocks.size());
+    std::vector<std::thread> threads;
+    for (std::size_t b = 0; b < blocks.size(); ++b)
+      threads.emplace_back([&, b] {
+        for (std::size_t i = blocks[b].first; i < blocks[b].second; ++i)
+          encoder->encode(cs[i].geometry, cs[i].values, i + 1, texts[b]);
+      });
+    for (std::thread& t : threads) t.join();
+    // A bad feature (an unclosed ring) is refused by number, and nothing is appended.
+    const std::size_t before = texts[2].text.size();
+    const MultiPolygon open_ring{Polygon{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}, {}}};
+    const Error e = error_of([&] { encoder->encode(open_ring, cs[0].values, 3, texts[2]); });
+    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+    EXPECT_TRUE(contains(e.what(), "feature 3")) << e.what();
+    EXPECT_EQ(texts[2].text.size(), before);
+    EXPECT_EQ(texts[2].boxes.size(), 1u);
+    for (const EncodedFeatures& t : texts) writer->write_encoded(t);
+    writer->finish();
+    EXPECT_EQ(slurp(encoded), slurp(plain)) << name;
+  }
+  // GDAL formats have no encoder and refuse encoded text.
+  auto gpkg = open_feature_writer(dir / "cells.gpkg", GeometryType::MultiPolygon, cell_schema(), {});
+  EXPECT_EQ(gpkg->encoder(), nullptr);
+  EXPECT_EQ(error_of([&] { gpkg->write_encoded(EncodedFeatures{}); }).code(), ErrorCode::InvalidArgument);
 }
 
 TEST(GeoJson, StringsEscapedAndReadBackExactly) {

@@ -76,6 +76,10 @@ std::unique_ptr<FeatureWriter> open_feature_writer(const std::string& path, Geom
   return gdal_detail::open_gdal_writer(path, format, geometry_type, schema, options);
 }
 
+void FeatureWriter::write_encoded(const EncodedFeatures&) {
+  throw Error(ErrorCode::InvalidArgument, "this output format has no encoder; write features one by one");
+}
+
 const char* to_string(GeometryType t) {
   switch (t) {
     case GeometryType::Point:

@@ -146,36 +146,184 @@ bool check_target(const std::string& path, bool overwrite) {
   return false;
 }
 
-// Buffered output of one GeoJSON file (or stdout).
-class GeoJsonWriter final : public FeatureWriter {
+// The text of features as a GeoJSON file frames them. encode() is const and keeps no state, so
+// one encoder serves any number of threads at once.
+class GeoJsonEncoder final : public FeatureEncoder {
  public:
-  GeoJsonWriter(const std::string& path, GeoJsonFraming framing, GeometryType geometry_type,
-                const std::vector<Field>& schema, const WriterOptions& options)
-      : path_(path),
-        framing_(framing),
-        geometry_type_(geometry_type),
-        schema_(schema),
-        precision_(options.precision),
-        buffer_(new char[kBufferSize]) {
+  GeoJsonEncoder(const std::string& path, GeoJsonFraming framing, GeometryType geometry_type,
+                 const std::vector<Field>& schema, const WriterOptions& options)
+      : path_(path), framing_(framing), geometry_type_(geometry_type), precision_(options.precision) {
     if (precision_ < 0 || precision_ > 17) {
       throw Error(ErrorCode::InvalidArgument,
                   "coordinate precision " + std::to_string(precision_) + " is not within 0..17");
     }
-    for (std::size_t i = 0; i < schema_.size(); ++i) {
-      if (schema_[i].name == options.id_field) id_index_ = static_cast<int>(i);
+    for (std::size_t i = 0; i < schema.size(); ++i) {
+      if (schema[i].name == options.id_field) id_index_ = static_cast<int>(i);
     }
     if (!options.id_field.empty() && id_index_ < 0) {
       throw Error(ErrorCode::InvalidArgument,
                   "id field '" + options.id_field + "' is not a field of the schema");
     }
     // Property keys, escaped once.
-    for (std::size_t i = 0; i < schema_.size(); ++i) {
+    for (std::size_t i = 0; i < schema.size(); ++i) {
       std::string key;
       if (i > 0) key += ',';
-      append_json_string(key, schema_[i].name);
+      append_json_string(key, schema[i].name);
       key += ':';
       keys_.push_back(std::move(key));
     }
+  }
+
+  void encode(const Geometry& geometry, std::span<const FieldValue> values, std::uint64_t number,
+              EncodedFeatures& out) const override {
+    if (values.size() != keys_.size()) {
+      throw Error(ErrorCode::InvalidArgument,
+                  path_ + ": feature " + std::to_string(number) + " has " +
+                      std::to_string(values.size()) + " values for " +
+                      std::to_string(keys_.size()) + " fields");
+    }
+    if (type_of(geometry) != geometry_type_) {
+      throw Error(ErrorCode::InvalidArgument,
+                  path_ + ": feature " + std::to_string(number) + " is a " +
+                      to_string(type_of(geometry)) + " in a " +
+                      to_string(geometry_type_) + " layer");
+    }
+    if (auto why = geometry_problem(geometry); !why.empty()) {
+      throw Error(ErrorCode::InvalidArgument,
+                  path_ + ": feature " + std::to_string(number) + ": " + why);
+    }
+    const std::optional<BBox> box = geojson_bbox(geometry);
+    std::string& t = out.text;
+    // Every feature of a collection starts with its separator; the writer drops the first one.
+    if (framing_ == GeoJsonFraming::RecordSeparated) t += '\x1e';
+    if (framing_ == GeoJsonFraming::FeatureCollection) t += ",\n";
+    t += "{\"type\":\"Feature\"";
+    if (id_index_ >= 0 && !std::holds_alternative<std::monostate>(values[id_index_])) {
+      t += ",\"id\":";
+      put_value(t, values[id_index_]);
+    }
+    if (box) {
+      t += ",\"bbox\":";
+      put_bbox(t, *box);
+    }
+    t += ",\"properties\":{";
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      t += keys_[i];
+      put_value(t, values[i]);
+    }
+    t += "},\"geometry\":";
+    put_geometry(t, geometry);
+    t += '}';
+    if (framing_ != GeoJsonFraming::FeatureCollection) t += '\n';
+    out.boxes.push_back(box);
+  }
+
+  void put_bbox(std::string& t, const BBox& b) const {
+    char buf[4 * kMaxCoordinateChars + 8];
+    char* p = buf;
+    *p++ = '[';
+    p = format_coordinate(p, b.west, precision_);
+    *p++ = ',';
+    p = format_coordinate(p, b.south, precision_);
+    *p++ = ',';
+    p = format_coordinate(p, b.east, precision_);
+    *p++ = ',';
+    p = format_coordinate(p, b.north, precision_);
+    *p++ = ']';
+    t.append(buf, static_cast<std::size_t>(p - buf));
+  }
+
+ private:
+  // Positions go through a stack buffer, several at a time, to keep std::string's checks rare.
+  void put_positions(std::string& t, const std::vector<LonLat>& ps) const {
+    constexpr std::size_t kBatch = 16;
+    char buf[kBatch * (2 * kMaxCoordinateChars + 4) + 2];
+    char* p = buf;
+    *p++ = '[';
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      if (i > 0) *p++ = ',';
+      *p++ = '[';
+      p = format_coordinate(p, ps[i].lon_deg, precision_);
+      *p++ = ',';
+      p = format_coordinate(p, ps[i].lat_deg, precision_);
+      *p++ = ']';
+      if ((i + 1) % kBatch == 0) {
+        t.append(buf, static_cast<std::size_t>(p - buf));
+        p = buf;
+      }
+    }
+    *p++ = ']';
+    t.append(buf, static_cast<std::size_t>(p - buf));
+  }
+
+  void put_geometry(std::string& t, const Geometry& g) const {
+    if (const auto* pt = std::get_if<LonLat>(&g)) {
+      t += "{\"type\":\"Point\",\"coordinates\":";
+      char buf[2 * kMaxCoordinateChars + 4];
+      char* p = buf;
+      *p++ = '[';
+      p = format_coordinate(p, pt->lon_deg, precision_);
+      *p++ = ',';
+      p = format_coordinate(p, pt->lat_deg, precision_);
+      *p++ = ']';
+      t.append(buf, static_cast<std::size_t>(p - buf));
+      t += '}';
+    } else if (const auto* lines = std::get_if<MultiLineString>(&g)) {
+      t += "{\"type\":\"MultiLineString\",\"coordinates\":[";
+      for (std::size_t i = 0; i < lines->size(); ++i) {
+        if (i > 0) t += ',';
+        put_positions(t, (*lines)[i]);
+      }
+      t += "]}";
+    } else {
+      const auto& polys = std::get<MultiPolygon>(g);
+      t += "{\"type\":\"MultiPolygon\",\"coordinates\":[";
+      for (std::size_t i = 0; i < polys.size(); ++i) {
+        if (i > 0) t += ',';
+        t += '[';
+        put_positions(t, polys[i].exterior);
+        for (const Ring& hole : polys[i].holes) {
+          t += ',';
+          put_positions(t, hole);
+        }
+        t += ']';
+      }
+      t += "]}";
+    }
+  }
+
+  static void put_value(std::string& t, const FieldValue& v) {
+    if (const auto* i = std::get_if<std::int64_t>(&v)) {
+      char buf[24];
+      t.append(buf, static_cast<std::size_t>(std::to_chars(buf, buf + sizeof buf, *i).ptr - buf));
+    } else if (const auto* d = std::get_if<double>(&v)) {
+      if (!std::isfinite(*d)) {
+        t += "null";  // JSON has no NaN or infinity (GDAL writes null too by default)
+        return;
+      }
+      char buf[kMaxRealChars];
+      t.append(buf, static_cast<std::size_t>(format_real(buf, *d) - buf));
+    } else if (const auto* s = std::get_if<std::string>(&v)) {
+      append_json_string(t, *s);
+    } else {
+      t += "null";
+    }
+  }
+
+  std::string path_;
+  GeoJsonFraming framing_;
+  GeometryType geometry_type_;
+  std::vector<std::string> keys_;  // ,"name":
+  int precision_;
+  int id_index_ = -1;
+};
+
+// Buffered output of one GeoJSON file (or stdout).
+class GeoJsonWriter final : public FeatureWriter {
+ public:
+  GeoJsonWriter(const std::string& path, GeoJsonFraming framing, GeometryType geometry_type,
+                const std::vector<Field>& schema, const WriterOptions& options)
+      : path_(path), framing_(framing), encoder_(path, framing, geometry_type, schema, options) {
     if (path_ == "-") {
       file_ = stdout;
     } else {
@@ -186,12 +334,11 @@ class GeoJsonWriter final : public FeatureWriter {
         open_temporary();
       }
     }
+    buffer_.reserve(kFlushAt + (std::size_t{1} << 16));
     if (framing_ == GeoJsonFraming::FeatureCollection) {
-      put("{\"type\":\"FeatureCollection\",\"name\":");
-      scratch_.clear();
-      append_json_string(scratch_, options.layer);
-      put(scratch_);
-      put(",\"features\":[\n");
+      buffer_ += "{\"type\":\"FeatureCollection\",\"name\":";
+      append_json_string(buffer_, options.layer);
+      buffer_ += ",\"features\":[\n";
     }
   }
 
@@ -200,61 +347,29 @@ class GeoJsonWriter final : public FeatureWriter {
   }
 
   void write(const Geometry& geometry, std::span<const FieldValue> values) override {
-    if (failed_) throw Error(ErrorCode::Io, path_ + ": the writer failed earlier");
-    if (finished_) throw Error(ErrorCode::InvalidArgument, path_ + ": write() after finish()");
-    if (values.size() != schema_.size()) {
-      throw Error(ErrorCode::InvalidArgument,
-                  path_ + ": feature " + std::to_string(count_ + 1) + " has " +
-                      std::to_string(values.size()) + " values for " +
-                      std::to_string(schema_.size()) + " fields");
-    }
-    if (type_of(geometry) != geometry_type_) {
-      throw Error(ErrorCode::InvalidArgument,
-                  path_ + ": feature " + std::to_string(count_ + 1) + " is a " +
-                      to_string(type_of(geometry)) + " in a " +
-                      to_string(geometry_type_) + " layer");
-    }
-    if (auto why = geometry_problem(geometry); !why.empty()) {
-      throw Error(ErrorCode::InvalidArgument,
-                  path_ + ": feature " + std::to_string(count_ + 1) + ": " + why);
-    }
-    const std::optional<BBox> box = geojson_bbox(geometry);
-    if (box) extent_.add(*box);
+    check_usable();
+    one_.clear();
+    encoder_.encode(geometry, values, count_ + 1, one_);
+    take(one_);
+  }
 
-    if (framing_ == GeoJsonFraming::RecordSeparated) put('\x1e');
-    if (framing_ == GeoJsonFraming::FeatureCollection && count_ > 0) put(",\n");
-    put("{\"type\":\"Feature\"");
-    if (id_index_ >= 0 && !std::holds_alternative<std::monostate>(values[id_index_])) {
-      put(",\"id\":");
-      put_value(values[id_index_]);
-    }
-    if (box) {
-      put(",\"bbox\":");
-      put_bbox(*box);
-    }
-    put(",\"properties\":{");
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      put(keys_[i]);
-      put_value(values[i]);
-    }
-    put("},\"geometry\":");
-    put_geometry(geometry);
-    put('}');
-    if (framing_ != GeoJsonFraming::FeatureCollection) put('\n');
-    ++count_;
-    if (used_ >= kFlushAt) flush();
+  const FeatureEncoder* encoder() const override { return &encoder_; }
+
+  void write_encoded(const EncodedFeatures& features) override {
+    check_usable();
+    take(features);
   }
 
   void finish() override {
     if (failed_) throw Error(ErrorCode::Io, path_ + ": the writer failed earlier");
     if (finished_) return;
     if (framing_ == GeoJsonFraming::FeatureCollection) {
-      put(count_ > 0 ? "\n]" : "]");
+      buffer_ += count_ > 0 ? "\n]" : "]";
       if (const std::optional<BBox> box = extent_.result()) {
-        put(",\"bbox\":");
-        put_bbox(*box);
+        buffer_ += ",\"bbox\":";
+        encoder_.put_bbox(buffer_, *box);
       }
-      put("}\n");
+      buffer_ += "}\n";
     }
     flush();
     if (file_ == stdout) {
@@ -279,9 +394,31 @@ class GeoJsonWriter final : public FeatureWriter {
   }
 
  private:
-  static constexpr std::size_t kBufferSize = std::size_t{1} << 20;
-  // Flush once a feature ends past this mark; a feature that does not fit is flushed in pieces.
-  static constexpr std::size_t kFlushAt = kBufferSize - (std::size_t{1} << 16);
+  // Text is written once this much is pending; encoded blocks at least this large are written
+  // straight from the caller's memory.
+  static constexpr std::size_t kFlushAt = std::size_t{1} << 20;
+
+  void check_usable() const {
+    if (failed_) throw Error(ErrorCode::Io, path_ + ": the writer failed earlier");
+    if (finished_) throw Error(ErrorCode::InvalidArgument, path_ + ": write() after finish()");
+  }
+
+  // Appends encoded features; the first feature of a collection loses its leading ",\n".
+  void take(const EncodedFeatures& features) {
+    if (features.boxes.empty()) return;
+    std::string_view text = features.text;
+    if (framing_ == GeoJsonFraming::FeatureCollection && count_ == 0) text.remove_prefix(2);
+    for (const std::optional<BBox>& box : features.boxes)
+      if (box) extent_.add(*box);
+    count_ += features.boxes.size();
+    if (text.size() >= kFlushAt) {
+      flush();
+      write_out(text.data(), text.size());
+      return;
+    }
+    buffer_ += text;
+    if (buffer_.size() >= kFlushAt) flush();
+  }
 
   void open_temporary() {
     const fs::path target(path_);
@@ -322,132 +459,24 @@ class GeoJsonWriter final : public FeatureWriter {
     throw Error(ErrorCode::Io, path_ + ": " + what + (err != 0 ? ": " + errno_text(err) : ""));
   }
 
-  void flush() {
-    if (used_ == 0) return;
+  void write_out(const char* data, std::size_t n) {
     errno = 0;
-    const std::size_t n = std::fwrite(buffer_.get(), 1, used_, file_);
-    if (n != used_) fail(file_ == stdout ? "cannot write to stdout" : "cannot write", errno);
-    used_ = 0;
+    if (std::fwrite(data, 1, n, file_) != n) fail(file_ == stdout ? "cannot write to stdout" : "cannot write", errno);
   }
 
-  // Room for n more characters (n <= kBufferSize).
-  char* room(std::size_t n) {
-    if (used_ + n > kBufferSize) flush();
-    return buffer_.get() + used_;
-  }
-  void put(char c) { *room(1) = c, ++used_; }
-  void put(std::string_view s) {
-    if (s.size() > kBufferSize / 2) {
-      flush();
-      errno = 0;
-      if (std::fwrite(s.data(), 1, s.size(), file_) != s.size()) {
-        fail(file_ == stdout ? "cannot write to stdout" : "cannot write", errno);
-      }
-      return;
-    }
-    std::memcpy(room(s.size()), s.data(), s.size());
-    used_ += s.size();
-  }
-
-  void put_number(double v) {
-    char* p = room(kMaxCoordinateChars);
-    used_ = static_cast<std::size_t>(format_coordinate(p, v, precision_) - buffer_.get());
-  }
-
-  void put_bbox(const BBox& b) {
-    char* p = room(4 * kMaxCoordinateChars + 8);
-    *p++ = '[';
-    p = format_coordinate(p, b.west, precision_);
-    *p++ = ',';
-    p = format_coordinate(p, b.south, precision_);
-    *p++ = ',';
-    p = format_coordinate(p, b.east, precision_);
-    *p++ = ',';
-    p = format_coordinate(p, b.north, precision_);
-    *p++ = ']';
-    used_ = static_cast<std::size_t>(p - buffer_.get());
-  }
-
-  void put_position(const LonLat& q) {
-    char* p = room(2 * kMaxCoordinateChars + 4);
-    *p++ = '[';
-    p = format_coordinate(p, q.lon_deg, precision_);
-    *p++ = ',';
-    p = format_coordinate(p, q.lat_deg, precision_);
-    *p++ = ']';
-    used_ = static_cast<std::size_t>(p - buffer_.get());
-  }
-
-  void put_positions(const std::vector<LonLat>& ps) {
-    put('[');
-    for (std::size_t i = 0; i < ps.size(); ++i) {
-      if (i > 0) put(',');
-      put_position(ps[i]);
-    }
-    put(']');
-  }
-
-  void put_geometry(const Geometry& g) {
-    if (const auto* pt = std::get_if<LonLat>(&g)) {
-      put("{\"type\":\"Point\",\"coordinates\":");
-      put_position(*pt);
-      put('}');
-    } else if (const auto* lines = std::get_if<MultiLineString>(&g)) {
-      put("{\"type\":\"MultiLineString\",\"coordinates\":[");
-      for (std::size_t i = 0; i < lines->size(); ++i) {
-        if (i > 0) put(',');
-        put_positions((*lines)[i]);
-      }
-      put("]}");
-    } else {
-      const auto& polys = std::get<MultiPolygon>(g);
-      put("{\"type\":\"MultiPolygon\",\"coordinates\":[");
-      for (std::size_t i = 0; i < polys.size(); ++i) {
-        if (i > 0) put(',');
-        put('[');
-        put_positions(polys[i].exterior);
-        for (const Ring& hole : polys[i].holes) {
-          put(',');
-          put_positions(hole);
-        }
-        put(']');
-      }
-      put("]}");
-    }
-  }
-
-  void put_value(const FieldValue& v) {
-    if (const auto* i = std::get_if<std::int64_t>(&v)) {
-      char* p = room(24);
-      used_ = static_cast<std::size_t>(std::to_chars(p, p + 24, *i).ptr - buffer_.get());
-    } else if (const auto* d = std::get_if<double>(&v)) {
-      if (!std::isfinite(*d)) {
-        put("null");  // JSON has no NaN or infinity (GDAL writes null too by default)
-        return;
-      }
-      char* p = room(kMaxRealChars);
-      used_ = static_cast<std::size_t>(format_real(p, *d) - buffer_.get());
-    } else if (const auto* s = std::get_if<std::string>(&v)) {
-      scratch_.clear();
-      append_json_string(scratch_, *s);
-      put(scratch_);
-    } else {
-      put("null");
-    }
+  void flush() {
+    if (buffer_.empty()) return;
+    write_out(buffer_.data(), buffer_.size());
+    buffer_.clear();
   }
 
   std::string path_;
   std::string temp_path_;
   GeoJsonFraming framing_;
-  GeometryType geometry_type_;
-  std::vector<Field> schema_;
-  std::vector<std::string> keys_;  // ,"name":
-  int precision_;
-  int id_index_ = -1;
+  GeoJsonEncoder encoder_;
   FILE* file_ = nullptr;
-  std::unique_ptr<char[]> buffer_;
-  std::size_t used_ = 0;
-  std::string scratch_;
+  std::string buffer_;    // text not yet written
+  EncodedFeatures one_;   // write()'s feature
   BBoxUnion extent_;
   std::uint64_t count_ = 0;
   bool finished_ = false;

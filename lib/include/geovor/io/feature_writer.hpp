@@ -24,6 +24,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <variant>
@@ -70,6 +71,31 @@ struct WriterOptions {
   std::string id_field;
 };
 
+/// Features encoded as text by a FeatureEncoder, in order: their text, framing included, and
+/// the bounding box of each (which the writer adds to the file's own). clear() keeps the memory.
+struct EncodedFeatures {
+  std::string text;
+  std::vector<std::optional<BBox>> boxes;  ///< one per feature
+  void clear() {
+    text.clear();
+    boxes.clear();
+  }
+};
+
+/// Encodes features as a text writer (GeoJSON, GeoJSONSeq) writes them, so that callers can
+/// format features on several threads while the writer only writes the text, in order
+/// (FeatureWriter::encoder(), FeatureWriter::write_encoded()). The bytes are those write()
+/// would write.
+class FeatureEncoder {
+ public:
+  virtual ~FeatureEncoder() = default;
+  /// Appends feature number `number` (1-based: it names the feature in errors) to `out`.
+  /// Thread-safe: const and without state, one encoder serves any number of threads at once.
+  /// @exception Error(InvalidArgument) as FeatureWriter::write(), with `out` unchanged.
+  virtual void encode(const Geometry& geometry, std::span<const FieldValue> values, std::uint64_t number,
+                      EncodedFeatures& out) const = 0;
+};
+
 /// Streams features to a file. The output appears under its final name only when finish()
 /// succeeds (written to a temporary file or directory ".NAME.tmp-PID-N" next to it, then
 /// renamed); a failure, or destruction without finish(), removes the temporary files, so no
@@ -88,6 +114,13 @@ class FeatureWriter {
   ///   non-finite or out-of-range coordinate, an unclosed ring or a too short ring/line.
   /// @exception Error(Io) when the output cannot be written.
   virtual void write(const Geometry& geometry, std::span<const FieldValue> values) = 0;
+  /// The writer's encoder (valid as long as the writer), or null for formats written through
+  /// GDAL, which take write() only.
+  virtual const FeatureEncoder* encoder() const { return nullptr; }
+  /// Writes features encoded by encoder() (numbered from the count written so far), after
+  /// those written so far.
+  /// @exception Error(InvalidArgument) if the writer has no encoder; Error(Io) as write().
+  virtual void write_encoded(const EncodedFeatures& features);
   /// Completes the file and moves it into place. @exception Error(Io).
   virtual void finish() = 0;
 };
