@@ -224,11 +224,13 @@ MoveStats SphericalDelaunay::move_one(SiteId s, const Vec3& p, const RelocationO
   // displacement are refreshed in turn.
   queue_.clear();
   refresh_site(s);
+  bicells_.clear();
   for (const TriId t : touched_) {
     // Triangles at s: their three bi-cells are s's, just refreshed.
     if (triangles_[3 * t] == s || triangles_[3 * t + 1] == s || triangles_[3 * t + 2] == s) continue;
-    for (int j = 0; j < 3; ++j) update_bicell(3 * t + j);
+    for (int j = 0; j < 3; ++j) bicells_.push_back(3 * t + j);
   }
+  update_bicells();
   update_around_link();  // the hole left by a removal was retriangulated around them
   st.refreshed = settle_queue();
   return st;
@@ -257,44 +259,35 @@ bool SphericalDelaunay::reanchor(SiteId s, const Vec3& p) {
   const double from_m2 = norm2(f_new - m), to_p2 = norm2(p - f_new);
   const Vec3 f_old = reference_[s];
   reference_[s] = f_new;
-  tau2_.clear();
-  bool ok = true;
-  const HalfedgeId e0 = site_edge_[s];
-  HalfedgeId e = e0;
-  do {  // the bi-cells of the edges at s and of the link edges opposite s, as refresh_site()
-    for (const HalfedgeId h : {e, next_halfedge(e)}) {
-      const SiteId q[4] = {triangles_[h], triangles_[next_halfedge(h)], triangles_[prev_halfedge(h)],
-                           triangles_[prev_halfedge(halfedges_[h])]};
-      const Vec3* f = reference_.data();
-      const double tau =
-          bicell_tolerance(f[q[0]], f[q[1]], f[q[2]], f[q[3]], options_.merge_distance) * (1 - 0x1p-48);
-      const double tau2 = tau * tau;
-      ok = from_m2 < tau2 && to_p2 < tau2;
-      // Within eps_w <= tau_B' (the invariant) needs no look at the site's position.
-      for (int i = 0; i < 4 && ok; ++i)
-        ok = q[i] == s || tau2 >= tolerance2_[q[i]] || sites_[q[i]] == f[q[i]] || norm2(sites_[q[i]] - f[q[i]]) < tau2;
-      if (!ok) break;
-      tau2_.push_back(tau2);
+  // The bi-cells of the edges at s and of the link edges opposite s, as refresh_site(), all
+  // computed together (a failure is rarer than the time the batch saves).
+  bicells_.clear();
+  add_site_bicells(s);
+  const std::size_t nb = bicells_.size();
+  quads_.resize(nb);
+  tau2_.resize(nb);
+  for (std::size_t i = 0; i < nb; ++i) bicell_sites(bicells_[i], quads_[i]);
+  bicells_.clear();
+  bicell_tau2(quads_.data(), nb, tau2_.data());
+  const Vec3* f = reference_.data();
+  for (std::size_t i = 0; i < nb; ++i) {
+    const double tau2 = tau2_[i];
+    bool ok = from_m2 < tau2 && to_p2 < tau2;
+    // Within eps_w <= tau_B' (the invariant) needs no look at the site's position.
+    for (int j = 0; j < 4 && ok; ++j) {
+      const SiteId w = quads_[i][j];
+      ok = w == s || tau2 >= tolerance2_[w] || sites_[w] == f[w] || norm2(sites_[w] - f[w]) < tau2;
     }
-    e = next_around_site(e);
-  } while (ok && e != e0);
-  if (!ok) {
-    reference_[s] = f_old;
-    return false;
+    if (!ok) {
+      reference_[s] = f_old;
+      return false;
+    }
   }
   sites_[s] = p;
   tolerance2_[s] = std::numeric_limits<double>::infinity();
-  std::size_t k = 0;
-  e = e0;
-  do {  // every site is within each new tau (checked above): no refresh follows
-    for (const HalfedgeId h : {e, next_halfedge(e)}) {
-      const double tau2 = tau2_[k++];
-      const SiteId q[4] = {triangles_[h], triangles_[next_halfedge(h)], triangles_[prev_halfedge(h)],
-                           triangles_[prev_halfedge(halfedges_[h])]};
-      for (const SiteId w : q) tolerance2_[w] = std::min(tolerance2_[w], tau2);
-    }
-    e = next_around_site(e);
-  } while (e != e0);
+  // Every site is within each new tau (checked above): no refresh follows.
+  for (std::size_t i = 0; i < nb; ++i)
+    for (const SiteId w : quads_[i]) tolerance2_[w] = std::min(tolerance2_[w], tau2_[i]);
   return true;
 }
 
@@ -309,15 +302,17 @@ void SphericalDelaunay::collect_link(SiteId s) {
 }
 
 void SphericalDelaunay::update_around_link() {
+  bicells_.clear();
   for (const SiteId w : link_) {
     if (!alive(w) || site_edge_[w] == kNoIndex) continue;
     const HalfedgeId e0 = site_edge_[w];
     HalfedgeId e = e0;
     do {
-      update_bicell(e);
+      bicells_.push_back(e);
       e = next_around_site(e);
     } while (e != e0);
   }
+  update_bicells();
 }
 
 void SphericalDelaunay::tolerances_after_insert(SiteId s) {
@@ -497,91 +492,143 @@ bool SphericalDelaunay::relocate_by_flips(SiteId s, const Vec3& p) {
 
 namespace {
 
+double min3(double a, double b, double c) { return std::min(std::min(a, b), c); }
+
 // Upper bound of the largest product |u| |v| over the seven pairs of edges (u, v) that bound the
 // width of the tetrahedron: two edges of each face (the face's least product, as 2 x area is at
 // most the product of any two of its edges) and the three pairs of opposite edges. q[k] bounds
 // the squared length of edge k, in the order 01, 02, 03, 12, 13, 23.
 double max_edge_product(const double (&q)[6]) {
-  const double f012 = std::min({q[0] * q[1], q[0] * q[3], q[1] * q[3]});
-  const double f013 = std::min({q[0] * q[2], q[0] * q[4], q[2] * q[4]});
-  const double f023 = std::min({q[1] * q[2], q[1] * q[5], q[2] * q[5]});
-  const double f123 = std::min({q[3] * q[4], q[3] * q[5], q[4] * q[5]});
-  const double m2 = std::max({f012, f013, f023, f123, q[0] * q[5], q[1] * q[4], q[2] * q[3]});
+  const double f012 = min3(q[0] * q[1], q[0] * q[3], q[1] * q[3]);
+  const double f013 = min3(q[0] * q[2], q[0] * q[4], q[2] * q[4]);
+  const double f023 = min3(q[1] * q[2], q[1] * q[5], q[2] * q[5]);
+  const double f123 = min3(q[3] * q[4], q[3] * q[5], q[4] * q[5]);
+  const double m2 = std::max(std::max(std::max(f012, f013), std::max(f023, f123)),
+                             std::max(std::max(q[0] * q[5], q[1] * q[4]), q[2] * q[3]));
   // Each q is within a relative 2^-49 of its exact bound, each product and the root within 2^-52.
   return std::sqrt(m2) * (1 + 0x1p-44);
+}
+
+// The stretch of the map T (see spherical_delaunay.hpp): 1/4 suits the nearly co-circular
+// bi-cells, which set the tolerances. kInvNorm = 1/sqrt(lambda^2 + 1), rounded down.
+constexpr double kLambda = 0.25;
+constexpr double kInvNorm = 0.9701425001453318;
+
+// Up to this many bi-cells are computed together, stage by stage: the square roots and divisions
+// of different bi-cells then overlap instead of waiting on one another (about 3x faster).
+constexpr std::size_t kBatch = 16;
+
+// tau of each bi-cell pts[i] (a, b the shared edge, c, d the far sites) for i < n <= kBatch:
+// SphericalDelaunay::bicell_tolerance(); the argument is in spherical_delaunay.hpp.
+void bicell_tolerances(const Vec3 (*pts)[4], std::size_t n, double merge_distance, double* tau) {
+  double volume6[kBatch], l2[kBatch][6], c2[kBatch], t[kBatch][4], s2[kBatch], s0[kBatch];
+  Vec3 cm[kBatch];
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 &a = pts[i][0], &b = pts[i][1], &c = pts[i][2], &d = pts[i][3];
+    // 6 x the volume of the tetrahedron, |det(b - a, c - a, d - a)|, minus Shewchuk's bound of
+    // its rounding: the orientation certificate itself, computed once for both bounds below.
+    double permanent;
+    const double det = kernel::detail::in_sphere_det(a, b, c, d, &permanent);
+    volume6[i] = std::fabs(det) - kernel::detail::kO3dErrBound * permanent -
+                 kernel::detail::underflow_margin(b.x - a.x, b.y - a.y, b.z - a.z);
+    // Squared edge lengths, each within a relative 2^-50 of the exact one.
+    const Vec3 e[6] = {b - a, c - a, d - a, c - b, d - b, d - c};
+    for (int k = 0; k < 6; ++k) l2[i][k] = norm2(e[k]) * (1 + 0x1p-49);
+    cm[i] = a + b + c + d;
+    c2[i] = norm2(cm[i]);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    // Spread over the sphere (c2 <= 1/4): the isotropic bound does as well; the stretch's
+    // numbers are computed all the same (from c2 = 1) and left unused.
+    cm[i] = (1 / std::sqrt(std::max(c2[i], 0.25))) * cm[i];
+    // s0: the largest sine of the angle between c and a point, |c x f| / (|c| |f|), rounded up
+    // (|c|^2 and |f|^2 are within 2^-48 of 1).
+    double m = 0;
+    for (int j = 0; j < 4; ++j) {
+      m = std::max(m, norm2(cross(cm[i], pts[i][j])));
+      t[i][j] = dot(pts[i][j], cm[i]);
+    }
+    s2[i] = m;
+  }
+  double inv_smin[kBatch], half_width[kBatch];
+  for (std::size_t i = 0; i < n; ++i) {
+    s0[i] = std::sqrt(s2[i]) * (1 + 0x1p-46) + 0x1p-48;
+    // Every S below is at least s_min, and the bound on |T u|^2 falls as S grows: the edge
+    // products at s_min bound those at any S. (Rounded up.)
+    inv_smin[i] = (1 / std::min(1.05 * s0[i], 1.0)) * (1 + 0x1p-51);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    // u.c for the edge f_j - f_i is t_j - t_i, t_i = f_i.c; each computed t is within 2^-49 of
+    // f_i.c for the exact unit c (the computed c is within 2^-50 of it), their difference
+    // within a relative 2^-52 more: 2^-47 covers it.
+    const double inv = inv_smin[i] * (1 / kLambda);  // a power of two: exact
+    const double dt[6] = {t[i][1] - t[i][0], t[i][2] - t[i][0], t[i][3] - t[i][0],
+                          t[i][2] - t[i][1], t[i][3] - t[i][1], t[i][3] - t[i][2]};
+    double q[6];
+    for (int k = 0; k < 6; ++k) {
+      const double uc = (std::fabs(dt[k]) + 0x1p-47) * inv;
+      q[k] = (l2[i][k] + uc * uc) * (1 + 0x1p-50);
+    }
+    // A move of chord D <= cap (<= 1/2) turns a point by at most A = 1.05 (cap + 2^-49), so
+    // changes its component along c by at most S D + eps, S = min(1.05 (s0 + A), 1), eps =
+    // 2^-49 (1 + S) <= 2^-48, and its image under T moves by at most
+    // sqrt(1 + 1/lambda^2) D + eps / (lambda S). Below half of w_T >= 6 V / (lambda S M), M the
+    // largest edge product, no four images, hence no four points, become coplanar:
+    //   D < (6 V / (2 M) - eps) / (S sqrt(lambda^2 + 1)) = K / S.
+    half_width[i] = (volume6[i] / (2 * max_edge_product(q)) - 0x1p-48) * kInvNorm;  // K
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const double K = half_width[i];
+    if (!(c2[i] > 0.25) || !(K > 0)) {
+      half_width[i] = 0;
+      continue;
+    }
+    // Any cap is valid; the best solves K / S(cap) = cap. cap1 = K / S(0) is above it, so
+    // S(cap1) >= S(cap) for cap <= cap1, and cap = min(K / S(cap1), cap1) has K / S(cap) >= cap.
+    const double cap1 = std::min(K * inv_smin[i], 0.5);
+    const double S1 = std::min(1.05 * (s0[i] + 1.05 * (cap1 + 0x1p-49)), 1.0);
+    half_width[i] = std::min(K / S1, cap1);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(volume6[i] > 0)) {  // coplanar (a tie), or too close to tell
+      tau[i] = 0;
+      continue;
+    }
+    double hw = half_width[i];
+    // Any motion in R^3 by less than half the width keeps the sign too: the better bound for
+    // bi-cells spanning a large part of the sphere.
+    if (!(c2[i] > 0.25) || s0[i] > 0.2) hw = std::max(hw, volume6[i] / (2 * max_edge_product(l2[i])));
+    // The shared edge a-b must stay longer than the merge distance (with room for the rounding
+    // of the merge test's own chord): (|a - b| - merge) / 2, whose root is needed only when the
+    // edge is short.
+    const double md = merge_distance * (1 + 0x1p-40);
+    const double need = 2 * hw + md;
+    if (!(l2[i][0] >= need * need * (1 + 0x1p-44)))
+      hw = std::min(hw, (std::sqrt(norm2(pts[i][1] - pts[i][0])) - md) / 2);
+    // The few roundings above are each within a relative 2^-52: a 2^-46 margin covers them all.
+    const double x = hw * (1 - 0x1p-46);
+    tau[i] = x > 0 ? x : 0;
+  }
 }
 
 }  // namespace
 
 double SphericalDelaunay::bicell_tolerance(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
                                            double merge_distance) {
-  const Vec3 f[4] = {a, b, c, d};
-  // 6 x the volume of the tetrahedron, |det(b - a, c - a, d - a)|, minus Shewchuk's bound of its
-  // rounding: the orientation certificate itself, computed once for both bounds below.
-  double permanent;
-  const double det = kernel::detail::in_sphere_det(a, b, c, d, &permanent);
-  const double volume6 = std::fabs(det) - kernel::detail::kO3dErrBound * permanent -
-                        kernel::detail::underflow_margin(b.x - a.x, b.y - a.y, b.z - a.z);
-  if (!(volume6 > 0)) return 0;  // coplanar (a tie), or too close to tell
-  // Squared edge lengths, each within a relative 2^-50 of the exact one.
-  const Vec3 e[6] = {b - a, c - a, d - a, c - b, d - b, d - c};
-  double l2[6];
-  for (int k = 0; k < 6; ++k) l2[k] = norm2(e[k]) * (1 + 0x1p-49);
-  // Any motion in R^3 by less than half the width w keeps the sign; w >= 6V / max |u||v|.
-  double S = 1;
-  double half_width = 0;
-  // Motions on the sphere: the same width after the linear map T that stretches the component
-  // along the four points' mean direction c by 1/S. det T = 1/S, so 6 V_T = 6 V / S exactly, and
-  // an edge's image has |T u|^2 = |u|^2 + (1/S^2 - 1) (u.c)^2, bounded from four dot products.
-  Vec3 cm = f[0] + f[1] + f[2] + f[3];
-  const double c2 = norm2(cm);
-  if (c2 > 0.25) {  // spread over the sphere: the isotropic bound does as well
-    cm = (1 / std::sqrt(c2)) * cm;
-    // s0: the largest sine of the angle between c and a point, |c x f| / (|c| |f|), rounded up
-    // (|c|^2 and |f|^2 are within 2^-48 of 1).
-    double s2 = 0;
-    for (const Vec3& p : f) s2 = std::max(s2, norm2(cross(cm, p)));
-    const double s0 = std::sqrt(s2) * (1 + 0x1p-46) + 0x1p-48;
-    // Moves up to tau_cap turn a point by at most A; a move of chord D then changes its component
-    // along c by at most S D + eps. (The tolerance is far below s0 but for ties of huge bi-cells.)
-    const double tau_cap = std::min(s0 / 16, 0.5);
-    const double A = 1.05 * (tau_cap + 0x1p-49);
-    S = std::min(1.05 * (s0 + A), 1.0);
-    const double eps = 0x1p-49 * (1 + S);
-    // u.c for the edge f_j - f_i is t_j - t_i, t_i = f_i.c; each computed t is within 2^-49 of
-    // f_i.c for the exact unit c (the computed c is within 2^-50 of it), their difference
-    // within a relative 2^-52 more: 2^-47 covers it.
-    double t[4];
-    for (int i = 0; i < 4; ++i) t[i] = dot(f[i], cm);
-    const double inv_s = 1 / S;
-    const int from[6] = {0, 0, 0, 1, 1, 2}, to[6] = {1, 2, 3, 2, 3, 3};
-    double q[6];
-    for (int k = 0; k < 6; ++k) {
-      const double uc = (std::fabs(t[to[k]] - t[from[k]]) + 0x1p-47) * inv_s;
-      q[k] = (l2[k] + uc * uc) * (1 + 0x1p-50);
-    }
-    // Each moved point's image moves by at most sqrt(2) D + eps / S: below half the width, no four
-    // images, hence no four points, become coplanar.
-    const double half_t = volume6 * inv_s / (2 * max_edge_product(q));
-    half_width = std::min((half_t - eps * inv_s) * 0x1.6a09e667f3bcdp-1, tau_cap);
-  }
-  // Any motion in R^3 by less than half the width keeps the sign too: the better bound for
-  // bi-cells spanning a large part of the sphere.
-  if (S > 0.25) half_width = std::max(half_width, volume6 / (2 * max_edge_product(l2)));
-  // The shared edge a-b must stay longer than the merge distance (with room for the rounding of
-  // the merge test's own chord).
-  const double edge = (std::sqrt(norm2(b - a)) - merge_distance * (1 + 0x1p-40)) / 2;
-  // The few roundings above are each within a relative 2^-52: a 2^-46 margin covers them all.
-  const double tau = std::min(half_width, edge) * (1 - 0x1p-46);
-  return tau > 0 ? tau : 0;
+  const Vec3 pts[1][4] = {{a, b, c, d}};
+  double tau;
+  bicell_tolerances(pts, 1, merge_distance, &tau);
+  return tau;
 }
 
 void SphericalDelaunay::init_tolerances() {
   reference_.assign(sites_.begin(), sites_.end());
   tolerance2_.assign(sites_.size(), std::numeric_limits<double>::infinity());
   queue_.clear();
+  bicells_.clear();
   for (HalfedgeId e = 0; e < halfedges_.size(); ++e)
-    if (halfedges_[e] > e) update_bicell(e);  // each edge (bi-cell) once
+    if (halfedges_[e] > e) bicells_.push_back(e);  // each edge (bi-cell) once
+  update_bicells();
   queue_.clear();  // every site is at its reference: nothing to refresh
 }
 
@@ -589,31 +636,67 @@ bool SphericalDelaunay::within_tolerance(SiteId s) const {
   return sites_[s] == reference_[s] || norm2(sites_[s] - reference_[s]) < tolerance2_[s];
 }
 
-void SphericalDelaunay::update_bicell(HalfedgeId e) {
-  const SiteId q[4] = {triangles_[e], triangles_[next_halfedge(e)], triangles_[prev_halfedge(e)],
-                       triangles_[prev_halfedge(halfedges_[e])]};
+void SphericalDelaunay::bicell_sites(HalfedgeId e, Quad& q) const {
+  q[0] = triangles_[e];
+  q[1] = triangles_[next_halfedge(e)];
+  q[2] = triangles_[prev_halfedge(e)];
+  q[3] = triangles_[prev_halfedge(halfedges_[e])];
+}
+
+void SphericalDelaunay::bicell_tau2(const Quad* q, std::size_t n, double* tau2) const {
   const Vec3* f = reference_.data();
-  // Squared with a relative 2^-48 to spare, so that the filter's squared chord in doubles
-  // (within 2^-50 of the exact one) below it certifies a chord below the tolerance.
-  const double tau = bicell_tolerance(f[q[0]], f[q[1]], f[q[2]], f[q[3]], options_.merge_distance) * (1 - 0x1p-48);
-  const double tau2 = tau * tau;
-  for (const SiteId w : q) {
-    if (tau2 >= tolerance2_[w]) continue;
-    tolerance2_[w] = tau2;
-    if (!within_tolerance(w)) queue_.push_back(w);
+  Vec3 pts[kBatch][4];
+  double tau[kBatch];
+  for (std::size_t done = 0; done < n; done += kBatch) {
+    const std::size_t m = std::min(kBatch, n - done);
+    for (std::size_t i = 0; i < m; ++i)
+      for (int j = 0; j < 4; ++j) pts[i][j] = f[q[done + i][j]];
+    bicell_tolerances(pts, m, options_.merge_distance, tau);
+    // Squared with a relative 2^-48 to spare, so that the filter's squared chord in doubles
+    // (within 2^-50 of the exact one) below it certifies a chord below the tolerance.
+    for (std::size_t i = 0; i < m; ++i) {
+      const double x = tau[i] * (1 - 0x1p-48);
+      tau2[done + i] = x * x;
+    }
   }
+}
+
+void SphericalDelaunay::update_bicells() {
+  // Each bi-cell lowers the tolerances of its four sites; a site pushed below its own
+  // displacement goes to the queue.
+  const std::size_t n = bicells_.size();
+  for (std::size_t done = 0; done < n; done += kBatch) {
+    const std::size_t m = std::min(kBatch, n - done);
+    Quad q[kBatch];
+    double tau2[kBatch];
+    for (std::size_t i = 0; i < m; ++i) bicell_sites(bicells_[done + i], q[i]);
+    bicell_tau2(q, m, tau2);
+    for (std::size_t i = 0; i < m; ++i)
+      for (const SiteId w : q[i]) {
+        if (tau2[i] >= tolerance2_[w]) continue;
+        tolerance2_[w] = tau2[i];
+        if (!within_tolerance(w)) queue_.push_back(w);
+      }
+  }
+  bicells_.clear();
+}
+
+void SphericalDelaunay::add_site_bicells(SiteId s) {
+  const HalfedgeId e0 = site_edge_[s];
+  HalfedgeId e = e0;
+  do {  // the bi-cells of the edges at s and of the link edges opposite s
+    bicells_.push_back(e);
+    bicells_.push_back(next_halfedge(e));
+    e = next_around_site(e);
+  } while (e != e0);
 }
 
 void SphericalDelaunay::refresh_site(SiteId s) {
   reference_[s] = sites_[s];
   tolerance2_[s] = std::numeric_limits<double>::infinity();
-  const HalfedgeId e0 = site_edge_[s];
-  HalfedgeId e = e0;
-  do {  // the bi-cells of the edges at s and of the link edges opposite s
-    update_bicell(e);
-    update_bicell(next_halfedge(e));
-    e = next_around_site(e);
-  } while (e != e0);
+  bicells_.clear();
+  add_site_bicells(s);
+  update_bicells();
 }
 
 std::size_t SphericalDelaunay::settle_queue() {
