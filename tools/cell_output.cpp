@@ -97,7 +97,8 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
 
   // One cell's geometry and properties (thread-safe: only reads shared state).
   auto make_cell = [&](SiteId s, MultiPolygon& polygon, std::vector<FieldValue>& values, std::string& buffer) {
-    cells.polygon(s, polygon);
+    double area_m2 = 0;
+    cells.polygon(s, polygon, area_m2);
     const std::vector<std::uint32_t>& site_rows = rows[s];
     const InputSite& first = table.sites[site_rows.front()];
     const auto neighbours = diagram.cell_neighbors(s);
@@ -108,7 +109,7 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
       return table.sites[site_rows[k]].id;
     });
     values[3] = static_cast<std::int64_t>(site_rows.size());
-    values[4] = ellipsoid_area_m2(polygon);
+    values[4] = area_m2;
     values[5] = diagram.cell_area_sr(s);
     values[6] = static_cast<std::int64_t>(diagram.cell_vertices(s).size());
     values[7] = json_array(buffer, neighbours.size(), [&](std::size_t k) -> const std::string& {

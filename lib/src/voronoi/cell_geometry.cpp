@@ -1,6 +1,8 @@
 #include "geovor/voronoi/cell_geometry.hpp"
 
+#include <GeographicLib/Accumulator.hpp>
 #include <GeographicLib/Geodesic.hpp>
+#include <GeographicLib/Math.hpp>
 #include <GeographicLib/PolygonArea.hpp>
 #include <algorithm>
 #include <cmath>
@@ -34,6 +36,35 @@ std::vector<Pt>& loop_scratch() {
 std::vector<Pt>& edge_scratch() {
   thread_local std::vector<Pt> edge;
   return edge;
+}
+
+// GeographicLib's PolygonArea, for the shared edge sums: GenInverse's S12 (AREA alone: S12 does
+// not depend on the distance PolygonArea also asks for, and skipping it saves a Lengths() call),
+// and its transit(): whether lon1 -> lon2 crosses the prime meridian eastwards (1) or westwards (-1).
+constexpr unsigned kAreaMask = GeographicLib::Geodesic::AREA;
+int transit(double lon1, double lon2) {
+  using GeographicLib::Math;
+  const double lon12 = Math::AngDiff(lon1, lon2);
+  lon1 = Math::AngNormalize(lon1);
+  lon2 = Math::AngNormalize(lon2);
+  return lon12 > 0 && ((lon1 < 0 && lon2 >= 0) || (lon1 > 0 && lon2 == 0)) ? 1
+         : (lon12 < 0 && lon1 >= 0 && lon2 < 0 ? -1 : 0);
+}
+
+// PolygonArea::Compute(reverse = false, sign = true) from the ring's S12 sum and crossings, then
+// ellipsoid_area_m2's rule for rings larger than half the ellipsoid.
+double reduced_area(GeographicLib::Accumulator<> sum, int crossings, double planar_deg2) {
+  const double whole = GeographicLib::Geodesic::WGS84().EllipsoidArea();
+  sum.remainder(whole);
+  if (crossings & 1) sum += (sum < 0 ? 1 : -1) * whole / 2;
+  sum *= -1;  // counter-clockwise
+  if (sum > whole / 2)
+    sum -= whole;
+  else if (sum <= -whole / 2)
+    sum += whole;
+  double area = 0 + sum();
+  if (area < 0 && std::fabs(planar_deg2) > 10000) area += whole;
+  return area;
 }
 
 }  // namespace
@@ -88,6 +119,11 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       vertices_[t].min_side2 = std::numeric_limits<float>::infinity();
     }
   }
+  edge_areas_ = std::vector<EdgeArea>(3 * nv);
+  for (const SiteId s : diagram.storage_order()) {
+    const SiteId* p = diagram.cell_neighbors(s).data();
+    if (nbr_base_ == nullptr || p < nbr_base_) nbr_base_ = p;
+  }
   // Shortest side of each triangle: the triangles t_i and t_i+1 of cell s both have the side
   // (s, neighbour i). Rounded down to float, the same for both cells of an edge.
   for (const SiteId s : diagram.storage_order()) {
@@ -109,8 +145,15 @@ MultiPolygon CellGeometry::polygon(SiteId s, BBox* bbox) const {
   return out;
 }
 
-void CellGeometry::polygon(SiteId s, MultiPolygon& out, BBox* bbox) const {
+void CellGeometry::polygon(SiteId s, MultiPolygon& out, BBox* bbox) const { build(s, out, bbox, nullptr); }
+
+void CellGeometry::polygon(SiteId s, MultiPolygon& out, double& area_m2, BBox* bbox) const {
+  build(s, out, bbox, &area_m2);
+}
+
+void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const {
   const VoronoiDiagram& vd = *vd_;
+  if (area_m2) *area_m2 = 0;
   if (bbox) *bbox = BBox{};
   if (!vd.has_cell(s)) {
     out.clear();
@@ -121,6 +164,7 @@ void CellGeometry::polygon(SiteId s, MultiPolygon& out, BBox* bbox) const {
     out[0].holes.clear();
     out[0].exterior.assign({{-180, -90}, {180, -90}, {180, 90}, {-180, 90}, {-180, -90}});
     if (bbox) *bbox = {-180, -90, 180, 90};
+    if (area_m2) *area_m2 = ellipsoid_area_m2(out);
     return;
   }
 
@@ -155,6 +199,51 @@ void CellGeometry::polygon(SiteId s, MultiPolygon& out, BBox* bbox) const {
     const std::span<const TriId> tris = vd.cell_vertices(s);
     const std::span<const SiteId> nbrs = vd.cell_neighbors(s);
     const std::size_t d = tris.size();
+    // The canonical slot of edge i and its area terms (computed here unless already shared).
+    auto add_edge_area = [&](std::size_t i, const Pt& first, const Pt& last) {
+      const SiteId w = nbrs[i];
+      std::size_t slot = static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
+      if (w < s) {
+        const std::span<const SiteId> other = vd.cell_neighbors(w);
+        const auto it = std::find(other.begin(), other.end(), s);
+        if (it == other.end() || std::find(it + 1, other.end(), s) != other.end()) {
+          slot = edge_areas_.size();  // not one edge: computed here, not shared
+        } else {
+          slot = static_cast<std::size_t>(other.data() - nbr_base_) + static_cast<std::size_t>(it - other.begin());
+        }
+      }
+      double sum = 0;
+      int crossings = 0;
+      std::int32_t state = slot < edge_areas_.size() ? edge_areas_[slot].crossings.load(std::memory_order_acquire)
+                                                     : EdgeArea::kUnset;
+      if (state != EdgeArea::kUnset) {
+        sum = edge_areas_[slot].s12_m2.load(std::memory_order_relaxed);
+        crossings = state;
+      } else {
+        const GeographicLib::Geodesic& geod = GeographicLib::Geodesic::WGS84();
+        GeographicLib::Accumulator<> acc;
+        const Pt* p = &first;
+        auto segment = [&](const Pt& q) {
+          if (q.lon != p->lon || q.lat != p->lat) {  // the ring drops repeated positions
+            double s12, t, S12;
+            geod.GenInverse(p->lat, p->lon, q.lat, q.lon, kAreaMask, s12, t, t, t, t, t, S12);
+            acc += S12;
+            crossings += transit(p->lon, q.lon);
+          }
+          p = &q;
+        };
+        for (const Pt& q : edge) segment(q);
+        segment(last);
+        sum = acc();
+        if (slot < edge_areas_.size()) {
+          edge_areas_[slot].s12_m2.store(sum, std::memory_order_relaxed);
+          edge_areas_[slot].crossings.store(crossings, std::memory_order_release);
+        }
+      }
+      return std::pair<double, int>(w > s ? sum : -sum, w > s ? crossings : -crossings);
+    };
+    GeographicLib::Accumulator<> area_sum;
+    int area_crossings = 0;
     for (std::size_t i = 0; i < d; ++i) {
       const Vertex& va = vertices_[tris[i]];
       const Vertex& vb = vertices_[tris[i + 1 == d ? 0 : i + 1]];
@@ -173,10 +262,27 @@ void CellGeometry::polygon(SiteId s, MultiPolygon& out, BBox* bbox) const {
         dens.edge(b, a, vd.site(w), vd.site(s), chord2);
         loop.insert(loop.end(), edge.rbegin(), edge.rend());
       }
+      if (area_m2) {
+        const auto [sum, crossings] = s < w ? add_edge_area(i, a, b) : add_edge_area(i, b, a);
+        area_sum += sum;
+        area_crossings += crossings;
+      }
     }
+    lonlat::loop_to_polygons(loop, out, bbox);
+    if (area_m2) {
+      // The edges' sums are the ring's when the ring is the loop itself (same positions, same
+      // order): not cut, no pole. Otherwise GeographicLib on the written rings.
+      bool same = out.size() == 1 && out[0].holes.empty() && out[0].exterior.size() == loop.size() + 1;
+      for (std::size_t j = 0; same && j < loop.size(); ++j)
+        same = out[0].exterior[j].lon_deg == loop[j].lon && out[0].exterior[j].lat_deg == loop[j].lat;
+      *area_m2 = same ? reduced_area(area_sum, area_crossings, planar_area_deg2(out[0].exterior))
+                      : ellipsoid_area_m2(out);
+    }
+    return;
   }
 
   lonlat::loop_to_polygons(loop, out, bbox);
+  if (area_m2) *area_m2 = ellipsoid_area_m2(out);
 }
 
 MultiPolygon cell_polygon(const VoronoiDiagram& diagram, SiteId s,
