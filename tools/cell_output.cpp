@@ -26,7 +26,8 @@ struct CellBlock {
   std::vector<std::vector<FieldValue>> values;
 };
 
-// Appends s as a JSON string.
+// Appends s as a JSON string (ids and neighbours are JSON arrays in a string field: portable in
+// every format, no list field types needed).
 void append_json(std::string& out, const std::string& s) {
   out += '"';
   std::size_t plain = 0;  // copy runs of ordinary characters at once
@@ -48,19 +49,6 @@ void append_json(std::string& out, const std::string& s) {
   out += '"';
 }
 
-// A JSON array of strings, portable in every format (no list field types needed), built in a
-// reused buffer. id(k) gives the k-th string.
-template <class Id>
-const std::string& json_array(std::string& out, std::size_t n, Id id) {
-  out.assign(1, '[');
-  for (std::size_t k = 0; k < n; ++k) {
-    if (k) out += ',';
-    append_json(out, id(k));
-  }
-  out += ']';
-  return out;
-}
-
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
@@ -75,6 +63,15 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   geometry_options.densify_m = args.densify_m;
   const CellGeometry cells(diagram, geometry_options);
   const auto rows = rows_of_sites(report, dt.site_capacity());
+  // Each site's id (its first row's) as JSON text, made once: the neighbour lists name every
+  // site about six times. Site s: id_json[id_end[s] .. id_end[s + 1]).
+  std::string id_json;
+  std::vector<std::size_t> id_end(rows.size() + 1, 0);
+  for (std::size_t s = 0; s < rows.size(); ++s) {
+    if (!rows[s].empty()) append_json(id_json, table.sites[rows[s].front()].id);
+    id_end[s + 1] = id_json.size();
+  }
+  auto append_id = [&](std::string& out, SiteId s) { out.append(id_json, id_end[s], id_end[s + 1] - id_end[s]); };
 
   // Schema: our fields, then every input column (renamed src_<name> if it clashes with ours).
   const std::vector<std::string> ours = {"site_index", "site_id", "ids",        "n_rows",
@@ -105,16 +102,25 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
     values.resize(schema.size());
     values[0] = static_cast<std::int64_t>(s);
     values[1] = first.id;
-    values[2] = json_array(buffer, site_rows.size(), [&](std::size_t k) -> const std::string& {
-      return table.sites[site_rows[k]].id;
-    });
+    buffer.assign(1, '[');
+    append_id(buffer, s);
+    for (std::size_t k = 1; k < site_rows.size(); ++k) {
+      buffer += ',';
+      append_json(buffer, table.sites[site_rows[k]].id);
+    }
+    buffer += ']';
+    values[2] = buffer;
     values[3] = static_cast<std::int64_t>(site_rows.size());
     values[4] = area_m2;
     values[5] = diagram.cell_area_sr(s);
     values[6] = static_cast<std::int64_t>(diagram.cell_vertices(s).size());
-    values[7] = json_array(buffer, neighbours.size(), [&](std::size_t k) -> const std::string& {
-      return table.sites[rows[neighbours[k]].front()].id;
-    });
+    buffer.assign(1, '[');
+    for (std::size_t k = 0; k < neighbours.size(); ++k) {
+      if (k) buffer += ',';
+      append_id(buffer, neighbours[k]);
+    }
+    buffer += ']';
+    values[7] = buffer;
     for (std::size_t c = 0; c < table.columns.size(); ++c)
       values[8 + c] = c < first.fields.size() ? FieldValue(first.fields[c]) : FieldValue();
   };

@@ -842,6 +842,40 @@ TEST(JsonString, Escapes) {
   EXPECT_EQ(s, "\"\xF4\x8F\xBF\xBF \xEE\x80\x80\"");
 }
 
+// Every byte value at every position of a 17-byte ASCII string (the escaping skips plain runs
+// 8 bytes at a time): the one byte is escaped, passed or replaced as alone, the rest is copied.
+TEST(JsonString, EveryByteAtEveryPosition) {
+  auto expected_byte = [](unsigned char c) -> std::string {
+    switch (c) {
+      case '"': return "\\\"";
+      case '\\': return "\\\\";
+      case '\b': return "\\b";
+      case '\f': return "\\f";
+      case '\n': return "\\n";
+      case '\r': return "\\r";
+      case '\t': return "\\t";
+    }
+    if (c < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      return buf;
+    }
+    if (c >= 0x80) return "\xEF\xBF\xBD";  // a lone byte from 0x80 is never valid UTF-8
+    return std::string(1, static_cast<char>(c));
+  };
+  for (int c = 0; c < 256; ++c)
+    for (std::size_t at = 0; at < 17; ++at) {
+      std::string text(17, 'a');
+      for (std::size_t k = 0; k < text.size(); ++k) text[k] = static_cast<char>('a' + k);
+      text[at] = static_cast<char>(c);
+      std::string got;
+      append_json_string(got, text);
+      const std::string want = "\"" + text.substr(0, at) + expected_byte(static_cast<unsigned char>(c)) +
+                               text.substr(at + 1) + "\"";
+      ASSERT_EQ(got, want) << "byte " << c << " at " << at;
+    }
+}
+
 TEST(BBox, Rules) {
   auto bb = [](const Geometry& g) {
     const auto b = geojson_bbox(g);

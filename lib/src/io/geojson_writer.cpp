@@ -592,6 +592,21 @@ char* format_real(char* out, double value) {
   return end;
 }
 
+namespace {
+
+// True if none of the 8 bytes of w needs escaping or UTF-8 checking: no byte below 0x20 or
+// from 0x80, no '"' and no '\\' (the "has a byte less than n" and "has a zero byte" bit tricks,
+// exact as a yes/no answer for the whole word).
+bool plain_ascii8(std::uint64_t w) {
+  constexpr std::uint64_t kOnes = 0x0101010101010101, kHigh = 0x8080808080808080;
+  const std::uint64_t quote = w ^ (kOnes * '"'), backslash = w ^ (kOnes * '\\');
+  const std::uint64_t below_space = (w - kOnes * 0x20) & ~w;
+  const std::uint64_t is_quote = (quote - kOnes) & ~quote, is_backslash = (backslash - kOnes) & ~backslash;
+  return ((below_space | is_quote | is_backslash | w) & kHigh) == 0;
+}
+
+}  // namespace
+
 void append_json_string(std::string& out, std::string_view text) {
   static constexpr char kHex[] = "0123456789abcdef";
   out += '"';
@@ -603,6 +618,14 @@ void append_json_string(std::string& out, std::string_view text) {
     out.append(text.data() + run, end - run);
   };
   while (i < n) {
+    if (i + 8 <= n) {
+      std::uint64_t w;
+      std::memcpy(&w, s + i, 8);
+      if (plain_ascii8(w)) {
+        i += 8;
+        continue;
+      }
+    }
     const unsigned char c = s[i];
     if (c >= 0x20 && c != '"' && c != '\\' && c < 0x80) {
       ++i;
