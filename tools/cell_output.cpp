@@ -61,6 +61,7 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   const VoronoiDiagram diagram(dt);
   CellGeometryOptions geometry_options;
   geometry_options.densify_m = args.densify_m;
+  geometry_options.threads = args.threads > 0 ? static_cast<unsigned>(args.threads) : 0;
   const CellGeometry cells(diagram, geometry_options);
   const auto rows = rows_of_sites(report, dt.site_capacity());
   // Each site's id (its first row's) as JSON text, made once: the neighbour lists name every

@@ -568,6 +568,19 @@ TEST(CellGeometry, SharedEdgeAreasMatchPolygonArea) {
   }
 }
 
+// The vertices converted on several threads at construction give the same cells, bit for bit.
+TEST(CellGeometry, ThreadsGiveTheSameCells) {
+  const VoronoiDiagram vd = diagram_of(testing::uniform_on_sphere(40000, 25));
+  CellGeometryOptions three;
+  three.threads = 3;
+  const CellGeometry one_thread(vd), three_threads(vd, three);
+  for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+    const MultiPolygon a = one_thread.polygon(s), b = three_threads.polygon(s);
+    ASSERT_EQ(a.size(), b.size()) << "site " << s;
+    for (std::size_t k = 0; k < a.size(); ++k) ASSERT_EQ(a[k].exterior, b[k].exterior) << "site " << s;
+  }
+}
+
 TEST(CellGeometry, RejectsBadOptions) {
   const VoronoiDiagram vd = diagram_of(testing::cube_corners());
   CellGeometryOptions o;

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <span>
 #include <string>
+#include <thread>
 
 #include "geovor/core/assert.hpp"
 #include "geovor/core/error.hpp"
@@ -108,16 +109,27 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       }
     }
   }
+  for (TriId t = 0; t < nv; ++t) rep[t] = find(t);
   vertices_.resize(nv);
-  for (TriId t = 0; t < nv; ++t) {
-    const TriId r = find(t);
-    if (r == t) {
-      const Pt p = make_pt(diagram.vertex(t));
-      vertices_[t] = {p.v, p.lon, p.lat, t, std::numeric_limits<float>::infinity()};
-    } else {
-      vertices_[t] = vertices_[r];  // r < t: already computed
-      vertices_[t].min_side2 = std::numeric_limits<float>::infinity();
+  // The representatives' lon/lat (the costly part, split over threads), then their copies.
+  auto convert = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t) {
+      if (rep[t] != t) continue;
+      const Pt p = make_pt(diagram.vertex(static_cast<TriId>(t)));
+      vertices_[t] = {p.v, p.lon, p.lat, static_cast<TriId>(t), std::numeric_limits<float>::infinity()};
     }
+  };
+  const unsigned threads = static_cast<unsigned>(std::min<std::size_t>(
+      options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency()),
+      std::max<std::size_t>(1, nv / 16384)));
+  std::vector<std::thread> pool;
+  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(convert, nv * i / threads, nv * (i + 1) / threads);
+  convert(0, nv / threads);
+  for (std::thread& th : pool) th.join();
+  for (TriId t = 0; t < nv; ++t) {
+    if (rep[t] == t) continue;
+    vertices_[t] = vertices_[rep[t]];
+    vertices_[t].min_side2 = std::numeric_limits<float>::infinity();
   }
   edge_areas_ = std::vector<EdgeArea>(3 * nv);
   for (const SiteId s : diagram.storage_order()) {

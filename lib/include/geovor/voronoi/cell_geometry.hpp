@@ -63,6 +63,9 @@ struct CellGeometryOptions {
   /// Voronoi edges shorter than this (metres on the sphere) are collapsed. DEFAULT: 0.005 m.
   /// REQUIRES: >= 0 and well below 0.19 m.
   double collapse_m = 0.005;
+  /// Threads computing the vertices' lon/lat at construction (0: one per core). DEFAULT: 1.
+  /// The result does not depend on it.
+  unsigned threads = 1;
 };
 
 /// Builds the lon/lat polygons of the cells of one VoronoiDiagram. Construction precomputes, for
