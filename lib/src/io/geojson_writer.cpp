@@ -1,5 +1,6 @@
 #include "geovor/io/geojson_writer.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -397,6 +398,7 @@ class GeoJsonWriter final : public FeatureWriter {
   // Text is written once this much is pending; encoded blocks at least this large are written
   // straight from the caller's memory.
   static constexpr std::size_t kFlushAt = std::size_t{1} << 20;
+  static constexpr std::size_t kWriteBackEvery = std::size_t{8} << 20;
 
   void check_usable() const {
     if (failed_) throw Error(ErrorCode::Io, path_ + ": the writer failed earlier");
@@ -462,6 +464,14 @@ class GeoJsonWriter final : public FeatureWriter {
   void write_out(const char* data, std::size_t n) {
     errno = 0;
     if (std::fwrite(data, 1, n, file_) != n) fail(file_ == stdout ? "cannot write to stdout" : "cannot write", errno);
+    // Start the write-back of the temporary file as it grows (without waiting for it), so that
+    // finish()'s fsync has little left to wait for.
+    unsynced_ += n;
+    if (unsynced_ >= kWriteBackEvery && !temp_path_.empty()) {
+      unsynced_ = 0;
+      if (std::fflush(file_) != 0) fail("cannot write", errno);
+      ::sync_file_range(::fileno(file_), 0, 0, SYNC_FILE_RANGE_WRITE);  // a hint: errors surface in fsync
+    }
   }
 
   void flush() {
@@ -479,6 +489,7 @@ class GeoJsonWriter final : public FeatureWriter {
   EncodedFeatures one_;   // write()'s feature
   BBoxUnion extent_;
   std::uint64_t count_ = 0;
+  std::size_t unsynced_ = 0;  // bytes written since the last write-back request
   bool finished_ = false;
   bool failed_ = false;
 };
