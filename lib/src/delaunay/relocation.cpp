@@ -3,6 +3,9 @@
 // The argument for the tolerance bound is in spherical_delaunay.hpp.
 #include <algorithm>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <limits>
 #include <string>
 #include <utility>
@@ -514,81 +517,158 @@ double max_edge_product(const double (&q)[6]) {
 constexpr double kLambda = 0.25;
 constexpr double kInvNorm = 0.9701425001453318;
 
-// Up to this many bi-cells are computed together, stage by stage: the square roots and divisions
-// of different bi-cells then overlap instead of waiting on one another (about 3x faster).
+// Up to this many bi-cells are computed together, as lanes of fixed-length loops the compiler
+// vectorizes (SSE2 on x86-64: two lanes per instruction), stage by stage, so that the square
+// roots and divisions of different bi-cells overlap. Lanes at n and above are padding.
 constexpr std::size_t kBatch = 16;
 
-// tau of each bi-cell pts[i] (a, b the shared edge, c, d the far sites) for i < n <= kBatch:
-// SphericalDelaunay::bicell_tolerance(); the argument is in spherical_delaunay.hpp.
-void bicell_tolerances(const Vec3 (*pts)[4], std::size_t n, double merge_distance, double* tau) {
-  double volume6[kBatch], l2[kBatch][6], c2[kBatch], t[kBatch][4], s2[kBatch], s0[kBatch];
-  Vec3 cm[kBatch];
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 &a = pts[i][0], &b = pts[i][1], &c = pts[i][2], &d = pts[i][3];
-    // 6 x the volume of the tetrahedron, |det(b - a, c - a, d - a)|, minus Shewchuk's bound of
-    // its rounding: the orientation certificate itself, computed once for both bounds below.
-    double permanent;
-    const double det = kernel::detail::in_sphere_det(a, b, c, d, &permanent);
-    volume6[i] = std::fabs(det) - kernel::detail::kO3dErrBound * permanent -
-                 kernel::detail::underflow_margin(b.x - a.x, b.y - a.y, b.z - a.z);
-    // Squared edge lengths, each within a relative 2^-50 of the exact one.
-    const Vec3 e[6] = {b - a, c - a, d - a, c - b, d - b, d - c};
-    for (int k = 0; k < 6; ++k) l2[i][k] = norm2(e[k]) * (1 + 0x1p-49);
-    cm[i] = a + b + c + d;
-    c2[i] = norm2(cm[i]);
+// The four points of each lane, coordinates apart (structure of arrays, for the vector loops).
+struct BicellLanes {
+  double x[4][kBatch], y[4][kBatch], z[4][kBatch];
+  void set(std::size_t i, int j, const Vec3& p) { x[j][i] = p.x, y[j][i] = p.y, z[j][i] = p.z; }
+  // Lanes n..kBatch-1 copy lane 0: finite numbers, so the vector loops never see garbage.
+  void pad(std::size_t n) {
+    for (std::size_t i = n; i < kBatch; ++i)
+      for (int j = 0; j < 4; ++j) x[j][i] = x[j][0], y[j][i] = y[j][0], z[j][i] = z[j][0];
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    // Spread over the sphere (c2 <= 1/4): the isotropic bound does as well; the stretch's
-    // numbers are computed all the same (from c2 = 1) and left unused.
-    cm[i] = (1 / std::sqrt(std::max(c2[i], 0.25))) * cm[i];
+};
+
+inline double vmin(double a, double b) { return b < a ? b : a; }
+inline double vmax(double a, double b) { return a < b ? b : a; }
+
+// x[i] = sqrt(x[i]) for the kBatch lanes, two at a time on x86-64 (std::sqrt's errno handling
+// keeps the compiler from vectorizing the loops that call it).
+inline void sqrt_lanes(double* x) {
+#if defined(__SSE2__)
+  for (std::size_t i = 0; i < kBatch; i += 2) _mm_storeu_pd(x + i, _mm_sqrt_pd(_mm_loadu_pd(x + i)));
+#else
+  for (std::size_t i = 0; i < kBatch; ++i) x[i] = std::sqrt(x[i]);
+#endif
+}
+
+// The lanes' function is also compiled for AVX2 (four lanes per instruction) and picked at run
+// time where the processor has it (GCC on x86-64): about 8% of the late Lloyd iterations.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define GEOVOR_LANE_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define GEOVOR_LANE_CLONES
+#endif
+
+double max_edge_product_lane(const double* const (&q)[6], std::size_t i) {
+  const double l[6] = {q[0][i], q[1][i], q[2][i], q[3][i], q[4][i], q[5][i]};
+  return max_edge_product(l);
+}
+
+// tau of each lane's bi-cell (points a, b the shared edge, c, d the far sites), i < n <= kBatch:
+// SphericalDelaunay::bicell_tolerance(); the argument is in spherical_delaunay.hpp. (The math
+// of each lane is that of a scalar evaluation: the same roundings, so the same result.)
+GEOVOR_LANE_CLONES void bicell_tolerances(const BicellLanes& in, std::size_t n, double merge_distance,
+                                          double* tau) {
+  constexpr std::size_t N = kBatch;
+  const auto& X = in.x;
+  const auto& Y = in.y;
+  const auto& Z = in.z;
+  double volume6[N], l2[6][N], c2[N], cmx[N], cmy[N], cmz[N];
+  for (std::size_t i = 0; i < N; ++i) {
+    // 6 x the volume of the tetrahedron, |det(b - a, c - a, d - a)|, minus Shewchuk's bound of
+    // its rounding (kernel::detail::in_sphere_det and underflow_margin, lane by lane).
+    const double bx = X[1][i] - X[0][i], by = Y[1][i] - Y[0][i], bz = Z[1][i] - Z[0][i];
+    const double cx = X[2][i] - X[0][i], cy = Y[2][i] - Y[0][i], cz = Z[2][i] - Z[0][i];
+    const double dx = X[3][i] - X[0][i], dy = Y[3][i] - Y[0][i], dz = Z[3][i] - Z[0][i];
+    const double cydz = cy * dz, czdy = cz * dy;
+    const double czdx = cz * dx, cxdz = cx * dz;
+    const double cxdy = cx * dy, cydx = cy * dx;
+    const double perm = (std::fabs(cydz) + std::fabs(czdy)) * std::fabs(bx) +
+                        (std::fabs(czdx) + std::fabs(cxdz)) * std::fabs(by) +
+                        (std::fabs(cxdy) + std::fabs(cydx)) * std::fabs(bz);
+    const double det = bx * (cydz - czdy) + by * (czdx - cxdz) + bz * (cxdy - cydx);
+    volume6[i] = std::fabs(det) - kernel::detail::kO3dErrBound * perm -
+                 0x1p-1022 * (1 + std::fabs(bx) + std::fabs(by) + std::fabs(bz));
+    // Squared edge lengths 01, 02, 03, 12, 13, 23, each within a relative 2^-50 of the exact one.
+    const double ex[3] = {X[2][i] - X[1][i], X[3][i] - X[1][i], X[3][i] - X[2][i]};
+    const double ey[3] = {Y[2][i] - Y[1][i], Y[3][i] - Y[1][i], Y[3][i] - Y[2][i]};
+    const double ez[3] = {Z[2][i] - Z[1][i], Z[3][i] - Z[1][i], Z[3][i] - Z[2][i]};
+    l2[0][i] = (bx * bx + by * by + bz * bz) * (1 + 0x1p-49);
+    l2[1][i] = (cx * cx + cy * cy + cz * cz) * (1 + 0x1p-49);
+    l2[2][i] = (dx * dx + dy * dy + dz * dz) * (1 + 0x1p-49);
+    for (int k = 0; k < 3; ++k) l2[3 + k][i] = (ex[k] * ex[k] + ey[k] * ey[k] + ez[k] * ez[k]) * (1 + 0x1p-49);
+    cmx[i] = X[0][i] + X[1][i] + X[2][i] + X[3][i];
+    cmy[i] = Y[0][i] + Y[1][i] + Y[2][i] + Y[3][i];
+    cmz[i] = Z[0][i] + Z[1][i] + Z[2][i] + Z[3][i];
+    c2[i] = cmx[i] * cmx[i] + cmy[i] * cmy[i] + cmz[i] * cmz[i];
+  }
+  double s0[N], inv_smin[N], t[4][N], root[N];
+  // Spread over the sphere (c2 <= 1/4): the isotropic bound does as well; the stretch's numbers
+  // are computed all the same (from c2 = 1/4) and left unused.
+  for (std::size_t i = 0; i < N; ++i) root[i] = vmax(c2[i], 0.25);
+  sqrt_lanes(root);
+  for (std::size_t i = 0; i < N; ++i) {
+    const double r = 1 / root[i];
+    const double ux = r * cmx[i], uy = r * cmy[i], uz = r * cmz[i];
     // s0: the largest sine of the angle between c and a point, |c x f| / (|c| |f|), rounded up
     // (|c|^2 and |f|^2 are within 2^-48 of 1).
     double m = 0;
     for (int j = 0; j < 4; ++j) {
-      m = std::max(m, norm2(cross(cm[i], pts[i][j])));
-      t[i][j] = dot(pts[i][j], cm[i]);
+      const double kx = uy * Z[j][i] - uz * Y[j][i], ky = uz * X[j][i] - ux * Z[j][i], kz = ux * Y[j][i] - uy * X[j][i];
+      m = vmax(m, kx * kx + ky * ky + kz * kz);
+      t[j][i] = X[j][i] * ux + Y[j][i] * uy + Z[j][i] * uz;
     }
-    s2[i] = m;
+    root[i] = m;
   }
-  double inv_smin[kBatch], half_width[kBatch];
-  for (std::size_t i = 0; i < n; ++i) {
-    s0[i] = std::sqrt(s2[i]) * (1 + 0x1p-46) + 0x1p-48;
-    // Every S below is at least s_min, and the bound on |T u|^2 falls as S grows: the edge
-    // products at s_min bound those at any S. (Rounded up.)
-    inv_smin[i] = (1 / std::min(1.05 * s0[i], 1.0)) * (1 + 0x1p-51);
+  sqrt_lanes(root);
+  // Every S below is at least s_min, and the bound on |T u|^2 falls as S grows: the edge
+  // products at s_min bound those at any S. (Rounded up. The loops with a division have no
+  // select, and the other way round: the compiler vectorizes neither mix.)
+  for (std::size_t i = 0; i < N; ++i) {
+    s0[i] = root[i] * (1 + 0x1p-46) + 0x1p-48;
+    inv_smin[i] = vmin(1.05 * s0[i], 1.0);
   }
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < N; ++i) inv_smin[i] = (1 / inv_smin[i]) * (1 + 0x1p-51);
+  double q[6][N];
+  for (std::size_t i = 0; i < N; ++i) {
     // u.c for the edge f_j - f_i is t_j - t_i, t_i = f_i.c; each computed t is within 2^-49 of
     // f_i.c for the exact unit c (the computed c is within 2^-50 of it), their difference
     // within a relative 2^-52 more: 2^-47 covers it.
     const double inv = inv_smin[i] * (1 / kLambda);  // a power of two: exact
-    const double dt[6] = {t[i][1] - t[i][0], t[i][2] - t[i][0], t[i][3] - t[i][0],
-                          t[i][2] - t[i][1], t[i][3] - t[i][1], t[i][3] - t[i][2]};
-    double q[6];
+    const double dt[6] = {t[1][i] - t[0][i], t[2][i] - t[0][i], t[3][i] - t[0][i],
+                          t[2][i] - t[1][i], t[3][i] - t[1][i], t[3][i] - t[2][i]};
     for (int k = 0; k < 6; ++k) {
       const double uc = (std::fabs(dt[k]) + 0x1p-47) * inv;
-      q[k] = (l2[i][k] + uc * uc) * (1 + 0x1p-50);
+      q[k][i] = (l2[k][i] + uc * uc) * (1 + 0x1p-50);
     }
+  }
+  for (std::size_t i = 0; i < N; ++i) {
+    // max_edge_product(), lane by lane: the largest product squared, then its root.
+    const double f012 = vmin(vmin(q[0][i] * q[1][i], q[0][i] * q[3][i]), q[1][i] * q[3][i]);
+    const double f013 = vmin(vmin(q[0][i] * q[2][i], q[0][i] * q[4][i]), q[2][i] * q[4][i]);
+    const double f023 = vmin(vmin(q[1][i] * q[2][i], q[1][i] * q[5][i]), q[2][i] * q[5][i]);
+    const double f123 = vmin(vmin(q[3][i] * q[4][i], q[3][i] * q[5][i]), q[4][i] * q[5][i]);
+    root[i] = vmax(vmax(vmax(f012, f013), vmax(f023, f123)),
+                   vmax(vmax(q[0][i] * q[5][i], q[1][i] * q[4][i]), q[2][i] * q[3][i]));
+  }
+  sqrt_lanes(root);
+  double K[N], cap1[N], S1[N];
+  for (std::size_t i = 0; i < N; ++i) {
     // A move of chord D <= cap (<= 1/2) turns a point by at most A = 1.05 (cap + 2^-49), so
     // changes its component along c by at most S D + eps, S = min(1.05 (s0 + A), 1), eps =
     // 2^-49 (1 + S) <= 2^-48, and its image under T moves by at most
     // sqrt(1 + 1/lambda^2) D + eps / (lambda S). Below half of w_T >= 6 V / (lambda S M), M the
     // largest edge product, no four images, hence no four points, become coplanar:
     //   D < (6 V / (2 M) - eps) / (S sqrt(lambda^2 + 1)) = K / S.
-    half_width[i] = (volume6[i] / (2 * max_edge_product(q)) - 0x1p-48) * kInvNorm;  // K
+    K[i] = (volume6[i] / (2 * (root[i] * (1 + 0x1p-44))) - 0x1p-48) * kInvNorm;
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    const double K = half_width[i];
-    if (!(c2[i] > 0.25) || !(K > 0)) {
-      half_width[i] = 0;
-      continue;
-    }
+  for (std::size_t i = 0; i < N; ++i) {
     // Any cap is valid; the best solves K / S(cap) = cap. cap1 = K / S(0) is above it, so
     // S(cap1) >= S(cap) for cap <= cap1, and cap = min(K / S(cap1), cap1) has K / S(cap) >= cap.
-    const double cap1 = std::min(K * inv_smin[i], 0.5);
-    const double S1 = std::min(1.05 * (s0[i] + 1.05 * (cap1 + 0x1p-49)), 1.0);
-    half_width[i] = std::min(K / S1, cap1);
+    cap1[i] = vmin(K[i] * inv_smin[i], 0.5);
   }
+  for (std::size_t i = 0; i < N; ++i) S1[i] = vmin(1.05 * (s0[i] + 1.05 * (cap1[i] + 0x1p-49)), 1.0);
+  for (std::size_t i = 0; i < N; ++i) S1[i] = K[i] / S1[i];
+  double half_width[N];
+  for (std::size_t i = 0; i < N; ++i)
+    half_width[i] = ((c2[i] > 0.25) & (K[i] > 0)) ? vmin(S1[i], cap1[i]) : 0.0;
+  const double* const l2p[6] = {l2[0], l2[1], l2[2], l2[3], l2[4], l2[5]};
+  const double md = merge_distance * (1 + 0x1p-40);
   for (std::size_t i = 0; i < n; ++i) {
     if (!(volume6[i] > 0)) {  // coplanar (a tie), or too close to tell
       tau[i] = 0;
@@ -597,14 +677,16 @@ void bicell_tolerances(const Vec3 (*pts)[4], std::size_t n, double merge_distanc
     double hw = half_width[i];
     // Any motion in R^3 by less than half the width keeps the sign too: the better bound for
     // bi-cells spanning a large part of the sphere.
-    if (!(c2[i] > 0.25) || s0[i] > 0.2) hw = std::max(hw, volume6[i] / (2 * max_edge_product(l2[i])));
+    if (!(c2[i] > 0.25) || s0[i] > 0.2) hw = std::max(hw, volume6[i] / (2 * max_edge_product_lane(l2p, i)));
     // The shared edge a-b must stay longer than the merge distance (with room for the rounding
     // of the merge test's own chord): (|a - b| - merge) / 2, whose root is needed only when the
     // edge is short.
-    const double md = merge_distance * (1 + 0x1p-40);
     const double need = 2 * hw + md;
-    if (!(l2[i][0] >= need * need * (1 + 0x1p-44)))
-      hw = std::min(hw, (std::sqrt(norm2(pts[i][1] - pts[i][0])) - md) / 2);
+    if (!(l2[0][i] >= need * need * (1 + 0x1p-44))) {
+      const double ab2 = (X[1][i] - X[0][i]) * (X[1][i] - X[0][i]) + (Y[1][i] - Y[0][i]) * (Y[1][i] - Y[0][i]) +
+                         (Z[1][i] - Z[0][i]) * (Z[1][i] - Z[0][i]);
+      hw = std::min(hw, (std::sqrt(ab2) - md) / 2);
+    }
     // The few roundings above are each within a relative 2^-52: a 2^-46 margin covers them all.
     const double x = hw * (1 - 0x1p-46);
     tau[i] = x > 0 ? x : 0;
@@ -615,10 +697,12 @@ void bicell_tolerances(const Vec3 (*pts)[4], std::size_t n, double merge_distanc
 
 double SphericalDelaunay::bicell_tolerance(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
                                            double merge_distance) {
-  const Vec3 pts[1][4] = {{a, b, c, d}};
-  double tau;
-  bicell_tolerances(pts, 1, merge_distance, &tau);
-  return tau;
+  BicellLanes lanes;
+  lanes.set(0, 0, a), lanes.set(0, 1, b), lanes.set(0, 2, c), lanes.set(0, 3, d);
+  lanes.pad(1);
+  double tau[kBatch];
+  bicell_tolerances(lanes, 1, merge_distance, tau);
+  return tau[0];
 }
 
 void SphericalDelaunay::init_tolerances() {
@@ -645,13 +729,14 @@ void SphericalDelaunay::bicell_sites(HalfedgeId e, Quad& q) const {
 
 void SphericalDelaunay::bicell_tau2(const Quad* q, std::size_t n, double* tau2) const {
   const Vec3* f = reference_.data();
-  Vec3 pts[kBatch][4];
+  BicellLanes lanes;
   double tau[kBatch];
   for (std::size_t done = 0; done < n; done += kBatch) {
     const std::size_t m = std::min(kBatch, n - done);
     for (std::size_t i = 0; i < m; ++i)
-      for (int j = 0; j < 4; ++j) pts[i][j] = f[q[done + i][j]];
-    bicell_tolerances(pts, m, options_.merge_distance, tau);
+      for (int j = 0; j < 4; ++j) lanes.set(i, j, f[q[done + i][j]]);
+    lanes.pad(m);
+    bicell_tolerances(lanes, m, options_.merge_distance, tau);
     // Squared with a relative 2^-48 to spare, so that the filter's squared chord in doubles
     // (within 2^-50 of the exact one) below it certifies a chord below the tolerance.
     for (std::size_t i = 0; i < m; ++i) {
