@@ -35,6 +35,14 @@ constexpr std::uint64_t pow5(int p) {
   for (int i = 0; i < p; ++i) r *= 5;
   return r;
 }
+constexpr std::uint64_t pow10u(int p) {
+  std::uint64_t r = 1;
+  for (int i = 0; i < p; ++i) r *= 10;
+  return r;
+}
+constexpr std::uint64_t kPow10u[18] = {pow10u(0),  pow10u(1),  pow10u(2),  pow10u(3),  pow10u(4),  pow10u(5),
+                                       pow10u(6),  pow10u(7),  pow10u(8),  pow10u(9),  pow10u(10), pow10u(11),
+                                       pow10u(12), pow10u(13), pow10u(14), pow10u(15), pow10u(16), pow10u(17)};
 constexpr std::uint64_t kPow5[18] = {pow5(0),  pow5(1),  pow5(2),  pow5(3),  pow5(4),  pow5(5),
                                      pow5(6),  pow5(7),  pow5(8),  pow5(9),  pow5(10), pow5(11),
                                      pow5(12), pow5(13), pow5(14), pow5(15), pow5(16), pow5(17)};
@@ -564,28 +572,18 @@ char* write_scaled(char* out, bool negative, std::uint64_t digits_value, int pre
     return out;
   }
   if (negative) *out++ = '-';
-  // The digits of q; the last `precision` of them are the decimals. Trailing zeros go.
-  char digits[24] = {};
-  const char* end = std::to_chars(digits, digits + sizeof digits, digits_value).ptr;
-  int len = static_cast<int>(end - digits);
-  int decimals = precision;
-  while (decimals > 0 && digits[len - 1] == '0') --len, --decimals;
-  if (len > decimals) {
-    const int whole = len - decimals;
-    std::memcpy(out, digits, static_cast<std::size_t>(whole));
-    out += whole;
-    if (decimals > 0) {
-      *out++ = '.';
-      std::memcpy(out, digits + whole, static_cast<std::size_t>(decimals));
-      out += decimals;
-    }
-  } else {  // |value| < 1: "0." then zeros then the digits
-    *out++ = '0';
+  // The whole part, then the `precision` decimals without their trailing zeros, written digit
+  // by digit from the end (no temporary buffer to copy).
+  const std::uint64_t scale = kPow10u[precision];
+  std::uint64_t decimals_value = digits_value % scale;
+  out = std::to_chars(out, out + 24, digits_value / scale).ptr;
+  if (decimals_value != 0) {
+    int decimals = precision;
+    while (decimals_value % 10 == 0) decimals_value /= 10, --decimals;
     *out++ = '.';
-    std::memset(out, '0', static_cast<std::size_t>(decimals - len));
-    out += decimals - len;
-    std::memcpy(out, digits, static_cast<std::size_t>(len));
-    out += len;
+    char* end = out + decimals;
+    for (char* p = end; p != out; decimals_value /= 10) *--p = static_cast<char>('0' + decimals_value % 10);
+    out = end;
   }
   return out;
 }

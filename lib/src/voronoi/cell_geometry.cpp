@@ -45,6 +45,12 @@ std::vector<Pt>& edge_scratch() {
 constexpr unsigned kAreaMask = GeographicLib::Geodesic::AREA;
 int transit(double lon1, double lon2) {
   using GeographicLib::Math;
+  // Off the antimeridian and less than 180 apart, AngDiff is the plain difference (same sign,
+  // zero only for equal longitudes) and AngNormalize the identity: no remainder() calls.
+  if (std::fabs(lon1) < 180 && std::fabs(lon2) < 180 && std::fabs(lon2 - lon1) < 180) {
+    const double d = lon2 - lon1;
+    return d > 0 && lon1 < 0 && lon2 >= 0 ? 1 : (d < 0 && lon1 >= 0 && lon2 < 0 ? -1 : 0);
+  }
   const double lon12 = Math::AngDiff(lon1, lon2);
   lon1 = Math::AngNormalize(lon1);
   lon2 = Math::AngNormalize(lon2);
