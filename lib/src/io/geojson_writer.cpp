@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -403,9 +404,10 @@ class GeoJsonWriter final : public FeatureWriter {
   }
 
  private:
-  // Text is written once this much is pending; encoded blocks at least this large are written
-  // straight from the caller's memory.
+  // Text is written once kFlushAt is pending; encoded blocks from kDirectAt are written straight
+  // from the caller's memory.
   static constexpr std::size_t kFlushAt = std::size_t{1} << 20;
+  static constexpr std::size_t kDirectAt = std::size_t{1} << 16;
   static constexpr std::size_t kWriteBackEvery = std::size_t{8} << 20;
 
   void check_usable() const {
@@ -421,7 +423,7 @@ class GeoJsonWriter final : public FeatureWriter {
     for (const std::optional<BBox>& box : features.boxes)
       if (box) extent_.add(*box);
     count_ += features.boxes.size();
-    if (text.size() >= kFlushAt) {
+    if (text.size() >= kDirectAt) {
       flush();
       write_out(text.data(), text.size());
       return;
@@ -603,105 +605,131 @@ char* format_real(char* out, double value) {
 
 namespace {
 
-// True if none of the 8 bytes of w needs escaping or UTF-8 checking: no byte below 0x20 or
-// from 0x80, no '"' and no '\\' (the "has a byte less than n" and "has a zero byte" bit tricks,
-// exact as a yes/no answer for the whole word).
-bool plain_ascii8(std::uint64_t w) {
+// The bytes of w (8 bytes of text, little-endian) that need escaping or UTF-8 checking, as their
+// high bits: below 0x20, from 0x80, '"' and '\\' (the "has a byte less than n" and "has a zero
+// byte" bit tricks; only the lowest flag is exact, which is the one used).
+std::uint64_t special_bytes(std::uint64_t w) {
   constexpr std::uint64_t kOnes = 0x0101010101010101, kHigh = 0x8080808080808080;
   const std::uint64_t quote = w ^ (kOnes * '"'), backslash = w ^ (kOnes * '\\');
   const std::uint64_t below_space = (w - kOnes * 0x20) & ~w;
   const std::uint64_t is_quote = (quote - kOnes) & ~quote, is_backslash = (backslash - kOnes) & ~backslash;
-  return ((below_space | is_quote | is_backslash | w) & kHigh) == 0;
+  return (below_space | is_quote | is_backslash | w) & kHigh;
+}
+
+// Writes s[i] (and the rest of its UTF-8 sequence) escaped to p; advances i and returns the end.
+char* escape_one(char* p, const unsigned char* s, std::size_t n, std::size_t& i) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  const unsigned char c = s[i];
+  if (c >= 0x20 && c != '"' && c != '\\' && c < 0x80) {
+    *p++ = static_cast<char>(c);
+    ++i;
+    return p;
+  }
+  if (c >= 0x80) {
+    // Length and validity of a UTF-8 sequence (RFC 3629: no overlongs, no surrogates,
+    // nothing above U+10FFFF).
+    std::size_t len = 0;
+    if (c >= 0xC2 && c <= 0xDF) {
+      len = 2;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+      len = 3;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+      len = 4;
+    }
+    bool ok = len != 0 && i + len <= n;
+    for (std::size_t k = 1; ok && k < len; ++k) ok = (s[i + k] & 0xC0) == 0x80;
+    if (ok && len == 3) {
+      const unsigned char c1 = s[i + 1];
+      ok = !(c == 0xE0 && c1 < 0xA0) && !(c == 0xED && c1 >= 0xA0);
+    }
+    if (ok && len == 4) {
+      const unsigned char c1 = s[i + 1];
+      ok = !(c == 0xF0 && c1 < 0x90) && !(c == 0xF4 && c1 >= 0x90);
+    }
+    if (ok) {
+      std::memcpy(p, s + i, len);
+      i += len;
+      return p + len;
+    }
+    ++i;
+    *p++ = '\xEF', *p++ = '\xBF', *p++ = '\xBD';  // U+FFFD
+    return p;
+  }
+  ++i;
+  *p++ = '\\';
+  switch (c) {
+    case '"':
+      *p++ = '"';
+      break;
+    case '\\':
+      *p++ = '\\';
+      break;
+    case '\b':
+      *p++ = 'b';
+      break;
+    case '\f':
+      *p++ = 'f';
+      break;
+    case '\n':
+      *p++ = 'n';
+      break;
+    case '\r':
+      *p++ = 'r';
+      break;
+    case '\t':
+      *p++ = 't';
+      break;
+    default:
+      *p++ = 'u', *p++ = '0', *p++ = '0', *p++ = kHex[c >> 4], *p++ = kHex[c & 15];
+  }
+  return p;
+}
+
+// Writes text escaped as append_json_string() does (without the quotes) to p, which has room for
+// 6 characters per byte (the longest escape, \u00XX); returns the end. Plain runs are
+// copied 8 bytes at a time, up to the first byte that needs attention.
+char* escape_json(char* p, const unsigned char* s, std::size_t n) {
+  static_assert(std::endian::native == std::endian::little);
+  std::size_t i = 0;
+  while (i + 8 <= n) {
+    std::uint64_t w;
+    std::memcpy(&w, s + i, 8);
+    std::memcpy(p, &w, 8);  // the plain prefix stays, the rest is overwritten
+    const std::uint64_t special = special_bytes(w);
+    if (special == 0) {
+      p += 8, i += 8;
+      continue;
+    }
+    const std::size_t plain = static_cast<std::size_t>(std::countr_zero(special)) / 8;
+    p += plain, i += plain;
+    p = escape_one(p, s, n, i);
+  }
+  while (i < n) p = escape_one(p, s, n, i);
+  return p;
 }
 
 }  // namespace
 
 void append_json_string(std::string& out, std::string_view text) {
-  static constexpr char kHex[] = "0123456789abcdef";
-  out += '"';
   const auto* s = reinterpret_cast<const unsigned char*>(text.data());
   const std::size_t n = text.size();
-  std::size_t i = 0;
-  std::size_t run = 0;  // start of the pending run of characters copied as they are
-  auto flush_run = [&](std::size_t end) {
-    out.append(text.data() + run, end - run);
-  };
-  while (i < n) {
-    if (i + 8 <= n) {
-      std::uint64_t w;
-      std::memcpy(&w, s + i, 8);
-      if (plain_ascii8(w)) {
-        i += 8;
-        continue;
-      }
-    }
-    const unsigned char c = s[i];
-    if (c >= 0x20 && c != '"' && c != '\\' && c < 0x80) {
-      ++i;
-      continue;
-    }
-    if (c >= 0x80) {
-      // Length and validity of a UTF-8 sequence (RFC 3629: no overlongs, no surrogates,
-      // nothing above U+10FFFF).
-      std::size_t len = 0;
-      if (c >= 0xC2 && c <= 0xDF) {
-        len = 2;
-      } else if (c >= 0xE0 && c <= 0xEF) {
-        len = 3;
-      } else if (c >= 0xF0 && c <= 0xF4) {
-        len = 4;
-      }
-      bool ok = len != 0 && i + len <= n;
-      for (std::size_t k = 1; ok && k < len; ++k) ok = (s[i + k] & 0xC0) == 0x80;
-      if (ok && len == 3) {
-        const unsigned char c1 = s[i + 1];
-        ok = !(c == 0xE0 && c1 < 0xA0) && !(c == 0xED && c1 >= 0xA0);
-      }
-      if (ok && len == 4) {
-        const unsigned char c1 = s[i + 1];
-        ok = !(c == 0xF0 && c1 < 0x90) && !(c == 0xF4 && c1 >= 0x90);
-      }
-      if (ok) {
-        i += len;
-        continue;
-      }
-      flush_run(i);
-      out += "\xEF\xBF\xBD";  // U+FFFD
-      run = ++i;
-      continue;
-    }
-    flush_run(i);
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\b':
-        out += "\\b";
-        break;
-      case '\f':
-        out += "\\f";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\r':
-        out += "\\r";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default: {
-        const char esc[6] = {'\\', 'u', '0', '0', kHex[c >> 4], kHex[c & 15]};
-        out.append(esc, 6);
-      }
-    }
-    run = ++i;
+  // Short strings (nearly all) through a stack buffer: one append, no checks per character.
+  constexpr std::size_t kShort = 256;
+  if (n <= kShort) {
+    char buf[6 * kShort + 2];
+    buf[0] = '"';
+    char* end = escape_json(buf + 1, s, n);
+    *end++ = '"';
+    out.append(buf, static_cast<std::size_t>(end - buf));
+    return;
   }
-  flush_run(n);
-  out += '"';
+  const std::size_t old = out.size();
+  out.resize(old + 6 * n + 2);
+  char* p = out.data() + old;
+  *p++ = '"';
+  p = escape_json(p, s, n);
+  *p++ = '"';
+  out.resize(static_cast<std::size_t>(p - out.data()));
 }
 
 std::string geometry_problem(const Geometry& geometry) {
