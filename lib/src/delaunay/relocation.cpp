@@ -264,14 +264,8 @@ bool SphericalDelaunay::reanchor(SiteId s, const Vec3& p) {
   reference_[s] = f_new;
   // The bi-cells of the edges at s and of the link edges opposite s, as refresh_site(), all
   // computed together (a failure is rarer than the time the batch saves).
-  bicells_.clear();
-  add_site_bicells(s);
-  const std::size_t nb = bicells_.size();
-  quads_.resize(nb);
-  tau2_.resize(nb);
-  for (std::size_t i = 0; i < nb; ++i) bicell_sites(bicells_[i], quads_[i]);
-  bicells_.clear();
-  bicell_tau2(quads_.data(), nb, tau2_.data());
+  site_tau2(s);
+  const std::size_t nb = quads_.size();
   const Vec3* f = reference_.data();
   for (std::size_t i = 0; i < nb; ++i) {
     const double tau2 = tau2_[i];
@@ -766,22 +760,64 @@ void SphericalDelaunay::update_bicells() {
   bicells_.clear();
 }
 
-void SphericalDelaunay::add_site_bicells(SiteId s) {
+void SphericalDelaunay::site_tau2(SiteId s) {
+  // One walk around the star gives every bi-cell containing s: around s the triangles are
+  // (s, w_i, w_i+1), so the bi-cell of the edge s-w_i is (s, w_i, w_i+1, w_i-1) and that of the
+  // link edge w_i-w_i+1 is (w_i, w_i+1, s, x_i), x_i across it, in that order.
+  // Each site's reference is read once.
+  link_w_.clear();
+  link_x_.clear();
   const HalfedgeId e0 = site_edge_[s];
   HalfedgeId e = e0;
-  do {  // the bi-cells of the edges at s and of the link edges opposite s
-    bicells_.push_back(e);
-    bicells_.push_back(next_halfedge(e));
+  do {
+    const HalfedgeId en = next_halfedge(e);
+    link_w_.push_back(triangles_[en]);
+    link_x_.push_back(triangles_[prev_halfedge(halfedges_[en])]);
     e = next_around_site(e);
   } while (e != e0);
+  const std::size_t k = link_w_.size();
+  quads_.resize(2 * k);
+  tau2_.resize(2 * k);
+  for (std::size_t i = 0; i < k; ++i) {
+    const SiteId w = link_w_[i], w_next = link_w_[i + 1 == k ? 0 : i + 1], w_prev = link_w_[i == 0 ? k - 1 : i - 1];
+    quads_[2 * i] = {s, w, w_next, w_prev};
+    quads_[2 * i + 1] = {w, w_next, s, link_x_[i]};
+  }
+  const Vec3* f = reference_.data();
+  const Vec3 fs = f[s];
+  BicellLanes lanes;
+  double tau[kBatch];
+  constexpr std::size_t kPairs = kBatch / 2;  // the two bi-cells of each link site per lane pair
+  for (std::size_t done = 0; done < k; done += kPairs) {
+    const std::size_t m = std::min(kPairs, k - done);
+    for (std::size_t j = 0; j < m; ++j) {
+      const std::size_t i = done + j;
+      const Vec3 &fw = f[link_w_[i]], &fn = f[link_w_[i + 1 == k ? 0 : i + 1]], &fp = f[link_w_[i == 0 ? k - 1 : i - 1]];
+      lanes.set(2 * j, 0, fs), lanes.set(2 * j, 1, fw), lanes.set(2 * j, 2, fn), lanes.set(2 * j, 3, fp);
+      lanes.set(2 * j + 1, 0, fw), lanes.set(2 * j + 1, 1, fn), lanes.set(2 * j + 1, 2, fs);
+      lanes.set(2 * j + 1, 3, f[link_x_[i]]);
+    }
+    lanes.pad(2 * m);
+    bicell_tolerances(lanes, 2 * m, options_.merge_distance, tau);
+    for (std::size_t j = 0; j < 2 * m; ++j) {  // squared with the margin, as bicell_tau2()
+      const double x = tau[j] * (1 - 0x1p-48);
+      tau2_[2 * done + j] = x * x;
+    }
+  }
 }
 
 void SphericalDelaunay::refresh_site(SiteId s) {
   reference_[s] = sites_[s];
   tolerance2_[s] = std::numeric_limits<double>::infinity();
-  bicells_.clear();
-  add_site_bicells(s);
-  update_bicells();
+  site_tau2(s);
+  // Each bi-cell lowers the tolerances of its four sites; a site pushed below its own
+  // displacement goes to the queue.
+  for (std::size_t i = 0; i < quads_.size(); ++i)
+    for (const SiteId w : quads_[i]) {
+      if (tau2_[i] >= tolerance2_[w]) continue;
+      tolerance2_[w] = tau2_[i];
+      if (!within_tolerance(w)) queue_.push_back(w);
+    }
 }
 
 std::size_t SphericalDelaunay::settle_queue() {

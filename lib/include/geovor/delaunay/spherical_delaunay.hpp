@@ -359,7 +359,7 @@ class SphericalDelaunay {
   // Squared tolerances (with the filter's margin) of n bi-cells at the reference positions.
   void bicell_tau2(const Quad* q, std::size_t n, double* tau2) const;
   void update_bicells();                             // bicells_ lower eps of their sites; cleared
-  void add_site_bicells(SiteId s);                   // appends the bi-cells containing s to bicells_
+  void site_tau2(SiteId s);                          // quads_, tau2_: the bi-cells containing s
   void refresh_site(SiteId s);                       // f_s = m_s, eps_s recomputed
   std::size_t settle_queue();                        // refreshes the sites that left their tolerance
 
@@ -395,7 +395,8 @@ class SphericalDelaunay {
   std::vector<TriId> touched_;
   std::vector<double> tau2_;  // reanchor()'s bi-cell tolerances, squared
   std::vector<HalfedgeId> bicells_;  // the bi-cells update_bicells() computes next
-  std::vector<Quad> quads_;          // reanchor()'s bi-cells' sites
+  std::vector<Quad> quads_;          // site_tau2()'s bi-cells' sites
+  std::vector<SiteId> link_w_, link_x_;  // site_tau2()'s link and the sites across it
   double relocated_share_ = 0;  // of the last filtered move_all(): (flipped + reinserted) / live sites
 
   friend class SphericalDelaunayTester;
