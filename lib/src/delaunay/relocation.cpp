@@ -93,48 +93,54 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
   }
   std::sort(pending.begin(), pending.end());
   // Consecutive pending sites are still a few sites apart, so each move would start with cache
-  // misses on its star: prefetch the stars a few moves ahead, in stages (the site, its first
-  // triangle, then its neighbours and the triangles across its link, then the far vertices of
-  // the link bi-cells), each stage reading only what an earlier one fetched.
+  // misses on its star, a chain of them (each triangle names the next). Walk the stars of the
+  // next few pending sites ahead of time, one hop per move for each, prefetching the next
+  // triangle, the link sites' data and the triangles across the link: the walks' misses overlap
+  // one another and the moves, and each hop reads only what an earlier hop fetched.
+  struct StarWalk {
+    HalfedgeId first = kNoIndex, at = kNoIndex, across = kNoIndex;
+  };
+  constexpr std::size_t kWalks = 16, kAhead = 10;
+  StarWalk walks[kWalks];
   const std::size_t np = pending.size();
   for (std::size_t i = 0; i < np; ++i) {
-    if (i + 16 < np) {
-      const SiteId a = pending[i + 16].second;
+    if (i + kAhead + 2 < np) {
+      const SiteId a = pending[i + kAhead + 2].second;
       __builtin_prefetch(&site_edge_[a]);
       __builtin_prefetch(&positions[a]);
       __builtin_prefetch(&reference_[a]);
       __builtin_prefetch(&tolerance2_[a]);
     }
-    if (i + 10 < np) {
-      const HalfedgeId e = site_edge_[pending[i + 10].second];
+    if (i + kAhead < np) {  // its site_edge_ was fetched two moves ago
+      const HalfedgeId e = site_edge_[pending[i + kAhead].second];
+      walks[(i + kAhead) % kWalks] = {e, e, kNoIndex};
       __builtin_prefetch(&triangles_[e]);
       __builtin_prefetch(&halfedges_[e]);
     }
-    if (i + 5 < np) {
-      const HalfedgeId e0 = site_edge_[pending[i + 5].second];
-      HalfedgeId e = e0;
-      int guard = 0;  // only a prefetch: bounded in case a star is huge
-      do {
-        const SiteId w = triangles_[next_halfedge(e)];
-        __builtin_prefetch(&reference_[w]);
-        __builtin_prefetch(&sites_[w]);
-        __builtin_prefetch(&tolerance2_[w]);
-        const HalfedgeId t = halfedges_[next_halfedge(e)];  // across the link edge
-        __builtin_prefetch(&triangles_[t]);
-        e = next_around_site(e);
-      } while (e != e0 && ++guard < 16);
-    }
-    if (i + 2 < np) {
-      const HalfedgeId e0 = site_edge_[pending[i + 2].second];
-      HalfedgeId e = e0;
-      int guard = 0;
-      do {  // the far vertex of each link edge's bi-cell
-        const SiteId x = triangles_[prev_halfedge(halfedges_[next_halfedge(e)])];
+    for (std::size_t j = i + 1; j < i + kAhead && j < np; ++j) {
+      StarWalk& w = walks[j % kWalks];
+      if (w.across != kNoIndex) {  // the far site of the last link edge's bi-cell
+        const SiteId x = triangles_[prev_halfedge(w.across)];
         __builtin_prefetch(&reference_[x]);
-        __builtin_prefetch(&sites_[x]);
         __builtin_prefetch(&tolerance2_[x]);
-        e = next_around_site(e);
-      } while (e != e0 && ++guard < 16);
+        w.across = kNoIndex;
+      }
+      if (w.at == kNoIndex) continue;
+      const HalfedgeId e = w.at, en = next_halfedge(e);
+      const SiteId v = triangles_[en];
+      __builtin_prefetch(&reference_[v]);
+      __builtin_prefetch(&sites_[v]);
+      __builtin_prefetch(&tolerance2_[v]);
+      w.across = halfedges_[en];  // the triangle across the link edge
+      __builtin_prefetch(&triangles_[w.across]);
+      const HalfedgeId next = next_around_site(e);
+      if (next == w.first) {
+        w.at = kNoIndex;
+      } else {
+        w.at = next;
+        __builtin_prefetch(&triangles_[next]);
+        __builtin_prefetch(&halfedges_[next]);
+      }
     }
     const SiteId s = pending[i].second;
     total += move_one(s, positions[s], options);
