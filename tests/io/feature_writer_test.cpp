@@ -657,6 +657,46 @@ TEST(GeoJson, EncodedBlocksWriteTheSameBytesAsWrite) {
   EXPECT_EQ(error_of([&] { gpkg->write_encoded(EncodedFeatures{}); }).code(), ErrorCode::InvalidArgument);
 }
 
+// A file of several MB (the writer stages the temporary file in 4 MB aligned blocks for direct
+// I/O, then writes the partial last block normally) holds exactly the encoded text, in the
+// test's temporary directory and on tmpfs.
+TEST(GeoJson, LargeFilesHoldExactlyTheEncodedText) {
+  TempDir dir;
+  std::vector<std::string> paths = {dir / "big.geojsonl"};
+  std::unique_ptr<TempDir> shm;
+  if (std::filesystem::is_directory("/dev/shm")) {
+    shm = std::make_unique<TempDir>();
+    paths.push_back(*shm / "big.geojsonl");
+  }
+  Ring ring;
+  for (int k = 0; k < 1000; ++k) ring.push_back({-180 + 0.3 * k, std::sin(k * 0.01) * 10});
+  ring.push_back({120, 50});
+  ring.push_back(ring.front());
+  const MultiPolygon geometry{Polygon{ring, {}}};
+  for (const std::string& path : paths) {
+    SCOPED_TRACE(path);
+    auto writer = open_feature_writer(path, GeometryType::MultiPolygon, cell_schema(), {});
+    EncodedFeatures expected;
+    for (int i = 0; i < 400; ++i) {
+      std::vector<FieldValue> values = cells()[i % 4].values;
+      values[0] = std::int64_t{i};
+      writer->encoder()->encode(geometry, values, static_cast<std::uint64_t>(i + 1), expected);
+      if (i % 3 == 0) {
+        writer->write(geometry, values);
+      } else {
+        EncodedFeatures one;
+        writer->encoder()->encode(geometry, values, static_cast<std::uint64_t>(i + 1), one);
+        writer->write_encoded(one);
+      }
+    }
+    writer->finish();
+    ASSERT_GT(expected.text.size(), std::size_t{5} << 20);  // more than one 4 MB stage
+    const std::string text = slurp(path);
+    EXPECT_EQ(text.size(), expected.text.size());
+    EXPECT_TRUE(text == expected.text);
+  }
+}
+
 TEST(GeoJson, StringsEscapedAndReadBackExactly) {
   TempDir dir;
   const std::string path = dir / "strings.geojson";

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <system_error>
@@ -382,6 +383,7 @@ class GeoJsonWriter final : public FeatureWriter {
       buffer_ += "}\n";
     }
     flush();
+    if (stage_ != nullptr) write_stage(true);
     if (file_ == stdout) {
       if (std::fflush(stdout) != 0) fail("cannot write to stdout", errno);
       finished_ = true;
@@ -409,6 +411,7 @@ class GeoJsonWriter final : public FeatureWriter {
   static constexpr std::size_t kFlushAt = std::size_t{1} << 20;
   static constexpr std::size_t kDirectAt = std::size_t{1} << 16;
   static constexpr std::size_t kWriteBackEvery = std::size_t{8} << 20;
+  static constexpr std::size_t kDirectBlock = 4096, kStageSize = std::size_t{4} << 20;
 
   void check_usable() const {
     if (failed_) throw Error(ErrorCode::Io, path_ + ": the writer failed earlier");
@@ -446,6 +449,7 @@ class GeoJsonWriter final : public FeatureWriter {
       file_ = std::fopen(temp.c_str(), "wbx");
       if (file_ != nullptr) {
         temp_path_ = temp.string();
+        enable_direct();
         return;
       }
       const int err = errno;
@@ -471,7 +475,67 @@ class GeoJsonWriter final : public FeatureWriter {
     throw Error(ErrorCode::Io, path_ + ": " + what + (err != 0 ? ": " + errno_text(err) : ""));
   }
 
+  // Direct I/O of the temporary file where its file system allows it: the text is staged in an
+  // aligned buffer and written in whole blocks with O_DIRECT, which spares the kernel's copy into
+  // the page cache (a fifth of the CPU time of a large cells file); the last partial block is
+  // written normally. Any refusal (EINVAL) falls back to normal writes.
+  void enable_direct() {
+    const int fd = ::fileno(file_);
+    const int flags = ::fcntl(fd, F_GETFL);
+    if (flags == -1 || ::fcntl(fd, F_SETFL, flags | O_DIRECT) != 0) return;
+    stage_.reset(static_cast<char*>(std::aligned_alloc(kDirectBlock, kStageSize)));
+    if (stage_ == nullptr) {
+      disable_direct();
+      return;
+    }
+    direct_ = true;
+  }
+  void disable_direct() {
+    const int fd = ::fileno(file_);
+    const int flags = ::fcntl(fd, F_GETFL);
+    if (flags != -1) ::fcntl(fd, F_SETFL, flags & ~O_DIRECT);
+    direct_ = false;
+  }
+  // Writes n bytes to the temporary file's descriptor (whole blocks while direct_).
+  void write_fd(const char* data, std::size_t n) {
+    const int fd = ::fileno(file_);
+    while (n > 0) {
+      const ssize_t w = ::write(fd, data, n);
+      if (w < 0) {
+        if (errno == EINTR) continue;
+        if (errno == EINVAL && direct_) {
+          disable_direct();
+          continue;
+        }
+        fail("cannot write", errno);
+      }
+      data += w, n -= static_cast<std::size_t>(w);
+      if (n % kDirectBlock != 0 && direct_) disable_direct();  // a short write broke the alignment
+    }
+  }
+  // Writes the staged bytes: the whole blocks, and the rest too if `all` (then direct I/O ends).
+  void write_stage(bool all) {
+    const std::size_t blocks = staged_ / kDirectBlock * kDirectBlock;
+    write_fd(stage_.get(), blocks);
+    std::memmove(stage_.get(), stage_.get() + blocks, staged_ - blocks);
+    staged_ -= blocks;
+    if (all && staged_ > 0) {
+      if (direct_) disable_direct();
+      write_fd(stage_.get(), staged_);
+      staged_ = 0;
+    }
+  }
+
   void write_out(const char* data, std::size_t n) {
+    if (stage_ != nullptr) {
+      while (n > 0) {
+        const std::size_t k = std::min(n, kStageSize - staged_);
+        std::memcpy(stage_.get() + staged_, data, k);
+        staged_ += k, data += k, n -= k;
+        if (staged_ == kStageSize) write_stage(false);
+      }
+      return;
+    }
     errno = 0;
     if (std::fwrite(data, 1, n, file_) != n) fail(file_ == stdout ? "cannot write to stdout" : "cannot write", errno);
     // Start the write-back of the temporary file as it grows (without waiting for it), so that
@@ -500,6 +564,12 @@ class GeoJsonWriter final : public FeatureWriter {
   BBoxUnion extent_;
   std::uint64_t count_ = 0;
   std::size_t unsynced_ = 0;  // bytes written since the last write-back request
+  struct FreeAligned {
+    void operator()(char* p) const { std::free(p); }
+  };
+  std::unique_ptr<char, FreeAligned> stage_;  // the temporary file's text not yet written (fd I/O)
+  std::size_t staged_ = 0;
+  bool direct_ = false;  // O_DIRECT is on
   bool finished_ = false;
   bool failed_ = false;
 };

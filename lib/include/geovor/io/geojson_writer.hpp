@@ -43,7 +43,9 @@ enum class GeoJsonFraming {
 /// `path` "-" writes to stdout (no temporary file: a failure there cannot be undone). Otherwise
 /// the features go to a temporary file ".NAME.tmp-PID-N" in the same directory, renamed to
 /// `path` by finish(); the temporary file is removed on any failure and by the destructor when
-/// finish() was not called.
+/// finish() was not called. The temporary file is written with direct I/O (O_DIRECT, whole 4 KiB
+/// blocks from an aligned 4 MB buffer, the last partial block normally) where its file system
+/// allows it, which spares the kernel's copy into the page cache; otherwise normally.
 /// @exception Error(InvalidArgument) for a bad schema, id_field or precision (0..17);
 ///   Error(Io) if `path` exists and !options.overwrite, or cannot be created.
 std::unique_ptr<FeatureWriter> open_geojson_writer(const std::string& path, GeoJsonFraming framing,
