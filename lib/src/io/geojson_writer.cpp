@@ -45,6 +45,11 @@ constexpr std::uint64_t pow10u(int p) {
 constexpr std::uint64_t kPow10u[18] = {pow10u(0),  pow10u(1),  pow10u(2),  pow10u(3),  pow10u(4),  pow10u(5),
                                        pow10u(6),  pow10u(7),  pow10u(8),  pow10u(9),  pow10u(10), pow10u(11),
                                        pow10u(12), pow10u(13), pow10u(14), pow10u(15), pow10u(16), pow10u(17)};
+// "00" to "99", for writing decimals two at a time.
+constexpr char kDigitPairs[] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
 constexpr std::uint64_t kPow5[18] = {pow5(0),  pow5(1),  pow5(2),  pow5(3),  pow5(4),  pow5(5),
                                      pow5(6),  pow5(7),  pow5(8),  pow5(9),  pow5(10), pow5(11),
                                      pow5(12), pow5(13), pow5(14), pow5(15), pow5(16), pow5(17)};
@@ -654,7 +659,12 @@ char* write_scaled(char* out, bool negative, std::uint64_t digits_value, int pre
     while (decimals_value % 10 == 0) decimals_value /= 10, --decimals;
     *out++ = '.';
     char* end = out + decimals;
-    for (char* p = end; p != out; decimals_value /= 10) *--p = static_cast<char>('0' + decimals_value % 10);
+    char* p = end;
+    for (; p - out >= 2; decimals_value /= 100) {
+      p -= 2;
+      std::memcpy(p, kDigitPairs + 2 * (decimals_value % 100), 2);
+    }
+    if (p != out) *--p = static_cast<char>('0' + decimals_value);
     out = end;
   }
   return out;
