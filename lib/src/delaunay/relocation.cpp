@@ -80,7 +80,8 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
   // targets, so that consecutive relocations work in the same neighbourhood (site ids are in no
   // spatial order, and a relocation's cost is mostly its cache misses).
   if (tolerance2_.empty()) init_tolerances();
-  std::vector<std::pair<std::uint64_t, SiteId>> pending;
+  std::vector<SiteId> unsorted;
+  std::vector<Vec3> targets;
   for (SiteId s = 0; s < sites_.size(); ++s) {
     if (positions[s] == sites_[s] || !alive(s)) continue;
     if (norm2(positions[s] - reference_[s]) < tolerance2_[s]) {  // move_one()'s filter, inline
@@ -88,10 +89,16 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
       ++total.moved;
       ++total.filtered;
     } else {
-      pending.emplace_back(hilbert_key(positions[s]), s);
+      unsorted.push_back(s);
+      targets.push_back(positions[s]);
     }
   }
-  std::sort(pending.begin(), pending.end());
+  // Hilbert order of the targets (ties by id), as fine as their number asks.
+  std::vector<SiteId> pending(unsorted.size());
+  {
+    const std::vector<std::uint32_t> order = hilbert_order(targets);
+    for (std::size_t i = 0; i < order.size(); ++i) pending[i] = unsorted[order[i]];
+  }
   // Consecutive pending sites are still a few sites apart, so each move would start with cache
   // misses on its star, a chain of them (each triangle names the next). Walk the stars of the
   // next few pending sites ahead of time, one hop per move for each, prefetching the next
@@ -105,14 +112,14 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
   const std::size_t np = pending.size();
   for (std::size_t i = 0; i < np; ++i) {
     if (i + kAhead + 2 < np) {
-      const SiteId a = pending[i + kAhead + 2].second;
+      const SiteId a = pending[i + kAhead + 2];
       __builtin_prefetch(&site_edge_[a]);
       __builtin_prefetch(&positions[a]);
       __builtin_prefetch(&reference_[a]);
       __builtin_prefetch(&tolerance2_[a]);
     }
     if (i + kAhead < np) {  // its site_edge_ was fetched two moves ago
-      const HalfedgeId e = site_edge_[pending[i + kAhead].second];
+      const HalfedgeId e = site_edge_[pending[i + kAhead]];
       walks[(i + kAhead) % kWalks] = {e, e, kNoIndex};
       __builtin_prefetch(&triangles_[e]);
       __builtin_prefetch(&halfedges_[e]);
@@ -142,7 +149,7 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
         __builtin_prefetch(&halfedges_[next]);
       }
     }
-    const SiteId s = pending[i].second;
+    const SiteId s = pending[i];
     total += move_one(s, positions[s], options);
   }
   relocated_share_ = static_cast<double>(total.flipped + total.reinserted) / static_cast<double>(num_live_);
