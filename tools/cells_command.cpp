@@ -47,6 +47,7 @@ int run(CellsArgs& args) {
   // Opened first, so that an existing report is refused before any work; renamed into place last.
   std::unique_ptr<OutputFile> report_file;
   if (!args.report.empty()) report_file = std::make_unique<OutputFile>(args.report, args.out.overwrite);
+  args.sites.reader.threads = static_cast<unsigned>(args.out.threads);  // 0: one per core
   const SiteTable table = read_site_input(args.sites);
   const std::vector<Vec3> points = site_points(table);
   BuildReport report;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -228,6 +229,42 @@ TEST(SiteReader, RejectionReasonsNameTheColumn) {
     EXPECT_EQ(t.rejected[i].line, expected[i].first + 1);
     EXPECT_EQ(t.rejected[i].reason, expected[i].second);
   }
+}
+
+// Rows converted on several threads: the same sites and rejected rows, in row order, with rows
+// rejected while reading (field count) and while converting (coordinates) interleaved.
+TEST(SiteReader, ThreadsGiveTheSameTable) {
+  std::string text = "id,lat,lon\n";
+  for (int i = 0; i < 50000; ++i) {
+    if (i % 997 == 5) {
+      text += "short," + std::to_string(i % 80) + "\n";  // one field missing
+    } else if (i % 1009 == 7) {
+      text += "bad" + std::to_string(i) + ",91.5,10\n";  // latitude out of range
+    } else {
+      text += "s" + std::to_string(i) + "," + std::to_string((i * 37) % 170 - 85) + "." + std::to_string(i % 10) +
+              "," + std::to_string((i * 53) % 360 - 180) + "\n";
+    }
+  }
+  SiteReaderOptions threaded;
+  threaded.threads = 3;
+  const SiteTable one = read(text), three = read(text, threaded);
+  ASSERT_EQ(one.sites.size(), three.sites.size());
+  ASSERT_EQ(one.rejected.size(), three.rejected.size());
+  EXPECT_EQ(one.rows_read, 50000u);
+  EXPECT_EQ(one.sites.size() + one.rejected.size(), 50000u);
+  for (std::size_t i = 0; i < one.sites.size(); ++i) {
+    ASSERT_EQ(one.sites[i].row, three.sites[i].row);
+    ASSERT_EQ(one.sites[i].id, three.sites[i].id);
+    ASSERT_EQ(one.sites[i].unit, three.sites[i].unit);
+  }
+  for (std::size_t i = 0; i < one.rejected.size(); ++i) {
+    ASSERT_EQ(one.rejected[i].row, three.rejected[i].row);
+    ASSERT_EQ(one.rejected[i].reason, three.rejected[i].reason);
+    if (i > 0) ASSERT_LT(one.rejected[i - 1].row, one.rejected[i].row);
+  }
+  EXPECT_GT(std::count_if(one.rejected.begin(), one.rejected.end(),
+                          [](const RejectedRow& r) { return r.reason.find("lat") != std::string::npos; }),
+            10);
 }
 
 TEST(SiteReader, LongBadValueIsCutInTheReason) {

@@ -1,5 +1,6 @@
 #include "geovor/geo/site_reader.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <charconv>
@@ -12,6 +13,7 @@
 #include <span>
 #include <string_view>
 #include <system_error>
+#include <thread>
 #include <utility>
 
 #include "geovor/core/error.hpp"
@@ -237,6 +239,7 @@ SiteTable read_sites_csv(std::istream& in, const std::string& source,
   }
   table.columns = fields;
   choose_columns(table, options);
+  std::vector<InputSite> rows;  // well-formed rows, located after reading
 
   while (next_record()) {
     ++table.rows_read;
@@ -265,15 +268,41 @@ SiteTable read_sites_csv(std::istream& in, const std::string& source,
     InputSite site;
     site.row = row;
     site.line = line;
-    if (auto reason = locate_site(table, fields, site); !reason.empty()) {
-      reject(std::move(reason));
-      continue;
-    }
     site.id = table.id_column >= 0 ? fields[static_cast<std::size_t>(table.id_column)]
                                    : std::to_string(row);
     site.fields = std::move(fields);
     fields.clear();
-    table.sites.push_back(std::move(site));
+    rows.push_back(std::move(site));
+  }
+
+  // The coordinates of the well-formed rows, split over threads; then sites and rejected rows
+  // in row order.
+  std::vector<std::string> reasons(rows.size());
+  auto locate = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) reasons[i] = locate_site(table, rows[i].fields, rows[i]);
+  };
+  const std::size_t n = rows.size();
+  const unsigned threads = static_cast<unsigned>(std::min<std::size_t>(
+      options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency()),
+      std::max<std::size_t>(1, n / 16384)));
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(locate, n * t / threads, n * (t + 1) / threads);
+  locate(0, n / threads);
+  for (std::thread& th : pool) th.join();
+  const bool early_rejects = !table.rejected.empty();
+  bool late_rejects = false;
+  table.sites.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (reasons[i].empty()) {
+      table.sites.push_back(std::move(rows[i]));
+    } else {
+      table.rejected.push_back(RejectedRow{rows[i].row, rows[i].line, std::move(reasons[i])});
+      late_rejects = true;
+    }
+  }
+  if (early_rejects && late_rejects) {
+    std::stable_sort(table.rejected.begin(), table.rejected.end(),
+                     [](const RejectedRow& a, const RejectedRow& b) { return a.row < b.row; });
   }
   return table;
 }

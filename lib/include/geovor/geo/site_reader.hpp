@@ -34,6 +34,9 @@ struct SiteReaderOptions {
   /// Exactly 3 column names (X, Y, Z earth-centred earth-fixed WGS84, metres), or empty for
   /// latitude/longitude input. Exclusive with lat_field/lon_field.
   std::vector<std::string> ecef_fields;
+  /// Threads converting the rows' coordinates (parsing, normalising, unit vectors) once the
+  /// file is read (0: one per core). DEFAULT: 1. The result does not depend on it.
+  unsigned threads = 1;
 };
 
 /// One accepted data row.
