@@ -533,9 +533,10 @@ constexpr std::size_t kBatch = 16;
 struct BicellLanes {
   double x[4][kBatch], y[4][kBatch], z[4][kBatch];
   void set(std::size_t i, int j, const Vec3& p) { x[j][i] = p.x, y[j][i] = p.y, z[j][i] = p.z; }
-  // Lanes n..kBatch-1 copy lane 0: finite numbers, so the vector loops never see garbage.
+  // Lanes n.. up to the next multiple of 4 copy lane 0: finite numbers, so the vector loops
+  // never see garbage.
   void pad(std::size_t n) {
-    for (std::size_t i = n; i < kBatch; ++i)
+    for (std::size_t i = n; i < ((n + 3) & ~std::size_t{3}); ++i)
       for (int j = 0; j < 4; ++j) x[j][i] = x[j][0], y[j][i] = y[j][0], z[j][i] = z[j][0];
   }
 };
@@ -545,11 +546,11 @@ inline double vmax(double a, double b) { return a < b ? b : a; }
 
 // x[i] = sqrt(x[i]) for the kBatch lanes, two at a time on x86-64 (std::sqrt's errno handling
 // keeps the compiler from vectorizing the loops that call it).
-inline void sqrt_lanes(double* x) {
+inline void sqrt_lanes(double* x, std::size_t lanes) {
 #if defined(__SSE2__)
-  for (std::size_t i = 0; i < kBatch; i += 2) _mm_storeu_pd(x + i, _mm_sqrt_pd(_mm_loadu_pd(x + i)));
+  for (std::size_t i = 0; i < lanes; i += 2) _mm_storeu_pd(x + i, _mm_sqrt_pd(_mm_loadu_pd(x + i)));
 #else
-  for (std::size_t i = 0; i < kBatch; ++i) x[i] = std::sqrt(x[i]);
+  for (std::size_t i = 0; i < lanes; ++i) x[i] = std::sqrt(x[i]);
 #endif
 }
 
@@ -572,11 +573,12 @@ double max_edge_product_lane(const double* const (&q)[6], std::size_t i) {
 GEOVOR_LANE_CLONES void bicell_tolerances(const BicellLanes& in, std::size_t n, double merge_distance,
                                           double* tau) {
   constexpr std::size_t N = kBatch;
+  const std::size_t L = (n + 3) & ~std::size_t{3};  // lanes computed: n, padded to the vector width
   const auto& X = in.x;
   const auto& Y = in.y;
   const auto& Z = in.z;
   double volume6[N], l2[6][N], c2[N], cmx[N], cmy[N], cmz[N];
-  for (std::size_t i = 0; i < N; ++i) {
+  for (std::size_t i = 0; i < L; ++i) {
     // 6 x the volume of the tetrahedron, |det(b - a, c - a, d - a)|, minus Shewchuk's bound of
     // its rounding (kernel::detail::in_sphere_det and underflow_margin, lane by lane).
     const double bx = X[1][i] - X[0][i], by = Y[1][i] - Y[0][i], bz = Z[1][i] - Z[0][i];
@@ -604,12 +606,12 @@ GEOVOR_LANE_CLONES void bicell_tolerances(const BicellLanes& in, std::size_t n, 
     cmz[i] = Z[0][i] + Z[1][i] + Z[2][i] + Z[3][i];
     c2[i] = cmx[i] * cmx[i] + cmy[i] * cmy[i] + cmz[i] * cmz[i];
   }
-  double s0[N], inv_smin[N], t[4][N], root[N];
+  double s0[N], inv_smin[N], t[4][N], root[N] = {};  // (zeroed: the compiler cannot see that L lanes are set)
   // Spread over the sphere (c2 <= 1/4): the isotropic bound does as well; the stretch's numbers
   // are computed all the same (from c2 = 1/4) and left unused.
-  for (std::size_t i = 0; i < N; ++i) root[i] = vmax(c2[i], 0.25);
-  sqrt_lanes(root);
-  for (std::size_t i = 0; i < N; ++i) {
+  for (std::size_t i = 0; i < L; ++i) root[i] = vmax(c2[i], 0.25);
+  sqrt_lanes(root, L);
+  for (std::size_t i = 0; i < L; ++i) {
     const double r = 1 / root[i];
     const double ux = r * cmx[i], uy = r * cmy[i], uz = r * cmz[i];
     // s0: the largest sine of the angle between c and a point, |c x f| / (|c| |f|), rounded up
@@ -622,17 +624,17 @@ GEOVOR_LANE_CLONES void bicell_tolerances(const BicellLanes& in, std::size_t n, 
     }
     root[i] = m;
   }
-  sqrt_lanes(root);
+  sqrt_lanes(root, L);
   // Every S below is at least s_min, and the bound on |T u|^2 falls as S grows: the edge
   // products at s_min bound those at any S. (Rounded up. The loops with a division have no
   // select, and the other way round: the compiler vectorizes neither mix.)
-  for (std::size_t i = 0; i < N; ++i) {
+  for (std::size_t i = 0; i < L; ++i) {
     s0[i] = root[i] * (1 + 0x1p-46) + 0x1p-48;
     inv_smin[i] = vmin(1.05 * s0[i], 1.0);
   }
-  for (std::size_t i = 0; i < N; ++i) inv_smin[i] = (1 / inv_smin[i]) * (1 + 0x1p-51);
+  for (std::size_t i = 0; i < L; ++i) inv_smin[i] = (1 / inv_smin[i]) * (1 + 0x1p-51);
   double q[6][N];
-  for (std::size_t i = 0; i < N; ++i) {
+  for (std::size_t i = 0; i < L; ++i) {
     // u.c for the edge f_j - f_i is t_j - t_i, t_i = f_i.c; each computed t is within 2^-49 of
     // f_i.c for the exact unit c (the computed c is within 2^-50 of it), their difference
     // within a relative 2^-52 more: 2^-47 covers it.
@@ -644,7 +646,7 @@ GEOVOR_LANE_CLONES void bicell_tolerances(const BicellLanes& in, std::size_t n, 
       q[k][i] = (l2[k][i] + uc * uc) * (1 + 0x1p-50);
     }
   }
-  for (std::size_t i = 0; i < N; ++i) {
+  for (std::size_t i = 0; i < L; ++i) {
     // max_edge_product(), lane by lane: the largest product squared, then its root.
     const double f012 = vmin(vmin(q[0][i] * q[1][i], q[0][i] * q[3][i]), q[1][i] * q[3][i]);
     const double f013 = vmin(vmin(q[0][i] * q[2][i], q[0][i] * q[4][i]), q[2][i] * q[4][i]);
@@ -653,9 +655,9 @@ GEOVOR_LANE_CLONES void bicell_tolerances(const BicellLanes& in, std::size_t n, 
     root[i] = vmax(vmax(vmax(f012, f013), vmax(f023, f123)),
                    vmax(vmax(q[0][i] * q[5][i], q[1][i] * q[4][i]), q[2][i] * q[3][i]));
   }
-  sqrt_lanes(root);
+  sqrt_lanes(root, L);
   double K[N], cap1[N], S1[N];
-  for (std::size_t i = 0; i < N; ++i) {
+  for (std::size_t i = 0; i < L; ++i) {
     // A move of chord D <= cap (<= 1/2) turns a point by at most A = 1.05 (cap + 2^-49), so
     // changes its component along c by at most S D + eps, S = min(1.05 (s0 + A), 1), eps =
     // 2^-49 (1 + S) <= 2^-48, and its image under T moves by at most
@@ -664,15 +666,15 @@ GEOVOR_LANE_CLONES void bicell_tolerances(const BicellLanes& in, std::size_t n, 
     //   D < (6 V / (2 M) - eps) / (S sqrt(lambda^2 + 1)) = K / S.
     K[i] = (volume6[i] / (2 * (root[i] * (1 + 0x1p-44))) - 0x1p-48) * kInvNorm;
   }
-  for (std::size_t i = 0; i < N; ++i) {
+  for (std::size_t i = 0; i < L; ++i) {
     // Any cap is valid; the best solves K / S(cap) = cap. cap1 = K / S(0) is above it, so
     // S(cap1) >= S(cap) for cap <= cap1, and cap = min(K / S(cap1), cap1) has K / S(cap) >= cap.
     cap1[i] = vmin(K[i] * inv_smin[i], 0.5);
   }
-  for (std::size_t i = 0; i < N; ++i) S1[i] = vmin(1.05 * (s0[i] + 1.05 * (cap1[i] + 0x1p-49)), 1.0);
-  for (std::size_t i = 0; i < N; ++i) S1[i] = K[i] / S1[i];
+  for (std::size_t i = 0; i < L; ++i) S1[i] = vmin(1.05 * (s0[i] + 1.05 * (cap1[i] + 0x1p-49)), 1.0);
+  for (std::size_t i = 0; i < L; ++i) S1[i] = K[i] / S1[i];
   double half_width[N];
-  for (std::size_t i = 0; i < N; ++i)
+  for (std::size_t i = 0; i < L; ++i)
     half_width[i] = ((c2[i] > 0.25) & (K[i] > 0)) ? vmin(S1[i], cap1[i]) : 0.0;
   const double* const l2p[6] = {l2[0], l2[1], l2[2], l2[3], l2[4], l2[5]};
   const double md = merge_distance * (1 + 0x1p-40);
