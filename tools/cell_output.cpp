@@ -7,6 +7,7 @@
 #include <exception>
 #include <mutex>
 #include <memory>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -63,13 +64,32 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   geometry_options.densify_m = args.densify_m;
   geometry_options.threads = args.threads > 0 ? static_cast<unsigned>(args.threads) : 0;
   const CellGeometry cells(diagram, geometry_options);
-  const auto rows = rows_of_sites(report, dt.site_capacity());
+  // The rows of each site (as rows_of_sites() orders them: the row it was built from, then the
+  // merged ones), flat: site s has row_list[row_begin[s] .. row_begin[s + 1]).
+  const std::size_t num_sites = dt.site_capacity();
+  std::vector<std::uint32_t> row_begin(num_sites + 1, 0), row_list;
+  {
+    std::vector<char> merged(report.site_of_input.size(), 0);
+    for (const Merge& m : report.merges) merged[m.input] = 1;
+    for (const std::uint32_t site : report.site_of_input)
+      if (site < num_sites) ++row_begin[site + 1];
+    for (std::size_t s = 0; s < num_sites; ++s) row_begin[s + 1] += row_begin[s];
+    row_list.resize(row_begin[num_sites]);
+    std::vector<std::uint32_t> fill(row_begin.begin(), row_begin.end() - 1);
+    for (const bool merged_pass : {false, true})
+      for (std::uint32_t i = 0; i < report.site_of_input.size(); ++i)
+        if (report.site_of_input[i] < num_sites && (merged[i] != 0) == merged_pass)
+          row_list[fill[report.site_of_input[i]]++] = i;
+  }
+  auto rows_of = [&](SiteId s) {
+    return std::span<const std::uint32_t>(row_list.data() + row_begin[s], row_list.data() + row_begin[s + 1]);
+  };
   // Each site's id (its first row's) as JSON text, made once: the neighbour lists name every
   // site about six times. Site s: id_json[id_end[s] .. id_end[s + 1]).
   std::string id_json;
-  std::vector<std::size_t> id_end(rows.size() + 1, 0);
-  for (std::size_t s = 0; s < rows.size(); ++s) {
-    if (!rows[s].empty()) append_json(id_json, table.sites[rows[s].front()].id);
+  std::vector<std::size_t> id_end(num_sites + 1, 0);
+  for (std::size_t s = 0; s < num_sites; ++s) {
+    if (row_begin[s] < row_begin[s + 1]) append_json(id_json, table.sites[row_list[row_begin[s]]].id);
     id_end[s + 1] = id_json.size();
   }
   auto append_id = [&](std::string& out, SiteId s) { out.append(id_json, id_end[s], id_end[s + 1] - id_end[s]); };
@@ -97,7 +117,7 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   auto make_cell = [&](SiteId s, MultiPolygon& polygon, std::vector<FieldValue>& values, std::string& buffer) {
     double area_m2 = 0;
     cells.polygon(s, polygon, area_m2);
-    const std::vector<std::uint32_t>& site_rows = rows[s];
+    const std::span<const std::uint32_t> site_rows = rows_of(s);
     const InputSite& first = table.sites[site_rows.front()];
     const auto neighbours = diagram.cell_neighbors(s);
     values.resize(schema.size());

@@ -81,10 +81,16 @@ std::vector<std::vector<std::uint32_t>> rows_of_sites(const BuildReport& report,
 
 void report_merges(const SiteTable& table, const BuildReport& report) {
   if (report.merges.empty()) return;
-  const auto rows = rows_of_sites(report, report.site_of_input.size());
+  // The row each site was built from: its one input that is not merged.
+  std::vector<char> merged(report.site_of_input.size(), 0);
+  for (const Merge& m : report.merges) merged[m.input] = 1;
+  std::vector<std::uint32_t> built_from(report.site_of_input.size(), kNoIndex);
+  for (std::uint32_t i = 0; i < report.site_of_input.size(); ++i)
+    if (!merged[i] && report.site_of_input[i] < built_from.size() && built_from[report.site_of_input[i]] == kNoIndex)
+      built_from[report.site_of_input[i]] = i;
   for (const Merge& m : report.merges) {
     const InputSite& row = table.sites[m.input];
-    const InputSite& kept = table.sites[rows[m.site].front()];
+    const InputSite& kept = table.sites[built_from[m.site]];
     char why[96];
     if (m.chord == 0)
       std::snprintf(why, sizeof why, "same position");
