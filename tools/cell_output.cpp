@@ -59,10 +59,12 @@ std::string lower(std::string s) {
 
 std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
                         const SphericalDelaunay& dt, const std::function<void()>& before_finish) {
-  const VoronoiDiagram diagram(dt);
+  const unsigned threads = args.threads > 0 ? static_cast<unsigned>(args.threads)
+                                            : std::max(1u, std::thread::hardware_concurrency());
+  const VoronoiDiagram diagram(dt, threads);
   CellGeometryOptions geometry_options;
   geometry_options.densify_m = args.densify_m;
-  geometry_options.threads = args.threads > 0 ? static_cast<unsigned>(args.threads) : 0;
+  geometry_options.threads = threads;
   const CellGeometry cells(diagram, geometry_options);
   // The rows of each site (as rows_of_sites() orders them: the row it was built from, then the
   // merged ones), flat: site s has row_list[row_begin[s] .. row_begin[s + 1]).
@@ -145,8 +147,6 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
     for (std::size_t c = 0; c < table.columns.size(); ++c)
       values[8 + c] = c < first.fields.size() ? FieldValue(first.fields[c]) : FieldValue();
   };
-  const unsigned threads = args.threads > 0 ? static_cast<unsigned>(args.threads)
-                                            : std::max(1u, std::thread::hardware_concurrency());
   std::vector<SiteId> order;
   for (SiteId s = 0; s < dt.site_capacity(); ++s)
     if (diagram.has_cell(s)) order.push_back(s);

@@ -338,5 +338,20 @@ TEST(VoronoiDiagram, ArcMidpointHandles180DegreeArcs) {
   EXPECT_NEAR(VoronoiDiagram::triangle_area_sr({1, 0, 0}, {0, 0, 1}, {0, 1, 0}), -kPi / 2, 1e-15);
 }
 
+// Built on several threads, the same diagram: vertices, cell lists and neighbours, bit for bit.
+TEST(VoronoiDiagram, ThreadsGiveTheSameDiagram) {
+  const SphericalDelaunay dt = SphericalDelaunay::build(testing::uniform_on_sphere(100000, 31));
+  const VoronoiDiagram one(dt), three(dt, 3);
+  ASSERT_EQ(one.num_vertices(), three.num_vertices());
+  for (TriId t = 0; t < one.num_vertices(); ++t) ASSERT_EQ(one.vertex(t), three.vertex(t)) << t;
+  for (SiteId s = 0; s < one.site_capacity(); ++s) {
+    const auto a = one.cell_vertices(s), b = three.cell_vertices(s);
+    ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << s;
+    const auto na = one.cell_neighbors(s), nb = three.cell_neighbors(s);
+    ASSERT_TRUE(std::equal(na.begin(), na.end(), nb.begin(), nb.end())) << s;
+  }
+  EXPECT_EQ(one.storage_order().size(), three.storage_order().size());
+}
+
 }  // namespace
 }  // namespace geovor

@@ -1,6 +1,9 @@
 #include "geovor/voronoi/voronoi_diagram.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <thread>
+#include <vector>
 #include <numbers>
 
 #include "geovor/core/assert.hpp"
@@ -51,7 +54,7 @@ double VoronoiDiagram::triangle_area_sr(const Vec3& a, const Vec3& b, const Vec3
   return 2 * std::atan2(det, den);
 }
 
-VoronoiDiagram::VoronoiDiagram(const SphericalDelaunay& dt) {
+VoronoiDiagram::VoronoiDiagram(const SphericalDelaunay& dt, unsigned threads) {
   const std::size_t cap = dt.site_capacity();
   sites_.assign(dt.sites().begin(), dt.sites().end());
   live_.assign(cap, 0);
@@ -81,15 +84,26 @@ VoronoiDiagram::VoronoiDiagram(const SphericalDelaunay& dt) {
   const std::size_t nt = dt.num_triangles();
   GEOVOR_ASSERT(nt == 2 * num_cells_ - 4);
   const std::span<const SiteId> tri_sites = dt.triangles();
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(1, nt / 32768)));
+  // Runs work(begin, end) over [0, n) split into `threads` slices.
+  auto split = [threads](std::size_t n, const auto& work) {
+    std::vector<std::thread> pool;
+    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work, n * i / threads, n * (i + 1) / threads);
+    work(std::size_t{0}, n / threads);
+    for (std::thread& th : pool) th.join();
+  };
   vertices_.resize(nt);
-  for (TriId t = 0; t < nt; ++t) {
-    // Rotated to start at the smallest id, so that a vertex's bits do not depend on how the
-    // triangulation stores its triangles (Lloyd's iterations give the same result whether the
-    // triangulation is rebuilt or updated).
-    const SiteId* v = &tri_sites[3 * t];
-    const int k = v[0] < v[1] ? (v[0] < v[2] ? 0 : 2) : (v[1] < v[2] ? 1 : 2);
-    vertices_[t] = circumcenter(dt.site(v[k]), dt.site(v[(k + 1) % 3]), dt.site(v[(k + 2) % 3]));
-  }
+  split(nt, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t) {
+      // Rotated to start at the smallest id, so that a vertex's bits do not depend on how the
+      // triangulation stores its triangles (Lloyd's iterations give the same result whether
+      // the triangulation is rebuilt or updated).
+      const SiteId* v = &tri_sites[3 * t];
+      const int k = v[0] < v[1] ? (v[0] < v[2] ? 0 : 2) : (v[1] < v[2] ? 1 : 2);
+      vertices_[t] = circumcenter(dt.site(v[k]), dt.site(v[(k + 1) % 3]), dt.site(v[(k + 2) % 3]));
+    }
+  });
 
   // Degrees and the storage order, by one sequential scan of the triangles (which the
   // triangulation keeps in a spatially coherent order); then each star is walked once, counter-
@@ -108,26 +122,29 @@ VoronoiDiagram::VoronoiDiagram(const SphericalDelaunay& dt) {
   GEOVOR_ASSERT(k == 3 * nt);
   cell_tris_.resize(3 * nt);
   cell_nbrs_.resize(3 * nt);
-  for (const SiteId s : order_) {
-    // Start at the edge to the smallest neighbour: the cell's lists (and the polygons and sums
-    // built from them) then do not depend on how the triangulation stores its stars.
-    HalfedgeId e0 = dt.site_edge(s);
-    GEOVOR_ASSERT(e0 != kNoIndex);
-    for (HalfedgeId e = dt.next_around_site(e0), first = e0; e != first; e = dt.next_around_site(e))
-      if (tri_sites[prev_halfedge(e)] < tri_sites[prev_halfedge(e0)]) e0 = e;
-    std::uint32_t i = cells_[s].begin;
-    HalfedgeId e = e0;
-    do {
-      GEOVOR_ASSERT(i < cells_[s].end);
-      cell_tris_[i] = tri_of(e);
-      // prev(e) runs from the neighbour w into s; its twin, the next half-edge around s, lies in
-      // the next triangle: the edge vertex(t_i) -> vertex(t_i+1) is dual to (s, w).
-      cell_nbrs_[i] = tri_sites[prev_halfedge(e)];
-      ++i;
-      e = dt.next_around_site(e);
-    } while (e != e0);
-    GEOVOR_ASSERT(i == cells_[s].end);  // the star is one cycle through every triangle of s
-  }
+  split(order_.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t j = begin; j < end; ++j) {
+      const SiteId s = order_[j];
+      // Start at the edge to the smallest neighbour: the cell's lists (and the polygons and sums
+      // built from them) then do not depend on how the triangulation stores its stars.
+      HalfedgeId e0 = dt.site_edge(s);
+      GEOVOR_ASSERT(e0 != kNoIndex);
+      for (HalfedgeId e = dt.next_around_site(e0), first = e0; e != first; e = dt.next_around_site(e))
+        if (tri_sites[prev_halfedge(e)] < tri_sites[prev_halfedge(e0)]) e0 = e;
+      std::uint32_t i = cells_[s].begin;
+      HalfedgeId e = e0;
+      do {
+        GEOVOR_ASSERT(i < cells_[s].end);
+        cell_tris_[i] = tri_of(e);
+        // prev(e) runs from the neighbour w into s; its twin, the next half-edge around s, lies in
+        // the next triangle: the edge vertex(t_i) -> vertex(t_i+1) is dual to (s, w).
+        cell_nbrs_[i] = tri_sites[prev_halfedge(e)];
+        ++i;
+        e = dt.next_around_site(e);
+      } while (e != e0);
+      GEOVOR_ASSERT(i == cells_[s].end);  // the star is one cycle through every triangle of s
+    }
+  });
 }
 
 std::span<const TriId> VoronoiDiagram::cell_vertices(SiteId s) const {

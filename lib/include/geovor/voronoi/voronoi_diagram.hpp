@@ -49,8 +49,10 @@ class VoronoiDiagram {
   enum class Kind : std::uint8_t { Empty, WholeSphere, Hemispheres, Cells };
 
   VoronoiDiagram() = default;
-  /// Builds the diagram of the live sites of `dt` in O(number of triangles).
-  explicit VoronoiDiagram(const SphericalDelaunay& dt);
+  /// Builds the diagram of the live sites of `dt` in O(number of triangles), the vertices and
+  /// the cells' lists split over `threads` threads (0: one per core); the result does not
+  /// depend on it.
+  explicit VoronoiDiagram(const SphericalDelaunay& dt, unsigned threads = 1);
 
   /// \name Inspectors
   ///@{
