@@ -50,9 +50,11 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
   if (positions.size() != sites_.size())
     throw Error(ErrorCode::InvalidArgument, "move_all: " + std::to_string(positions.size()) +
                                                 " positions for " + std::to_string(sites_.size()) + " site ids");
-  // Sites staying put (most of them, when few move) cost one comparison.
+  // Every position is checked before anything moves (a site staying put is a unit vector: only
+  // moves can fail); this reads only the positions, and the liveness when sites were removed.
+  const bool all_live = num_live_ == sites_.size();
   for (SiteId s = 0; s < sites_.size(); ++s)
-    if (!(positions[s] == sites_[s]) && alive(s) && !is_unit(positions[s]))
+    if (!is_unit(positions[s]) && (all_live || alive(s)))
       throw Error(ErrorCode::InvalidArgument, "move_all: position of site " + std::to_string(s) + " is not a unit vector");
   GEOVOR_ASSERT(priority_.empty());
   MoveStats total;
