@@ -65,7 +65,7 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
     return total;
   }
   if (options.rebuild_when_faster && num_live_ >= kRebuildMinSites && num_live_ == sites_.size() &&
-      priority_.empty() && (tolerance2_.empty() || relocated_share_ > kRelocatedShareToRebuild)) {
+      priority_.empty() && (anchor_.empty() || relocated_share_ > kRelocatedShareToRebuild)) {
     // Relocating most sites costs several times a rebuild: estimate the share of sites whose move
     // the filter would miss with tolerances computed afresh, and rebuild if it is large.
     if (fresh_failure_share(positions) > kFreshFailureShareToFilter) {
@@ -81,12 +81,12 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
   // speed: first every move the filter certifies, then the others along the Hilbert curve of their
   // targets, so that consecutive relocations work in the same neighbourhood (site ids are in no
   // spatial order, and a relocation's cost is mostly its cache misses).
-  if (tolerance2_.empty()) init_tolerances();
+  if (anchor_.empty()) init_tolerances();
   std::vector<SiteId> unsorted;
   std::vector<Vec3> targets;
   for (SiteId s = 0; s < sites_.size(); ++s) {
     if (positions[s] == sites_[s] || !alive(s)) continue;
-    if (norm2(positions[s] - reference_[s]) < tolerance2_[s]) {  // move_one()'s filter, inline
+    if (norm2(positions[s] - anchor_[s].f) < anchor_[s].eps2) {  // move_one()'s filter, inline
       sites_[s] = positions[s];
       ++total.moved;
       ++total.filtered;
@@ -117,8 +117,7 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
       const SiteId a = pending[i + kAhead + 2];
       __builtin_prefetch(&site_edge_[a]);
       __builtin_prefetch(&positions[a]);
-      __builtin_prefetch(&reference_[a]);
-      __builtin_prefetch(&tolerance2_[a]);
+      __builtin_prefetch(&anchor_[a]);
     }
     if (i + kAhead < np) {  // its site_edge_ was fetched two moves ago
       const HalfedgeId e = site_edge_[pending[i + kAhead]];
@@ -130,16 +129,14 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
       StarWalk& w = walks[j % kWalks];
       if (w.across != kNoIndex) {  // the far site of the last link edge's bi-cell
         const SiteId x = triangles_[prev_halfedge(w.across)];
-        __builtin_prefetch(&reference_[x]);
-        __builtin_prefetch(&tolerance2_[x]);
+        __builtin_prefetch(&anchor_[x]);
         w.across = kNoIndex;
       }
       if (w.at == kNoIndex) continue;
       const HalfedgeId e = w.at, en = next_halfedge(e);
       const SiteId v = triangles_[en];
-      __builtin_prefetch(&reference_[v]);
+      __builtin_prefetch(&anchor_[v]);
       __builtin_prefetch(&sites_[v]);
-      __builtin_prefetch(&tolerance2_[v]);
       w.across = halfedges_[en];  // the triangle across the link edge
       __builtin_prefetch(&triangles_[w.across]);
       const HalfedgeId next = next_around_site(e);
@@ -208,9 +205,9 @@ MoveStats SphericalDelaunay::move_one(SiteId s, const Vec3& p, const RelocationO
   if (sites_[s] == p) return st;
   const bool filter = options.filter && num_live_ >= 4;  // fewer sites: no bi-cell to certify
   if (filter) {
-    if (tolerance2_.empty()) init_tolerances();
+    if (anchor_.empty()) init_tolerances();
     // Algorithm 1, line 2: within the tolerance of the reference position, nothing changes.
-    if (norm2(p - reference_[s]) < tolerance2_[s]) {
+    if (norm2(p - anchor_[s].f) < anchor_[s].eps2) {
       sites_[s] = p;
       st.moved = st.filtered = 1;
       return st;
@@ -233,7 +230,7 @@ MoveStats SphericalDelaunay::move_one(SiteId s, const Vec3& p, const RelocationO
   }
   st.moved = 1;
   (by_flips ? st.flipped : st.reinserted) = 1;
-  if (!filter || tolerance2_.empty()) {
+  if (!filter || anchor_.empty()) {
     drop_tolerances();  // not kept current without the filter: rebuilt at the next filtered move
     return st;
   }
@@ -267,39 +264,39 @@ bool SphericalDelaunay::reanchor(SiteId s, const Vec3& p) {
   // eps_s: this certifies it at the cost of a tolerance refresh, without a relocation.
   const Vec3 m = sites_[s];
   const double step2 = norm2(p - m);
-  if (!(step2 < tolerance2_[s])) return false;  // would fail too, most likely: relocate now
+  if (!(step2 < anchor_[s].eps2)) return false;  // would fail too, most likely: relocate now
   // Any unit vector f may be the new reference if |f - m_s| < tau_B' and |p - f| < tau_B' (the
   // argument above with f for p). Sites drift steadily (Lloyd's iterations), so f is p moved on
   // by the same step beta times, beta set to use about 80% of the old tolerance: the next test
   // then fails after up to 1.8 times as many steps (0.6: 17% fewer re-anchors, 0.95: more fail).
-  const double beta = std::floor(0.8 * std::sqrt(tolerance2_[s] / step2)) - 1;
+  const double beta = std::floor(0.8 * std::sqrt(anchor_[s].eps2 / step2)) - 1;
   const Vec3 f_new = beta > 0 ? (1 / std::sqrt(norm2(p + beta * (p - m)))) * (p + beta * (p - m)) : p;
   const double from_m2 = norm2(f_new - m), to_p2 = norm2(p - f_new);
-  const Vec3 f_old = reference_[s];
-  reference_[s] = f_new;
+  const Vec3 f_old = anchor_[s].f;
+  anchor_[s].f = f_new;
   // The bi-cells of the edges at s and of the link edges opposite s, as refresh_site(), all
   // computed together (a failure is rarer than the time the batch saves).
   site_tau2(s);
   const std::size_t nb = quads_.size();
-  const Vec3* f = reference_.data();
+  const Anchor* f = anchor_.data();
   for (std::size_t i = 0; i < nb; ++i) {
     const double tau2 = tau2_[i];
     bool ok = from_m2 < tau2 && to_p2 < tau2;
     // Within eps_w <= tau_B' (the invariant) needs no look at the site's position.
     for (int j = 0; j < 4 && ok; ++j) {
       const SiteId w = quads_[i][j];
-      ok = w == s || tau2 >= tolerance2_[w] || sites_[w] == f[w] || norm2(sites_[w] - f[w]) < tau2;
+      ok = w == s || tau2 >= f[w].eps2 || sites_[w] == f[w].f || norm2(sites_[w] - f[w].f) < tau2;
     }
     if (!ok) {
-      reference_[s] = f_old;
+      anchor_[s].f = f_old;
       return false;
     }
   }
   sites_[s] = p;
-  tolerance2_[s] = std::numeric_limits<double>::infinity();
+  anchor_[s].eps2 = std::numeric_limits<double>::infinity();
   // Every site is within each new tau (checked above): no refresh follows.
   for (std::size_t i = 0; i < nb; ++i)
-    for (const SiteId w : quads_[i]) tolerance2_[w] = std::min(tolerance2_[w], tau2_[i]);
+    for (const SiteId w : quads_[i]) anchor_[w].eps2 = std::min(anchor_[w].eps2, tau2_[i]);
   return true;
 }
 
@@ -328,21 +325,20 @@ void SphericalDelaunay::update_around_link() {
 }
 
 void SphericalDelaunay::tolerances_after_insert(SiteId s) {
-  if (tolerance2_.empty()) return;
+  if (anchor_.empty()) return;
   if (num_live_ < 5) {
     drop_tolerances();
     return;
   }
   // Every new triangle has s as a vertex: its bi-cells are those refresh_site() computes.
-  reference_.push_back(sites_[s]);
-  tolerance2_.push_back(std::numeric_limits<double>::infinity());
+  anchor_.push_back({sites_[s], std::numeric_limits<double>::infinity()});
   queue_.clear();
   refresh_site(s);
   settle_queue();
 }
 
 void SphericalDelaunay::remove_keeping_tolerances(SiteId s) {
-  if (tolerance2_.empty() || num_live_ <= 5) {
+  if (anchor_.empty() || num_live_ <= 5) {
     drop_tolerances();
     remove_site(s);
     return;
@@ -717,8 +713,8 @@ double SphericalDelaunay::bicell_tolerance(const Vec3& a, const Vec3& b, const V
 }
 
 void SphericalDelaunay::init_tolerances() {
-  reference_.assign(sites_.begin(), sites_.end());
-  tolerance2_.assign(sites_.size(), std::numeric_limits<double>::infinity());
+  anchor_.resize(sites_.size());
+  for (SiteId s = 0; s < sites_.size(); ++s) anchor_[s] = {sites_[s], std::numeric_limits<double>::infinity()};
   queue_.clear();
   bicells_.clear();
   for (HalfedgeId e = 0; e < halfedges_.size(); ++e)
@@ -728,7 +724,7 @@ void SphericalDelaunay::init_tolerances() {
 }
 
 bool SphericalDelaunay::within_tolerance(SiteId s) const {
-  return sites_[s] == reference_[s] || norm2(sites_[s] - reference_[s]) < tolerance2_[s];
+  return sites_[s] == anchor_[s].f || norm2(sites_[s] - anchor_[s].f) < anchor_[s].eps2;
 }
 
 void SphericalDelaunay::bicell_sites(HalfedgeId e, Quad& q) const {
@@ -739,13 +735,13 @@ void SphericalDelaunay::bicell_sites(HalfedgeId e, Quad& q) const {
 }
 
 void SphericalDelaunay::bicell_tau2(const Quad* q, std::size_t n, double* tau2) const {
-  const Vec3* f = reference_.data();
+  const Anchor* f = anchor_.data();
   BicellLanes lanes;
   double tau[kBatch];
   for (std::size_t done = 0; done < n; done += kBatch) {
     const std::size_t m = std::min(kBatch, n - done);
     for (std::size_t i = 0; i < m; ++i)
-      for (int j = 0; j < 4; ++j) lanes.set(i, j, f[q[done + i][j]]);
+      for (int j = 0; j < 4; ++j) lanes.set(i, j, f[q[done + i][j]].f);
     lanes.pad(m);
     bicell_tolerances(lanes, m, options_.merge_distance, tau);
     // Squared with a relative 2^-48 to spare, so that the filter's squared chord in doubles
@@ -769,8 +765,8 @@ void SphericalDelaunay::update_bicells() {
     bicell_tau2(q, m, tau2);
     for (std::size_t i = 0; i < m; ++i)
       for (const SiteId w : q[i]) {
-        if (tau2[i] >= tolerance2_[w]) continue;
-        tolerance2_[w] = tau2[i];
+        if (tau2[i] >= anchor_[w].eps2) continue;
+        anchor_[w].eps2 = tau2[i];
         if (!within_tolerance(w)) queue_.push_back(w);
       }
   }
@@ -800,8 +796,8 @@ void SphericalDelaunay::site_tau2(SiteId s) {
     quads_[2 * i] = {s, w, w_next, w_prev};
     quads_[2 * i + 1] = {w, w_next, s, link_x_[i]};
   }
-  const Vec3* f = reference_.data();
-  const Vec3 fs = f[s];
+  const Anchor* f = anchor_.data();
+  const Vec3 fs = f[s].f;
   BicellLanes lanes;
   double tau[kBatch];
   constexpr std::size_t kPairs = kBatch / 2;  // the two bi-cells of each link site per lane pair
@@ -809,10 +805,10 @@ void SphericalDelaunay::site_tau2(SiteId s) {
     const std::size_t m = std::min(kPairs, k - done);
     for (std::size_t j = 0; j < m; ++j) {
       const std::size_t i = done + j;
-      const Vec3 &fw = f[link_w_[i]], &fn = f[link_w_[i + 1 == k ? 0 : i + 1]], &fp = f[link_w_[i == 0 ? k - 1 : i - 1]];
+      const Vec3 &fw = f[link_w_[i]].f, &fn = f[link_w_[i + 1 == k ? 0 : i + 1]].f, &fp = f[link_w_[i == 0 ? k - 1 : i - 1]].f;
       lanes.set(2 * j, 0, fs), lanes.set(2 * j, 1, fw), lanes.set(2 * j, 2, fn), lanes.set(2 * j, 3, fp);
       lanes.set(2 * j + 1, 0, fw), lanes.set(2 * j + 1, 1, fn), lanes.set(2 * j + 1, 2, fs);
-      lanes.set(2 * j + 1, 3, f[link_x_[i]]);
+      lanes.set(2 * j + 1, 3, f[link_x_[i]].f);
     }
     lanes.pad(2 * m);
     bicell_tolerances(lanes, 2 * m, options_.merge_distance, tau);
@@ -824,15 +820,15 @@ void SphericalDelaunay::site_tau2(SiteId s) {
 }
 
 void SphericalDelaunay::refresh_site(SiteId s) {
-  reference_[s] = sites_[s];
-  tolerance2_[s] = std::numeric_limits<double>::infinity();
+  anchor_[s].f = sites_[s];
+  anchor_[s].eps2 = std::numeric_limits<double>::infinity();
   site_tau2(s);
   // Each bi-cell lowers the tolerances of its four sites; a site pushed below its own
   // displacement goes to the queue.
   for (std::size_t i = 0; i < quads_.size(); ++i)
     for (const SiteId w : quads_[i]) {
-      if (tau2_[i] >= tolerance2_[w]) continue;
-      tolerance2_[w] = tau2_[i];
+      if (tau2_[i] >= anchor_[w].eps2) continue;
+      anchor_[w].eps2 = tau2_[i];
       if (!within_tolerance(w)) queue_.push_back(w);
     }
 }
@@ -852,8 +848,8 @@ std::size_t SphericalDelaunay::settle_queue() {
 double SphericalDelaunay::tolerance(SiteId s) {
   if (!is_live(s)) throw Error(ErrorCode::InvalidArgument, "tolerance: site " + std::to_string(s) + " is not live");
   if (num_live_ < 4) return 0;
-  if (tolerance2_.empty()) init_tolerances();
-  return std::sqrt(tolerance2_[s]);
+  if (anchor_.empty()) init_tolerances();
+  return std::sqrt(anchor_[s].eps2);
 }
 
 }  // namespace geovor

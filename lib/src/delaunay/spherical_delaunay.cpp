@@ -692,7 +692,7 @@ std::size_t SphericalDelaunay::num_ghost_triangles() const {
 std::size_t SphericalDelaunay::memory_bytes() const {
   return bytes_of(sites_) + bytes_of(triangles_) + bytes_of(halfedges_) + bytes_of(site_edge_) +
          bytes_of(priority_) + bytes_of(cavity_) + bytes_of(tested_) +
-         bytes_of(boundary_) + bytes_of(reference_) + bytes_of(tolerance2_) + bytes_of(queue_) +
+         bytes_of(boundary_) + bytes_of(anchor_) + bytes_of(queue_) +
          bytes_of(link_) + bytes_of(stack_) + bytes_of(flipped_) + bytes_of(touched_);
 }
 

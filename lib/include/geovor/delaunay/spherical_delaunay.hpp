@@ -251,7 +251,7 @@ class SphericalDelaunay {
   double tolerance(SiteId s);
   /// The filter's reference position of live site s (where its tolerance was computed from);
   /// call tolerance() first. For tests.
-  const Vec3& reference(SiteId s) const { return reference_[s]; }
+  const Vec3& reference(SiteId s) const { return anchor_[s].f; }
   /// Lower bound of the tolerance of the bi-cell of four points (a, b the shared edge) for moves
   /// on the sphere: see above. REQUIRES: unit vectors (|p|^2 within 2^-49 of 1). For the tests.
   static double bicell_tolerance(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
@@ -352,7 +352,7 @@ class SphericalDelaunay {
   void collect_link(SiteId s);                       // link_ = the neighbours of s
   void update_around_link();                         // the bi-cells at the sites of link_
   void init_tolerances();
-  void drop_tolerances() { tolerance2_.clear(); }
+  void drop_tolerances() { anchor_.clear(); }
   bool within_tolerance(SiteId s) const;             // m_s == f_s or |m_s - f_s| < eps_s
   using Quad = std::array<SiteId, 4>;               // a bi-cell's sites: a, b (the edge), c, d
   void bicell_sites(HalfedgeId e, Quad& q) const;
@@ -387,8 +387,12 @@ class SphericalDelaunay {
   std::size_t num_cavity_ = 0, num_tested_ = 0, num_boundary_ = 0;
 
   // Relocation (Algorithm 1): reference positions and squared tolerances, empty when not current.
-  std::vector<Vec3> reference_;
-  std::vector<double> tolerance2_;
+  // f_s and eps_s^2 side by side: the filter and a relocation read both (one cache line).
+  struct Anchor {
+    Vec3 f;
+    double eps2;
+  };
+  std::vector<Anchor> anchor_;
   // Scratch of one relocation, kept to avoid allocations.
   std::vector<SiteId> queue_, link_;
   std::vector<HalfedgeId> stack_, flipped_;
