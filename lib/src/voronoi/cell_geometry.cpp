@@ -5,6 +5,9 @@
 #include <GeographicLib/Math.hpp>
 #include <GeographicLib/PolygonArea.hpp>
 #include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <new>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -95,65 +98,88 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     throw Error(ErrorCode::InvalidArgument, "collapse_m must be in [0, 0.1) metres");
   if (diagram.kind() != VoronoiDiagram::Kind::Cells) return;
 
-  // Union-find over the Voronoi vertices joined by a short edge; the root is the smallest id.
   const std::size_t nv = diagram.num_vertices();
+  const std::span<const SiteId> order = diagram.storage_order();
+  const unsigned threads = static_cast<unsigned>(std::min<std::size_t>(
+      options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency()),
+      std::max<std::size_t>(1, nv / 16384)));
+  // Runs work(thread, begin, end) over [0, n) split into `threads` slices.
+  auto split = [threads](std::size_t n, const auto& work) {
+    std::vector<std::thread> pool;
+    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work, i, n * i / threads, n * (i + 1) / threads);
+    work(0u, std::size_t{0}, n / threads);
+    for (std::thread& th : pool) th.join();
+  };
+
+  // Union-find over the Voronoi vertices joined by a short edge (found on all threads, joined
+  // here); the root is the smallest id, whatever the order of the unions.
+  const double collapse2 = std::pow(options.collapse_m / SiteEncoder::kEarthRadiusM, 2);
+  std::vector<std::vector<std::pair<TriId, TriId>>> short_edges(threads);
+  split(order.size(), [&](unsigned thread, std::size_t begin, std::size_t end) {
+    for (std::size_t j = begin; j < end; ++j) {
+      const std::span<const TriId> tris = diagram.cell_vertices(order[j]);
+      for (std::size_t i = 0; i < tris.size(); ++i) {
+        const TriId a = tris[i], b = tris[i + 1 == tris.size() ? 0 : i + 1];
+        if (a < b && norm2(diagram.vertex(a) - diagram.vertex(b)) < collapse2) short_edges[thread].push_back({a, b});
+      }
+    }
+  });
   std::vector<TriId> rep(nv);
   for (TriId t = 0; t < nv; ++t) rep[t] = t;
   auto find = [&rep](TriId t) {
     while (rep[t] != t) t = rep[t] = rep[rep[t]];
     return t;
   };
-  const double collapse2 = std::pow(options.collapse_m / SiteEncoder::kEarthRadiusM, 2);
-  for (const SiteId s : diagram.storage_order()) {
-    const std::span<const TriId> tris = diagram.cell_vertices(s);
-    for (std::size_t i = 0; i < tris.size(); ++i) {
-      const TriId a = tris[i], b = tris[i + 1 == tris.size() ? 0 : i + 1];
-      if (a < b && norm2(diagram.vertex(a) - diagram.vertex(b)) < collapse2) {
-        const TriId ra = find(a), rb = find(b);
-        if (ra < rb) rep[rb] = ra;
-        if (rb < ra) rep[ra] = rb;
-      }
+  for (const auto& edges : short_edges)
+    for (const auto& [a, b] : edges) {
+      const TriId ra = find(a), rb = find(b);
+      if (ra < rb) rep[rb] = ra;
+      if (rb < ra) rep[ra] = rb;
     }
-  }
   for (TriId t = 0; t < nv; ++t) rep[t] = find(t);
+
+  // The representatives' lon/lat (the costly part), then their copies.
   vertices_.resize(nv);
-  // The representatives' lon/lat (the costly part, split over threads), then their copies.
-  auto convert = [&](std::size_t begin, std::size_t end) {
+  split(nv, [&](unsigned, std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
       if (rep[t] != t) continue;
       const Pt p = make_pt(diagram.vertex(static_cast<TriId>(t)));
       vertices_[t] = {p.v, p.lon, p.lat, static_cast<TriId>(t), std::numeric_limits<float>::infinity()};
     }
+  });
+  for (TriId t = 0; t < nv; ++t)
+    if (rep[t] != t) vertices_[t] = vertices_[rep[t]];
+
+  // Shortest side of each triangle, rounded down to float (the same for both cells of an
+  // edge): triangle t_i of cell s has the sites s, neighbour i - 1 and neighbour i, and is
+  // written by the cell of its smallest site.
+  auto side2 = [&](SiteId a, SiteId b) {
+    const double d2 = norm2(diagram.site(a) - diagram.site(b));
+    float f = static_cast<float>(d2);
+    if (f > d2) f = std::nextafter(f, 0.0f);
+    return f;
   };
-  const unsigned threads = static_cast<unsigned>(std::min<std::size_t>(
-      options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency()),
-      std::max<std::size_t>(1, nv / 16384)));
-  std::vector<std::thread> pool;
-  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(convert, nv * i / threads, nv * (i + 1) / threads);
-  convert(0, nv / threads);
-  for (std::thread& th : pool) th.join();
-  for (TriId t = 0; t < nv; ++t) {
-    if (rep[t] == t) continue;
-    vertices_[t] = vertices_[rep[t]];
-    vertices_[t].min_side2 = std::numeric_limits<float>::infinity();
-  }
-  edge_areas_ = std::vector<EdgeArea>(3 * nv);
-  for (const SiteId s : diagram.storage_order()) {
+  split(order.size(), [&](unsigned, std::size_t begin, std::size_t end) {
+    for (std::size_t j = begin; j < end; ++j) {
+      const SiteId s = order[j];
+      const std::span<const TriId> tris = diagram.cell_vertices(s);
+      const std::span<const SiteId> nbrs = diagram.cell_neighbors(s);
+      const std::size_t d = tris.size();
+      for (std::size_t i = 0; i < d; ++i) {
+        const SiteId u = nbrs[i == 0 ? d - 1 : i - 1], w = nbrs[i];
+        if (s < u && s < w) vertices_[tris[i]].min_side2 = std::min({side2(s, u), side2(s, w), side2(u, w)});
+      }
+    }
+  });
+
+  // The shared edge areas: zero pages from calloc, touched first by the cells' threads.
+  num_edge_slots_ = 3 * nv;
+  edge_s12_.reset(static_cast<double*>(std::calloc(num_edge_slots_, sizeof(double))));
+  edge_state_.reset(static_cast<std::int32_t*>(std::calloc(num_edge_slots_, sizeof(std::int32_t))));
+  if (!edge_s12_ || !edge_state_) throw std::bad_alloc();
+  for (const SiteId s : order) {
     const SiteId* p = diagram.cell_neighbors(s).data();
     if (nbr_base_ == nullptr || p < nbr_base_) nbr_base_ = p;
-  }
-  // Shortest side of each triangle: the triangles t_i and t_i+1 of cell s both have the side
-  // (s, neighbour i). Rounded down to float, the same for both cells of an edge.
-  for (const SiteId s : diagram.storage_order()) {
-    const std::span<const TriId> tris = diagram.cell_vertices(s);
-    const std::span<const SiteId> nbrs = diagram.cell_neighbors(s);
-    for (std::size_t i = 0; i < tris.size(); ++i) {
-      const double d2 = norm2(diagram.site(s) - diagram.site(nbrs[i]));
-      float f = static_cast<float>(d2);
-      if (f > d2) f = std::nextafter(f, 0.0f);
-      for (const TriId t : {tris[i], tris[i + 1 == tris.size() ? 0 : i + 1]})
-        vertices_[t].min_side2 = std::min(vertices_[t].min_side2, f);
-    }
   }
 }
 
@@ -225,18 +251,19 @@ void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m
         const std::span<const SiteId> other = vd.cell_neighbors(w);
         const auto it = std::find(other.begin(), other.end(), s);
         if (it == other.end() || std::find(it + 1, other.end(), s) != other.end()) {
-          slot = edge_areas_.size();  // not one edge: computed here, not shared
+          slot = num_edge_slots_;  // not one edge: computed here, not shared
         } else {
           slot = static_cast<std::size_t>(other.data() - nbr_base_) + static_cast<std::size_t>(it - other.begin());
         }
       }
       double sum = 0;
       int crossings = 0;
-      std::int32_t state = slot < edge_areas_.size() ? edge_areas_[slot].crossings.load(std::memory_order_acquire)
-                                                     : EdgeArea::kUnset;
-      if (state != EdgeArea::kUnset) {
-        sum = edge_areas_[slot].s12_m2.load(std::memory_order_relaxed);
-        crossings = state;
+      const bool shared = slot < num_edge_slots_;
+      const std::int32_t state =
+          shared ? std::atomic_ref<std::int32_t>(edge_state_[slot]).load(std::memory_order_acquire) : 0;
+      if (state != 0) {
+        sum = std::atomic_ref<double>(edge_s12_[slot]).load(std::memory_order_relaxed);
+        crossings = (state - 1) / 2;
       } else {
         const GeographicLib::Geodesic& geod = GeographicLib::Geodesic::WGS84();
         GeographicLib::Accumulator<> acc;
@@ -253,9 +280,9 @@ void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m
         for (const Pt& q : edge) segment(q);
         segment(last);
         sum = acc();
-        if (slot < edge_areas_.size()) {
-          edge_areas_[slot].s12_m2.store(sum, std::memory_order_relaxed);
-          edge_areas_[slot].crossings.store(crossings, std::memory_order_release);
+        if (shared) {
+          std::atomic_ref<double>(edge_s12_[slot]).store(sum, std::memory_order_relaxed);
+          std::atomic_ref<std::int32_t>(edge_state_[slot]).store(2 * crossings + 1, std::memory_order_release);
         }
       }
       return std::pair<double, int>(w > s ? sum : -sum, w > s ? crossings : -crossings);

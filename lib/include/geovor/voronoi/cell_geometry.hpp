@@ -37,9 +37,9 @@
 /// apart), so no cell vanishes.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
-#include <limits>
+#include <cstdlib>
+#include <memory>
 #include <vector>
 
 #include "geovor/core/types.hpp"
@@ -117,13 +117,14 @@ class CellGeometry {
   std::vector<Vertex> vertices_;
   // Per Voronoi edge, in the slot of its canonical cell (the smaller site id; slot = index in
   // the diagram's neighbour lists): the sum of S12 over its densified segments and the number
-  // of prime-meridian crossings (PolygonArea's transit), in that cell's direction.
-  struct EdgeArea {
-    static constexpr std::int32_t kUnset = std::numeric_limits<std::int32_t>::min();
-    std::atomic<double> s12_m2{0};
-    std::atomic<std::int32_t> crossings{kUnset};  // released after s12_m2
+  // of prime-meridian crossings c (PolygonArea's transit), in that cell's direction, the state
+  // 2 c + 1 (0: not computed yet) released after the sum; accessed through std::atomic_ref.
+  struct Free {
+    void operator()(void* p) const { std::free(p); }
   };
-  mutable std::vector<EdgeArea> edge_areas_;
+  std::unique_ptr<double[], Free> edge_s12_;
+  std::unique_ptr<std::int32_t[], Free> edge_state_;
+  std::size_t num_edge_slots_ = 0;
   const SiteId* nbr_base_ = nullptr;  // cell_neighbors() of the first cell in storage
   void build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
 };
