@@ -82,7 +82,7 @@ std::function<int()> add_cells_command(CLI::App& app) {
   cmd->add_option("--report", args->report, "CSV file listing every input row: site, merged (with its site) or rejected (with the reason)");
   cmd->add_flag("--overwrite", args->out.overwrite, "Replace existing output files");
   cmd->add_flag("-q,--quiet", args->out.quiet, "No progress and no summary on stderr");
-  cmd->add_option("--threads", args->out.threads, "Threads computing the cells (default: one per core); the output is the same")
+  cmd->add_option("--threads", args->out.threads, "Threads converting the coordinates and computing and formatting the cells (default: one per core); the output is the same")
       ->check(CLI::NonNegativeNumber);
   cmd->footer(
       "Each cell carries: site_index, site_id (also the feature id), ids (JSON array of the ids of every\n"
