@@ -203,8 +203,12 @@ std::string locate_site(const SiteTable& table, const std::vector<std::string>& 
 
 }  // namespace
 
-SiteTable read_sites_csv(std::istream& in, const std::string& source,
-                         const SiteReaderOptions& options) {
+// read_sites_csv, with room reserved for `expected_rows` rows (0: unknown), so that the rows are
+// not moved to ever larger fresh memory as they come.
+namespace {
+
+SiteTable read_csv_table(std::istream& in, const std::string& source, const SiteReaderOptions& options,
+                         std::size_t expected_rows) {
   if (!options.ecef_fields.empty() && options.ecef_fields.size() != 3) {
     throw Error(ErrorCode::InvalidArgument, "ECEF input needs exactly 3 columns (X, Y, Z), got " +
                                                 std::to_string(options.ecef_fields.size()) + ": " +
@@ -240,6 +244,7 @@ SiteTable read_sites_csv(std::istream& in, const std::string& source,
   table.columns = fields;
   choose_columns(table, options);
   std::vector<InputSite> rows;  // well-formed rows, located after reading
+  rows.reserve(expected_rows);
 
   while (next_record()) {
     ++table.rows_read;
@@ -291,20 +296,42 @@ SiteTable read_sites_csv(std::istream& in, const std::string& source,
   for (std::thread& th : pool) th.join();
   const bool early_rejects = !table.rejected.empty();
   bool late_rejects = false;
-  table.sites.reserve(n);
+  std::size_t kept = 0;  // compacted in place: no second copy of the rows to allocate
   for (std::size_t i = 0; i < n; ++i) {
     if (reasons[i].empty()) {
-      table.sites.push_back(std::move(rows[i]));
+      if (kept != i) rows[kept] = std::move(rows[i]);
+      ++kept;
     } else {
       table.rejected.push_back(RejectedRow{rows[i].row, rows[i].line, std::move(reasons[i])});
       late_rejects = true;
     }
   }
+  rows.resize(kept);
+  table.sites = std::move(rows);
   if (early_rejects && late_rejects) {
     std::stable_sort(table.rejected.begin(), table.rejected.end(),
                      [](const RejectedRow& a, const RejectedRow& b) { return a.row < b.row; });
   }
   return table;
+}
+
+// Lines of a regular file (an upper bound of its records), or 0 if it cannot be counted.
+std::size_t count_lines(std::istream& in) {
+  std::vector<char> block(std::size_t{1} << 20);
+  std::size_t lines = 0;
+  while (in.read(block.data(), static_cast<std::streamsize>(block.size())) || in.gcount() > 0) {
+    lines += static_cast<std::size_t>(std::count(block.data(), block.data() + in.gcount(), '\n'));
+    if (!in) break;
+  }
+  in.clear();
+  in.seekg(0);
+  return in ? lines + 1 : 0;
+}
+
+}  // namespace
+
+SiteTable read_sites_csv(std::istream& in, const std::string& source, const SiteReaderOptions& options) {
+  return read_csv_table(in, source, options, 0);
 }
 
 SiteTable read_sites_csv_file(const std::string& path, const SiteReaderOptions& options) {
@@ -321,7 +348,12 @@ SiteTable read_sites_csv_file(const std::string& path, const SiteReaderOptions& 
     throw Error(ErrorCode::Io,
                 path + ": cannot open: " + (err != 0 ? std::strerror(err) : "unknown error"));
   }
-  return read_sites_csv(file, path, options);
+  // A regular file is counted first (from the page cache, a few ms) to reserve its rows.
+  const std::size_t lines = std::filesystem::is_regular_file(path, ec) ? count_lines(file) : 0;
+  if (!file) {
+    throw Error(ErrorCode::Io, path + ": cannot read: " + std::strerror(errno != 0 ? errno : EIO));
+  }
+  return read_csv_table(file, path, options, lines);
 }
 
 int find_column(const std::vector<std::string>& columns, std::string_view name) {
