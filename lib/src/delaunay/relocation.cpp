@@ -85,6 +85,16 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
   std::vector<SiteId> unsorted;
   std::vector<Vec3> targets;
   for (SiteId s = 0; s < sites_.size(); ++s) {
+    if ((s & 7) == 0 && s + 128 < sites_.size()) {
+      __builtin_prefetch(&positions[s + 128]);
+      __builtin_prefetch(&positions[s + 128 + 4]);
+      __builtin_prefetch(&sites_[s + 128], 1);
+      __builtin_prefetch(&sites_[s + 128 + 4], 1);
+      __builtin_prefetch(&anchor_[s + 128]);
+      __builtin_prefetch(&anchor_[s + 128 + 2]);
+      __builtin_prefetch(&anchor_[s + 128 + 4]);
+      __builtin_prefetch(&anchor_[s + 128 + 6]);
+    }
     if (positions[s] == sites_[s] || !alive(s)) continue;
     if (norm2(positions[s] - anchor_[s].f) < anchor_[s].eps2) {  // move_one()'s filter, inline
       sites_[s] = positions[s];
