@@ -353,5 +353,43 @@ TEST(VoronoiDiagram, ThreadsGiveTheSameDiagram) {
   EXPECT_EQ(one.storage_order().size(), three.storage_order().size());
 }
 
+// assign() reusing one diagram's storage gives what a fresh construction gives, whatever the
+// diagram held before: more sites, fewer, the degenerate kinds, and removed sites.
+TEST(VoronoiDiagram, AssignGivesTheDiagramOfAFreshBuild) {
+  auto expect_same = [](const VoronoiDiagram& a, const VoronoiDiagram& b, const std::string& what) {
+    ASSERT_EQ(a.kind(), b.kind()) << what;
+    ASSERT_EQ(a.num_cells(), b.num_cells()) << what;
+    ASSERT_EQ(a.site_capacity(), b.site_capacity()) << what;
+    ASSERT_EQ(a.num_vertices(), b.num_vertices()) << what;
+    for (TriId t = 0; t < a.num_vertices(); ++t) ASSERT_EQ(a.vertex(t), b.vertex(t)) << what << " vertex " << t;
+    for (SiteId s = 0; s < a.site_capacity(); ++s) {
+      ASSERT_EQ(a.has_cell(s), b.has_cell(s)) << what << " site " << s;
+      const auto va = a.cell_vertices(s), vb = b.cell_vertices(s);
+      ASSERT_TRUE(std::equal(va.begin(), va.end(), vb.begin(), vb.end())) << what << " site " << s;
+      const auto na = a.cell_neighbors(s), nb = b.cell_neighbors(s);
+      ASSERT_TRUE(std::equal(na.begin(), na.end(), nb.begin(), nb.end())) << what << " site " << s;
+      ASSERT_EQ(a.cell_area_sr(s), b.cell_area_sr(s)) << what << " site " << s;
+    }
+    const auto oa = a.storage_order(), ob = b.storage_order();
+    ASSERT_TRUE(std::equal(oa.begin(), oa.end(), ob.begin(), ob.end())) << what;
+  };
+  SphericalDelaunay with_removed = SphericalDelaunay::build(testing::uniform_on_sphere(500, 5));
+  for (SiteId s = 0; s < 500; s += 7) with_removed.remove(s);
+  const std::vector<std::pair<std::string, SphericalDelaunay>> cases = {
+      {"3000 sites", SphericalDelaunay::build(testing::uniform_on_sphere(3000, 1))},
+      {"200 sites", SphericalDelaunay::build(testing::uniform_on_sphere(200, 2))},
+      {"one site", SphericalDelaunay::build(testing::uniform_on_sphere(1, 3))},
+      {"two sites", SphericalDelaunay::build(testing::uniform_on_sphere(2, 4))},
+      {"removed sites", with_removed},
+      {"5000 sites", SphericalDelaunay::build(testing::uniform_on_sphere(5000, 6))},
+      {"no site", SphericalDelaunay{}},
+      {"four sites", SphericalDelaunay::build(testing::uniform_on_sphere(4, 7))}};
+  VoronoiDiagram reused;
+  for (const auto& [name, dt] : cases) {
+    reused.assign(dt, name == "5000 sites" ? 2 : 1);
+    expect_same(reused, VoronoiDiagram(dt), name);
+  }
+}
+
 }  // namespace
 }  // namespace geovor

@@ -197,6 +197,7 @@ LloydReport lloyd(SphericalDelaunay& dt, const LloydOptions& options,
   std::vector<double> energy(cap, 0.0);
   std::vector<std::uint8_t> defined(cap, 0);
   LloydReport report;
+  VoronoiDiagram vd;
   for (int it = 1; it <= options.iterations; ++it) {
     LloydIteration r;
     r.iteration = it;
@@ -205,10 +206,8 @@ LloydReport lloyd(SphericalDelaunay& dt, const LloydOptions& options,
     std::copy(old.begin(), old.end(), target.begin());  // removed and undefined sites stay
     std::fill(energy.begin(), energy.end(), 0.0);
     std::fill(defined.begin(), defined.end(), std::uint8_t{1});
-    {
-      const VoronoiDiagram vd(dt);
-      centroids(vd, vd.storage_order(), threads, target, energy, defined);
-    }
+    vd.assign(dt);  // its storage reused from the last iteration
+    centroids(vd, vd.storage_order(), threads, target, energy, defined);
     for (SiteId s = 0; s < cap; ++s) {
       r.energy += energy[s];
       r.undefined += defined[s] == 0;

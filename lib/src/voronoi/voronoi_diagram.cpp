@@ -54,11 +54,18 @@ double VoronoiDiagram::triangle_area_sr(const Vec3& a, const Vec3& b, const Vec3
   return 2 * std::atan2(det, den);
 }
 
-VoronoiDiagram::VoronoiDiagram(const SphericalDelaunay& dt, unsigned threads) {
+VoronoiDiagram::VoronoiDiagram(const SphericalDelaunay& dt, unsigned threads) { assign(dt, threads); }
+
+void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
   const std::size_t cap = dt.site_capacity();
   sites_.assign(dt.sites().begin(), dt.sites().end());
   live_.assign(cap, 0);
   cells_.assign(cap, Range{});
+  order_.clear();
+  vertices_.clear();
+  cell_tris_.clear();
+  cell_nbrs_.clear();
+  pair_[0] = pair_[1] = kNoIndex;
   num_cells_ = dt.num_sites();
   std::size_t found = 0;
   for (SiteId s = 0; s < cap; ++s) {
@@ -108,7 +115,8 @@ VoronoiDiagram::VoronoiDiagram(const SphericalDelaunay& dt, unsigned threads) {
   // Degrees and the storage order, by one sequential scan of the triangles (which the
   // triangulation keeps in a spatially coherent order); then each star is walked once, counter-
   // clockwise, in that order, so the walks stay in cache.
-  std::vector<std::uint32_t> degree(cap, 0);
+  std::vector<std::uint32_t>& degree = degree_;
+  degree.assign(cap, 0);
   order_.reserve(num_cells_);
   for (const SiteId s : tri_sites) {
     if (degree[s]++ == 0) order_.push_back(s);

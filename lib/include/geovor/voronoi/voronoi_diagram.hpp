@@ -53,6 +53,9 @@ class VoronoiDiagram {
   /// the cells' lists split over `threads` threads (0: one per core); the result does not
   /// depend on it.
   explicit VoronoiDiagram(const SphericalDelaunay& dt, unsigned threads = 1);
+  /// The same as `*this = VoronoiDiagram(dt, threads)`, reusing this diagram's storage: for a
+  /// diagram rebuilt at every step (Lloyd's iterations), no fresh memory to fault in each time.
+  void assign(const SphericalDelaunay& dt, unsigned threads = 1);
 
   /// \name Inspectors
   ///@{
@@ -122,6 +125,7 @@ class VoronoiDiagram {
   std::vector<TriId> cell_tris_;
   std::vector<SiteId> cell_nbrs_;
   SiteId pair_[2] = {kNoIndex, kNoIndex};  // the two sites of Kind::Hemispheres
+  std::vector<std::uint32_t> degree_;       // scratch of assign()
 };
 
 }  // namespace geovor
