@@ -638,7 +638,7 @@ GEOVOR_LANE_CLONES void bicell_tolerances(const BicellLanes& in, std::size_t n, 
   // select, and the other way round: the compiler vectorizes neither mix.)
   for (std::size_t i = 0; i < L; ++i) {
     s0[i] = root[i] * (1 + 0x1p-46) + 0x1p-48;
-    inv_smin[i] = vmin(1.05 * s0[i], 1.0);
+    inv_smin[i] = vmin(s0[i], 1.0);
   }
   for (std::size_t i = 0; i < L; ++i) inv_smin[i] = (1 / inv_smin[i]) * (1 + 0x1p-51);
   double q[6][N];
@@ -666,20 +666,26 @@ GEOVOR_LANE_CLONES void bicell_tolerances(const BicellLanes& in, std::size_t n, 
   sqrt_lanes(root, L);
   double K[N], cap1[N], S1[N];
   for (std::size_t i = 0; i < L; ++i) {
-    // A move of chord D <= cap (<= 1/2) turns a point by at most A = 1.05 (cap + 2^-49), so
-    // changes its component along c by at most S D + eps, S = min(1.05 (s0 + A), 1), eps =
-    // 2^-49 (1 + S) <= 2^-48, and its image under T moves by at most
+    // A move of chord D <= cap (<= 1/2) turns a point by the angle 2 asin(D / 2) <= k D,
+    // k = 1 + cap^2 / 20, so by at most A = k (cap + 2^-49) (2^-49 for sites 2^-50 off the
+    // sphere), and changes its component along c by at most S D + eps, S = min(k (s0 + A), 1),
+    // eps = 2^-49 (1 + S) <= 2^-48 (mean value theorem on the cosine, whose derivative, a sine,
+    // stays below s0 + A on the way), and its image under T moves by at most
     // sqrt(1 + 1/lambda^2) D + eps / (lambda S). Below half of w_T >= 6 V / (lambda S M), M the
     // largest edge product, no four images, hence no four points, become coplanar:
     //   D < (6 V / (2 M) - eps) / (S sqrt(lambda^2 + 1)) = K / S.
     K[i] = (volume6[i] / (2 * (root[i] * (1 + 0x1p-44))) - 0x1p-48) * kInvNorm;
   }
   for (std::size_t i = 0; i < L; ++i) {
-    // Any cap is valid; the best solves K / S(cap) = cap. cap1 = K / S(0) is above it, so
-    // S(cap1) >= S(cap) for cap <= cap1, and cap = min(K / S(cap1), cap1) has K / S(cap) >= cap.
+    // Any cap is valid; the best solves K / S(cap) = cap. cap1 = K / s0 >= K / S(0) is above
+    // it, so S(cap1) >= S(cap) for cap <= cap1, and cap = min(K / S(cap1), cap1) has
+    // K / S(cap) >= cap.
     cap1[i] = vmin(K[i] * inv_smin[i], 0.5);
   }
-  for (std::size_t i = 0; i < L; ++i) S1[i] = vmin(1.05 * (s0[i] + 1.05 * (cap1[i] + 0x1p-49)), 1.0);
+  for (std::size_t i = 0; i < L; ++i) {
+    const double k = 1 + (cap1[i] * cap1[i] / 20 + 0x1p-52);  // k(cap) grows with cap: k(cap1) bounds
+    S1[i] = vmin(k * (s0[i] + k * (cap1[i] + 0x1p-49)), 1.0);
+  }
   for (std::size_t i = 0; i < L; ++i) S1[i] = K[i] / S1[i];
   double half_width[N];
   for (std::size_t i = 0; i < L; ++i)

@@ -187,24 +187,24 @@ class SphericalDelaunay {
   ///  - K / S, the same argument after the linear map T that stretches the component along the
   ///    four points' mean direction c by 1/(lambda S), lambda = 1/4. Points move on the sphere:
   ///    with s0 the largest sine of the angle between c and a point, a move of chord D <= cap
-  ///    (cap <= 1/2) turns a point by at most A = 1.05 (cap + 2^-49) and changes its component
-  ///    along c by at most S D + eps, S = min(1.05 (s0 + A), 1), eps = 2^-49 (1 + S) <= 2^-48
-  ///    (mean value theorem on the cosine; 2^-49 for sites 2^-50 off the sphere), and its other
-  ///    components by at most D: its image under T moves by at most
+  ///    (cap <= 1/2) turns a point by the angle 2 asin(D / 2) <= k D, k = 1 + cap^2 / 20, so by
+  ///    at most A = k (cap + 2^-49), and changes its component along c by at most S D + eps,
+  ///    S = min(k (s0 + A), 1), eps = 2^-49 (1 + S) <= 2^-48 (mean value theorem on the cosine;
+  ///    2^-49 for sites 2^-50 off the sphere), and its other components by at most D: its image
+  ///    under T moves by at most
   ///    sqrt(1 + 1/lambda^2) D + eps / (lambda S). T keeps coplanarity, det T = 1/(lambda S), so
   ///    6 V_T = 6 V / (lambda S), and an edge u maps to |T u|^2 <= |u|^2 + (u.c)^2 / (lambda S)^2,
-  ///    u.c a difference of two of the four dot products f_i.c, bounded at S = 1.05 s0 (the least
+  ///    u.c a difference of two of the four dot products f_i.c, bounded at S = s0 (below every
   ///    S, where the bound is largest): with M the largest edge product there, the images keep
   ///    their sign while D < (6 V / (2 M) - eps) / (S sqrt(lambda^2 + 1)) = K / S. Any cap is
-  ///    valid; the one used, min(K / S(cap1), cap1) with cap1 = K / (1.05 s0), is within a few
-  ///    percent of the best (K / S(cap) = cap). The orientation determinant is computed once, no
+  ///    valid; the one used, min(K / S(cap1), cap1) with cap1 = K / s0, is within a few percent
+  ///    of the best (K / S(cap) = cap). The orientation determinant is computed once, no
   ///    image is. A small bi-cell's tetrahedron is flat (height ~ edge^2, so w ~ edge^2) but its
   ///    images are not: K / S ~ edge times how far the four sites are from one circle, as in the
   ///    plane. Against the optimum (the half-width of the thinnest spherical annulus holding the
-  ///    four sites), the bound is 2.15x smaller at the median on the bi-cells of a 2^16-site
-  ///    Lloyd mesh (iteration 90) and 1.44x on the tenth with the smallest tolerances, those
-  ///    that set the sites' (2.6x and 2.2x on random sites; lambda = 1 with a fixed cap s0/16
-  ///    gave 3.4x on the Lloyd mesh).
+  ///    four sites), the bound is 2.17x smaller at the median on the bi-cells of a 2^16-site
+  ///    Lloyd mesh (iteration 90) and 1.37x on the tenth with the smallest tolerances, those
+  ///    that set the sites' (lambda = 1 with a fixed cap s0/16 gave 3.4x on the Lloyd mesh).
   ///  - the edge term keeps every edge longer than the merge distance; the nearest site of a site
   ///    is a Delaunay neighbour, so a filtered move never comes within the merge distance of one.
   /// tau is computed in doubles and shrunk by certified bounds of the rounding (Shewchuk's orient3d
