@@ -1,10 +1,12 @@
 // Fuzz target: the triangulation on adversarial coordinates. The bytes are a recipe: a list of
 // operations adding points (uniform lat/lon, near-duplicates at multiples of the merge distance,
 // lat/lon grids, near-co-circular sets, great circles, poles and the antimeridian, antipodes,
-// perturbations by a few ulps), options, then insertions and removals. After build() and after
-// the edits, validate() must pass (with the global check on small inputs), every input point
-// must be a site or a listed merge, and without merges the triangles must not depend on the
-// insertion order.
+// perturbations by a few ulps), options, then insertions and removals, then moves (move() and
+// move_all() by steps from a few ulps to the merge distance and across the tolerances, with
+// each relocation option). After build() and after every edit, validate() must pass (with the
+// global check on small inputs), every input point must be a site or a listed merge, without
+// merges the triangles must not depend on the insertion order, and after moves the triangles
+// must be those of a fresh build of the live sites' positions.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -238,6 +240,56 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
     }
     check_valid(dt, nullptr, "edits");
+  }
+
+  // Moves (SphericalDelaunay::move/move_all; the filter's tolerances, flips, remove + insert).
+  static constexpr double kStep[] = {0, 0x1p-52, 0x1p-40, 0.5 * kSep, kSep, 1.5 * kSep, 1e-7, 1e-5, 1e-3, 0.05, 1};
+  for (int k = 0; k < 6 && !in.empty() && dt.num_sites() > 0; ++k) {
+    const std::uint8_t what = in.u8();
+    RelocationOptions ro;
+    ro.filter = (what & 8) == 0;
+    ro.flips = (what & 16) == 0;
+    ro.rebuild_when_faster = (what & 32) == 0;
+    const double step = kStep[in.u8() % std::size(kStep)];
+    auto moved = [&](const Vec3& p, std::uint8_t pick) {
+      Vec3 q = ulps(normalized(p + step * tangent(p, pick)), pick);
+      return usable(q) ? q : p;
+    };
+    if (what & 1) {  // every live site at once, each by `step` in a direction of its own
+      std::vector<Vec3> target(dt.sites().begin(), dt.sites().end());
+      for (SiteId s = 0; s < target.size(); ++s)
+        if (dt.is_live(s)) target[s] = moved(target[s], static_cast<std::uint8_t>(in.u8() + s));
+      const MoveStats st = dt.move_all(target, ro);
+      FUZZ_CHECK(st.moved == st.filtered + st.flipped + st.reinserted + st.rebuilt, "move_all stats do not add up");
+      for (SiteId s = 0; s < target.size(); ++s)
+        FUZZ_CHECK(!dt.is_live(s) || dt.site(s) == target[s] || st.refused > 0, "site %u not moved", s);
+    } else {  // one site, by `step` or onto (near) another site
+      SiteId s = static_cast<SiteId>(in.u16() % dt.site_capacity());
+      while (!dt.is_live(s)) s = static_cast<SiteId>((s + 1) % dt.site_capacity());
+      Vec3 p = moved(dt.site(s), in.u8());
+      if (what & 2) p = moved(dt.site(static_cast<SiteId>(in.u16() % dt.site_capacity())), in.u8());
+      if (!usable(p)) continue;
+      const MoveStats st = dt.move(s, p, ro);
+      FUZZ_CHECK(st.moved + st.refused <= 1 && st.moved == st.filtered + st.flipped + st.reinserted, "move stats");
+      FUZZ_CHECK(st.refused > 0 || dt.site(s) == p, "site %u not moved and not refused", s);
+    }
+    check_valid(dt, nullptr, "moves");
+    // The same triangles as a fresh build of the live sites (in id order, so that the
+    // perturbation orders them alike), unless two of them are within the merge distance.
+    std::vector<Vec3> live;
+    std::vector<SiteId> id_of;
+    for (SiteId s = 0; s < dt.site_capacity(); ++s)
+      if (dt.is_live(s)) live.push_back(dt.site(s)), id_of.push_back(s);
+    BuildReport fresh_report;
+    const SphericalDelaunay fresh = SphericalDelaunay::build(live, options, &fresh_report);
+    if (!fresh_report.merges.empty()) continue;
+    std::set<std::array<SiteId, 3>> relabelled;
+    for (TriId t = 0; t < fresh.num_triangles(); ++t) {
+      std::array<SiteId, 3> tri{id_of[fresh.tri_site(t, 0)], id_of[fresh.tri_site(t, 1)], id_of[fresh.tri_site(t, 2)]};
+      std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
+      relabelled.insert(tri);
+    }
+    FUZZ_CHECK(relabelled == triangle_set(dt), "after moves: not the triangles of a fresh build");
   }
   return 0;
 }
