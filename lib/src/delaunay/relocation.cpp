@@ -128,6 +128,7 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
       __builtin_prefetch(&site_edge_[a]);
       __builtin_prefetch(&positions[a]);
       __builtin_prefetch(&anchor_[a]);
+      __builtin_prefetch(&sites_[a]);
     }
     if (i + kAhead < np) {  // its site_edge_ was fetched two moves ago
       const HalfedgeId e = site_edge_[pending[i + kAhead]];
@@ -140,6 +141,7 @@ MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const Rel
       if (w.across != kNoIndex) {  // the far site of the last link edge's bi-cell
         const SiteId x = triangles_[prev_halfedge(w.across)];
         __builtin_prefetch(&anchor_[x]);
+        __builtin_prefetch(&sites_[x]);
         w.across = kNoIndex;
       }
       if (w.at == kNoIndex) continue;
