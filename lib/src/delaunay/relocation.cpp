@@ -512,21 +512,21 @@ bool SphericalDelaunay::relocate_by_flips(SiteId s, const Vec3& p) {
 
 namespace {
 
-double min3(double a, double b, double c) { return std::min(std::min(a, b), c); }
+inline double vmin(double a, double b) { return b < a ? b : a; }
+inline double vmax(double a, double b) { return a < b ? b : a; }
 
-// Upper bound of the largest product |u| |v| over the seven pairs of edges (u, v) that bound the
-// width of the tetrahedron: two edges of each face (the face's least product, as 2 x area is at
-// most the product of any two of its edges) and the three pairs of opposite edges. q[k] bounds
-// the squared length of edge k, in the order 01, 02, 03, 12, 13, 23.
-double max_edge_product(const double (&q)[6]) {
-  const double f012 = min3(q[0] * q[1], q[0] * q[3], q[1] * q[3]);
-  const double f013 = min3(q[0] * q[2], q[0] * q[4], q[2] * q[4]);
-  const double f023 = min3(q[1] * q[2], q[1] * q[5], q[2] * q[5]);
-  const double f123 = min3(q[3] * q[4], q[3] * q[5], q[4] * q[5]);
-  const double m2 = std::max(std::max(std::max(f012, f013), std::max(f023, f123)),
-                             std::max(std::max(q[0] * q[5], q[1] * q[4]), q[2] * q[3]));
-  // Each q is within a relative 2^-49 of its exact bound, each product and the root within 2^-52.
-  return std::sqrt(m2) * (1 + 0x1p-44);
+// The square of an upper bound of the largest product |u| |v| over the seven pairs of edges
+// (u, v) that bound the width of the tetrahedron: two edges of each face (the face's least
+// product, as 2 x area is at most the product of any two of its edges) and the three pairs of
+// opposite edges. q_k bounds the squared length of edge k, in the order 01, 02, 03, 12, 13, 23.
+// Its root times (1 + 2^-44) covers the roundings (each q within a relative 2^-49 of its exact
+// bound, each product and the root within 2^-52). Inlined into the lanes' loop, it vectorizes.
+inline double largest_product2(double q0, double q1, double q2, double q3, double q4, double q5) {
+  const double f012 = vmin(vmin(q0 * q1, q0 * q3), q1 * q3);
+  const double f013 = vmin(vmin(q0 * q2, q0 * q4), q2 * q4);
+  const double f023 = vmin(vmin(q1 * q2, q1 * q5), q2 * q5);
+  const double f123 = vmin(vmin(q3 * q4, q3 * q5), q4 * q5);
+  return vmax(vmax(vmax(f012, f013), vmax(f023, f123)), vmax(vmax(q0 * q5, q1 * q4), q2 * q3));
 }
 
 // The stretch of the map T (see spherical_delaunay.hpp): 1/4 suits the nearly co-circular
@@ -551,9 +551,6 @@ struct BicellLanes {
   }
 };
 
-inline double vmin(double a, double b) { return b < a ? b : a; }
-inline double vmax(double a, double b) { return a < b ? b : a; }
-
 // x[i] = sqrt(x[i]) for the kBatch lanes, two at a time on x86-64 (std::sqrt's errno handling
 // keeps the compiler from vectorizing the loops that call it).
 inline void sqrt_lanes(double* x, std::size_t lanes) {
@@ -572,10 +569,6 @@ inline void sqrt_lanes(double* x, std::size_t lanes) {
 #define GEOVOR_LANE_CLONES
 #endif
 
-double max_edge_product_lane(const double* const (&q)[6], std::size_t i) {
-  const double l[6] = {q[0][i], q[1][i], q[2][i], q[3][i], q[4][i], q[5][i]};
-  return max_edge_product(l);
-}
 
 // tau of each lane's bi-cell (points a, b the shared edge, c, d the far sites), i < n <= kBatch:
 // SphericalDelaunay::bicell_tolerance(); the argument is in spherical_delaunay.hpp. (The math
@@ -657,13 +650,7 @@ GEOVOR_LANE_CLONES void bicell_tolerances(const BicellLanes& in, std::size_t n, 
     }
   }
   for (std::size_t i = 0; i < L; ++i) {
-    // max_edge_product(), lane by lane: the largest product squared, then its root.
-    const double f012 = vmin(vmin(q[0][i] * q[1][i], q[0][i] * q[3][i]), q[1][i] * q[3][i]);
-    const double f013 = vmin(vmin(q[0][i] * q[2][i], q[0][i] * q[4][i]), q[2][i] * q[4][i]);
-    const double f023 = vmin(vmin(q[1][i] * q[2][i], q[1][i] * q[5][i]), q[2][i] * q[5][i]);
-    const double f123 = vmin(vmin(q[3][i] * q[4][i], q[3][i] * q[5][i]), q[4][i] * q[5][i]);
-    root[i] = vmax(vmax(vmax(f012, f013), vmax(f023, f123)),
-                   vmax(vmax(q[0][i] * q[5][i], q[1][i] * q[4][i]), q[2][i] * q[3][i]));
+    root[i] = largest_product2(q[0][i], q[1][i], q[2][i], q[3][i], q[4][i], q[5][i]);  // its root below
   }
   sqrt_lanes(root, L);
   double K[N], cap1[N], S1[N];
@@ -692,7 +679,6 @@ GEOVOR_LANE_CLONES void bicell_tolerances(const BicellLanes& in, std::size_t n, 
   double half_width[N];
   for (std::size_t i = 0; i < L; ++i)
     half_width[i] = ((c2[i] > 0.25) & (K[i] > 0)) ? vmin(S1[i], cap1[i]) : 0.0;
-  const double* const l2p[6] = {l2[0], l2[1], l2[2], l2[3], l2[4], l2[5]};
   const double md = merge_distance * (1 + 0x1p-40);
   for (std::size_t i = 0; i < n; ++i) {
     if (!(volume6[i] > 0)) {  // coplanar (a tie), or too close to tell
@@ -702,7 +688,10 @@ GEOVOR_LANE_CLONES void bicell_tolerances(const BicellLanes& in, std::size_t n, 
     double hw = half_width[i];
     // Any motion in R^3 by less than half the width keeps the sign too: the better bound for
     // bi-cells spanning a large part of the sphere.
-    if (!(c2[i] > 0.25) || s0[i] > 0.2) hw = std::max(hw, volume6[i] / (2 * max_edge_product_lane(l2p, i)));
+    if (!(c2[i] > 0.25) || s0[i] > 0.2) {
+      const double M = std::sqrt(largest_product2(l2[0][i], l2[1][i], l2[2][i], l2[3][i], l2[4][i], l2[5][i]));
+      hw = std::max(hw, volume6[i] / (2 * (M * (1 + 0x1p-44))));
+    }
     // The shared edge a-b must stay longer than the merge distance (with room for the rounding
     // of the merge test's own chord): (|a - b| - merge) / 2, whose root is needed only when the
     // edge is short.
