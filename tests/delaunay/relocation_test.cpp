@@ -390,6 +390,22 @@ Vec3 turn(const Vec3& q, const Vec3& v, double len) {
   return std::cos(angle) * q + std::sin(angle) * t;
 }
 
+// Four points within about `scale` of a random centre, the scale log-uniform over `decades`
+// decades below 1 (a Delaunay bi-cell's size varies). The distributions come from the caller, so
+// that their state (a normal distribution keeps a second draw) runs on as before.
+struct NearPoints {
+  std::array<Vec3, 4> q;
+  double scale;
+};
+NearPoints points_near_one_another(std::mt19937_64& rng, std::normal_distribution<double>& g,
+                                   std::uniform_real_distribution<double>& u01, double decades) {
+  const Vec3 c = testing::normalized({g(rng), g(rng), g(rng)});
+  const double scale = std::pow(10.0, -decades * u01(rng));
+  NearPoints out{{}, scale};
+  for (Vec3& p : out.q) p = testing::normalized(c + scale * Vec3{g(rng), g(rng), g(rng)});
+  return out;
+}
+
 // The filter's certificate: moving the four points of a bi-cell on the sphere by less than its
 // tolerance never changes the exact sign of orientation_3.
 TEST(Relocation, BicellToleranceIsCertified) {
@@ -399,11 +415,8 @@ TEST(Relocation, BicellToleranceIsCertified) {
   const double md = SphericalDelaunay::kMinSeparation;
   std::size_t positive = 0;
   for (int trial = 0; trial < 20000; ++trial) {
-    // Four points near one another (a Delaunay bi-cell's scale varies), some nearly co-circular.
-    const Vec3 c = testing::normalized({g(rng), g(rng), g(rng)});
-    const double scale = std::pow(10.0, -7.0 * u01(rng));
-    std::array<Vec3, 4> q;
-    for (Vec3& p : q) p = testing::normalized(c + scale * Vec3{g(rng), g(rng), g(rng)});
+    // Four points near one another, some nearly co-circular.
+    auto [q, scale] = points_near_one_another(rng, g, u01, 7.0);
     if (trial % 4 == 0) {  // nearly co-circular: the fourth on the circle of the three, nudged
       const Vec3 n = cross(q[1] - q[0], q[2] - q[0]);
       const double t = dot(n, q[0]) / dot(n, n);
@@ -507,10 +520,7 @@ TEST(Relocation, BicellToleranceIsBelowTheThinnestAnnulus) {
   std::normal_distribution<double> g(0.0, 1.0);
   std::size_t tested = 0;
   for (int trial = 0; trial < 20000; ++trial) {
-    const Vec3 c = testing::normalized({g(rng), g(rng), g(rng)});
-    const double scale = std::pow(10.0, -5.0 * u01(rng));
-    std::array<Vec3, 4> q;
-    for (Vec3& p : q) p = testing::normalized(c + scale * Vec3{g(rng), g(rng), g(rng)});
+    const auto [q, scale] = points_near_one_another(rng, g, u01, 5.0);
     const double tau = SphericalDelaunay::bicell_tolerance(q[0], q[1], q[2], q[3], SphericalDelaunay::kMinSeparation);
     if (tau == 0) continue;
     const Annulus a = thinnest_annulus(q);
