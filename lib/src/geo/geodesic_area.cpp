@@ -1,0 +1,300 @@
+#include "geovor/geo/geodesic_area.hpp"
+
+#include <GeographicLib/Geodesic.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <numbers>
+
+#include "geovor/core/assert.hpp"
+
+namespace geovor {
+namespace {
+
+// WGS84, as GeographicLib::Geodesic::WGS84() has it.
+constexpr double kA = 6378137.0;
+constexpr double kF = 1 / 298.257223563;
+constexpr double kF1 = 1 - kF;
+constexpr double kE2 = kF * (2 - kF);
+constexpr double kEp2 = kE2 / (1 - kE2);
+constexpr double kDegree = std::numbers::pi / 180;
+
+// The domain of the fast path (see the header), and Newton's stopping rule.
+constexpr double kMaxLon12Deg = 2.5;
+constexpr double kMaxDLatDeg = 2.5;
+constexpr double kMaxAbsLatDeg = 89;
+constexpr double kResidualRad = 0x1p-47;
+constexpr double kMaxStepRad = 0.07;  // also the range of the small-angle polynomials
+constexpr int kMaxEvaluations = 8;
+
+// 4-point Gauss-Legendre nodes +-kNode[q] on [-1, 1] and their weights.
+constexpr double kNode[2] = {0.33998104358485626480266576, 0.86113631159405257522394649};
+constexpr double kWeight[2] = {0.65214515486254614262693605, 0.34785484513745385737306395};
+
+// T(y) = (t(e'^2) - t(y)) / (e'^2 - y) of I4's integrand as a polynomial in y in [0, e'^2],
+// t(x) = x + sqrt(1 + 1/x) asinh(sqrt(x)) = x + g(x); the divided difference of g's Taylor
+// series, summed while e'^(2n) matters (e'^2 = 0.0067: 8 terms leave 1e-18).
+constexpr int kTauTerms = 8;
+struct Constants {
+  double c2;                // authalic radius squared: the area of the ellipsoid / (4 pi)
+  double tau[kTauTerms];    // T(y) = sum tau[m] y^m
+  Constants() {
+    const double e = std::sqrt(kE2), b = kA * kF1;
+    c2 = (kA * kA + b * b * std::atanh(e) / e) / 2;
+    // g(x) = sqrt(1 + x) * asinh(sqrt x) / sqrt x: product of the two Taylor series.
+    constexpr int kTerms = 16;
+    double asinh_series[kTerms], sqrt_series[kTerms], g[kTerms];
+    for (int k = 0; k < kTerms; ++k) {
+      double central = 1;  // (2k)! / (4^k k!^2)
+      for (int j = 1; j <= k; ++j) central *= (2.0 * j - 1) / (2.0 * j);
+      asinh_series[k] = (k % 2 ? -1 : 1) * central / (2 * k + 1);
+      double binomial = 1;  // binomial(1/2, k)
+      for (int j = 0; j < k; ++j) binomial *= (0.5 - j) / (j + 1);
+      sqrt_series[k] = binomial;
+    }
+    for (int n = 0; n < kTerms; ++n) {
+      g[n] = 0;
+      for (int k = 0; k <= n; ++k) g[n] += asinh_series[k] * sqrt_series[n - k];
+    }
+    // T(y) = 1 + sum_{n >= 1} g_n (E^n - y^n) / (E - y) = 1 + sum_n g_n sum_{m < n} E^(n-1-m) y^m.
+    for (int m = 0; m < kTauTerms; ++m) {
+      double sum = m == 0 ? 1 : 0;
+      for (int n = kTerms - 1; n > m; --n) sum += g[n] * std::pow(kEp2, n - 1 - m);
+      tau[m] = sum;
+    }
+  }
+};
+const Constants& constants() {
+  static const Constants c;
+  return c;
+}
+
+// atan(t) for |t| <= 0.07 (the next term is below 1e-20 |t|).
+inline double atan_small(double t) {
+  const double t2 = t * t;
+  return t * (1 + t2 * (-1.0 / 3 + t2 * (1.0 / 5 + t2 * (-1.0 / 7 + t2 * (1.0 / 9 + t2 * (-1.0 / 11 + t2 * (1.0 / 13 - t2 / 15)))))));
+}
+// sin u and cos u for |u| <= 0.07 (next terms below 1e-20).
+inline double sin_small(double u) {
+  const double u2 = u * u;
+  return u * (1 + u2 * (-1.0 / 6 + u2 * (1.0 / 120 + u2 * (-1.0 / 5040 + u2 * (1.0 / 362880 - u2 / 39916800)))));
+}
+inline double cos_small(double u) {
+  const double u2 = u * u;
+  return 1 + u2 * (-0.5 + u2 * (1.0 / 24 + u2 * (-1.0 / 720 + u2 * (1.0 / 40320 - u2 / 3628800))));
+}
+
+constexpr int kLanes = 8;
+
+// One batch of up to kLanes edges, as structure of arrays (the loops over lanes vectorize).
+struct Lanes {
+  // Canonical edge: point 1 the more poleward, in the south; lon12 >= 0.
+  double sb1[kLanes], cb1[kLanes], sb2[kLanes], cb2[kLanes];  // reduced latitudes
+  double lam12[kLanes], sign[kLanes];
+  // Newton's unknown alpha1 and the state of the last evaluation.
+  double sa1[kLanes], ca1[kLanes];
+  double sa0[kLanes], ca0[kLanes], k2[kLanes];
+  double ss1[kLanes], cs1[kLanes], ss2[kLanes], cs2[kLanes];  // sigma1, sigma2 (unit)
+  double i3[kLanes];  // I3(sigma2) - I3(sigma1)
+  double v[kLanes], dv[kLanes];
+  bool fast[kLanes];
+};
+
+// Reduces edge i to the canonical edge of the header; false if it is outside the domain.
+bool canonical(const GeodesicEdge& edge, Lanes& l, int i) {
+  double lat1 = edge.lat1_deg, lat2 = edge.lat2_deg;
+  // lon2 - lon1 exactly, as a rounded difference plus its error (TwoSum).
+  const double a = edge.lon2_deg, b = -edge.lon1_deg;
+  double d = a + b;
+  const double bb = d - a;
+  const double err = (a - (d - bb)) + (b - bb);
+  if (d > 180) d -= 360;  // exact (Sterbenz)
+  else if (d < -180) d += 360;
+  double sign = 1;
+  if (std::fabs(lat1) < std::fabs(lat2)) {  // reversing the edge negates S12
+    std::swap(lat1, lat2);
+    d = -d;
+    sign = -sign;
+  }
+  double lam = (d + (sign > 0 ? err : -err)) * kDegree;
+  if (lam < 0) {  // mirroring the longitudes negates S12
+    lam = -lam;
+    d = -d;
+    sign = -sign;
+  }
+  if (lat1 > 0) {  // so does mirroring the latitudes
+    lat1 = -lat1;
+    lat2 = -lat2;
+    sign = -sign;
+  }
+  if (!(d > 0 && d <= kMaxLon12Deg && lam > 0 && lat1 < 0 && lat1 >= -kMaxAbsLatDeg &&
+        std::fabs(lat1 - lat2) <= kMaxDLatDeg))
+    return false;
+  const double phi1 = lat1 * kDegree, phi2 = lat2 * kDegree;
+  double s1 = kF1 * std::sin(phi1), c1 = std::cos(phi1);
+  double s2 = kF1 * std::sin(phi2), c2 = std::cos(phi2);
+  const double r1 = 1 / std::sqrt(s1 * s1 + c1 * c1), r2 = 1 / std::sqrt(s2 * s2 + c2 * c2);
+  l.sb1[i] = s1 * r1, l.cb1[i] = c1 * r1, l.sb2[i] = s2 * r2, l.cb2[i] = c2 * r2;
+  l.lam12[i] = lam;
+  l.sign[i] = sign;
+  return true;
+}
+
+// lambda12(alpha1) - lambda12 and its derivative in every lane, at the lanes' alpha1; keeps
+// the state the area needs. The equations are Karney's (2013), eqs. 5-8, 38, 46.
+[[gnu::always_inline]] inline void evaluate(Lanes& l) {
+  for (int i = 0; i < kLanes; ++i) {
+    const double sb1 = l.sb1[i], cb1 = l.cb1[i], sb2 = l.sb2[i], cb2 = l.cb2[i];
+    const double sa1 = l.sa1[i], ca1 = l.ca1[i];
+    const double sa0 = sa1 * cb1, ca0 = std::sqrt(ca1 * ca1 + (sa1 * sb1) * (sa1 * sb1));
+    const double k2 = kEp2 * ca0 * ca0;
+    // sigma and omega of point 1 (tan sigma = tan beta / cos alpha, tan omega = sin alpha0 tan sigma).
+    const double x1 = ca1 * cb1;
+    const double r1 = 1 / std::sqrt(sb1 * sb1 + x1 * x1);
+    const double ss1 = sb1 * r1, cs1 = x1 * r1;
+    // cos alpha2 cos beta2 from Clairaut's relation (>= 0 for the canonical edge), in the
+    // better conditioned of its two forms.
+    const double dc2_cos = (cb2 - cb1) * (cb1 + cb2), dc2_sin = (sb1 - sb2) * (sb1 + sb2);
+    const double dc2 = cb1 < -sb1 ? dc2_cos : dc2_sin;  // both computed: a select vectorizes
+    const double x2 = std::sqrt(x1 * x1 + dc2);
+    const double r2 = 1 / std::sqrt(sb2 * sb2 + x2 * x2);
+    const double ss2 = sb2 * r2, cs2 = x2 * r2;
+    const double sig12 = atan_small((cs1 * ss2 - ss1 * cs2) / (cs1 * cs2 + ss1 * ss2));
+    const double omg12 = atan_small((x1 * sa0 * sb2 - sa0 * sb1 * x2) / (x1 * x2 + sa0 * sa0 * sb1 * sb2));
+    // Quadrature around the mid-arc sigma_m (the unit bisector of sigma1 and sigma2).
+    const double ms = ss1 + ss2, mc = cs1 + cs2, rm = 1 / std::sqrt(ms * ms + mc * mc);
+    const double sm = ms * rm, cm = mc * rm, h = sig12 / 2;
+    double i3 = 0, j = 0;
+#pragma GCC unroll 2
+    for (int q = 0; q < 2; ++q) {
+      const double u = h * kNode[q], su = sin_small(u), cu = cos_small(u);
+      const double sa = sm * cu + cm * su, sb = sm * cu - cm * su;  // sin(sigma_m +- u)
+      const double ya = k2 * sa * sa, yb = k2 * sb * sb;
+      const double ra = std::sqrt(1 + ya), rb = std::sqrt(1 + yb);
+      i3 += kWeight[q] * ((2 - kF) / (1 + kF1 * ra) + (2 - kF) / (1 + kF1 * rb));
+      j += kWeight[q] * (ya / ra + yb / rb);
+    }
+    i3 *= h;
+    j *= h;
+    l.v[i] = omg12 - kF * sa0 * i3 - l.lam12[i];
+    // d lambda12 / d alpha1 = m12 / (a cos alpha2 cos beta2), m12 / b the reduced length.
+    const double m12b = std::sqrt(1 + k2 * ss2 * ss2) * cs1 * ss2 - std::sqrt(1 + k2 * ss1 * ss1) * ss1 * cs2 - cs1 * cs2 * j;
+    l.dv[i] = m12b * kF1 / x2;
+    l.sa0[i] = sa0, l.ca0[i] = ca0, l.k2[i] = k2;
+    l.ss1[i] = ss1, l.cs1[i] = cs1, l.ss2[i] = ss2, l.cs2[i] = cs2;
+    l.i3[i] = i3;
+  }
+}
+
+// S12 of the lanes marked fast (the others keep their value); the lanes are filled.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void solve(Lanes& l, double* s12) {
+  const Constants& k = constants();
+  // Start: the great circle on the auxiliary sphere, its longitude scaled by the mean
+  // (1 - f) sqrt(1 + e'^2 sin^2 beta).
+  for (int i = 0; i < kLanes; ++i) {
+    const double sb1 = l.sb1[i], cb1 = l.cb1[i], sb2 = l.sb2[i], cb2 = l.cb2[i];
+    const double w = kF1 * (std::sqrt(1 + kEp2 * sb1 * sb1) + std::sqrt(1 + kEp2 * sb2 * sb2)) / 2;
+    const double omg = l.lam12[i] / w, so = sin_small(omg), co = cos_small(omg);
+    const double sa = cb2 * so, ca = (sb2 * cb1 - cb2 * sb1) + sb1 * cb2 * so * so / (1 + co);
+    const double r = 1 / std::sqrt(sa * sa + ca * ca);
+    l.sa1[i] = sa * r, l.ca1[i] = ca * r;
+  }
+  bool done[kLanes] = {};
+  for (int n = 0;; ++n) {
+    evaluate(l);
+    bool all = true;
+    for (int i = 0; i < kLanes; ++i) {
+      done[i] = done[i] || !l.fast[i] || std::fabs(l.v[i]) <= kResidualRad;
+      all = all && done[i];
+    }
+    if (all) break;
+    if (n + 1 == kMaxEvaluations) {
+      for (int i = 0; i < kLanes; ++i) l.fast[i] = l.fast[i] && done[i];
+      break;
+    }
+    double step[kLanes];
+    for (int i = 0; i < kLanes; ++i) step[i] = -l.v[i] / l.dv[i];
+    for (int i = 0; i < kLanes; ++i) {
+      if (done[i]) continue;
+      if (!(std::fabs(step[i]) < kMaxStepRad)) {  // also NaN: not for this method
+        l.fast[i] = false;
+        done[i] = true;
+        continue;
+      }
+      const double sd = sin_small(step[i]), cd = cos_small(step[i]);
+      const double sa = l.sa1[i] * cd + l.ca1[i] * sd, ca = l.ca1[i] * cd - l.sa1[i] * sd;
+      const double r = 1 / std::sqrt(sa * sa + ca * ca);
+      l.sa1[i] = sa * r, l.ca1[i] = ca * r;
+      if (!(l.sa1[i] > 0)) l.fast[i] = false, done[i] = true;
+    }
+  }
+  // The area, from the last evaluation (at the lane's converged alpha1).
+  for (int i = 0; i < kLanes; ++i) {
+    const double sb1 = l.sb1[i], cb1 = l.cb1[i], sb2 = l.sb2[i], cb2 = l.cb2[i];
+    // omega12 = lambda12 + f sin(alpha0) I3 at the solution (free of the residual).
+    const double omg12 = l.lam12[i] + kF * l.sa0[i] * l.i3[i];
+    const double so = sin_small(omg12), co = cos_small(omg12);
+    // alpha2 - alpha1: the excess of the triangle (pole, point 1, point 2) on the auxiliary
+    // sphere, tan(E/2) = tan(omega12/2) (tan(b1/2) + tan(b2/2)) / (1 + tan(b1/2) tan(b2/2)).
+    const double e12 = 2 * atan_small((so * (sb1 * (1 + cb2) + sb2 * (1 + cb1))) /
+                                      ((1 + co) * (sb1 * sb2 + (1 + cb1) * (1 + cb2))));
+    const double ss1 = l.ss1[i], cs1 = l.cs1[i], ss2 = l.ss2[i], cs2 = l.cs2[i];
+    const double sig12 = atan_small((cs1 * ss2 - ss1 * cs2) / (cs1 * cs2 + ss1 * ss2));
+    const double ms = ss1 + ss2, mc = cs1 + cs2, rm = 1 / std::sqrt(ms * ms + mc * mc);
+    const double sm = ms * rm, cm = mc * rm, h = sig12 / 2, k2 = l.k2[i];
+    double i4 = 0;
+#pragma GCC unroll 2
+    for (int q = 0; q < 2; ++q) {
+      const double u = h * kNode[q], su = sin_small(u), cu = cos_small(u);
+      const double sa = sm * cu + cm * su, sb = sm * cu - cm * su;
+      const double ya = k2 * sa * sa, yb = k2 * sb * sb;
+      double ta = k.tau[kTauTerms - 1], tb = ta;
+      for (int m = kTauTerms - 2; m >= 0; --m) ta = ta * ya + k.tau[m], tb = tb * yb + k.tau[m];
+      i4 += kWeight[q] * (ta * sa + tb * sb);
+    }
+    i4 *= -h / 2;  // I4(sigma2) - I4(sigma1) = -int T(k^2 sin^2) sin / 2
+    const double area = l.sign[i] * (k.c2 * e12 + kE2 * kA * kA * l.ca0[i] * l.sa0[i] * i4);
+    s12[i] = area;
+  }
+}
+
+}  // namespace
+
+void geodesic_s12(std::span<const GeodesicEdge> edges, std::span<double> s12_m2) {
+  GEOVOR_ASSERT(s12_m2.size() >= edges.size());
+  const GeographicLib::Geodesic& geod = GeographicLib::Geodesic::WGS84();
+  Lanes l;
+  for (std::size_t begin = 0; begin < edges.size(); begin += kLanes) {
+    const int n = static_cast<int>(std::min<std::size_t>(kLanes, edges.size() - begin));
+    int filler = -1;  // a fast lane whose inputs fill the unused lanes (finite numbers)
+    for (int i = 0; i < kLanes; ++i) {
+      l.fast[i] = i < n && canonical(edges[begin + i], l, i);
+      if (l.fast[i] && filler < 0) filler = i;
+    }
+    if (filler >= 0) {
+      for (int i = 0; i < kLanes; ++i) {
+        if (l.fast[i]) continue;
+        l.sb1[i] = l.sb1[filler], l.cb1[i] = l.cb1[filler], l.sb2[i] = l.sb2[filler], l.cb2[i] = l.cb2[filler];
+        l.lam12[i] = l.lam12[filler], l.sign[i] = 0;
+      }
+      double out[kLanes];
+      solve(l, out);
+      for (int i = 0; i < n; ++i)
+        if (l.fast[i]) s12_m2[begin + i] = out[i];
+    }
+    for (int i = 0; i < n; ++i) {
+      if (l.fast[i]) continue;
+      const GeodesicEdge& e = edges[begin + i];
+      double s12, t, area;
+      geod.GenInverse(e.lat1_deg, e.lon1_deg, e.lat2_deg, e.lon2_deg, GeographicLib::Geodesic::AREA, s12, t, t, t, t,
+                      t, area);
+      s12_m2[begin + i] = area;
+    }
+  }
+}
+
+}  // namespace geovor
