@@ -5,7 +5,6 @@
 #include <GeographicLib/Math.hpp>
 #include <GeographicLib/PolygonArea.hpp>
 #include <algorithm>
-#include <atomic>
 #include <cstdlib>
 #include <new>
 #include <cmath>
@@ -17,6 +16,7 @@
 
 #include "geovor/core/assert.hpp"
 #include "geovor/core/error.hpp"
+#include "geovor/geo/geodesic_area.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "lonlat_boundary.hpp"
 
@@ -41,11 +41,17 @@ std::vector<Pt>& edge_scratch() {
   thread_local std::vector<Pt> edge;
   return edge;
 }
+std::vector<GeodesicEdge>& segment_scratch() {
+  thread_local std::vector<GeodesicEdge> segments;
+  return segments;
+}
+std::vector<double>& s12_scratch() {
+  thread_local std::vector<double> s12;
+  return s12;
+}
 
-// GeographicLib's PolygonArea, for the shared edge sums: GenInverse's S12 (AREA alone: S12 does
-// not depend on the distance PolygonArea also asks for, and skipping it saves a Lengths() call),
-// and its transit(): whether lon1 -> lon2 crosses the prime meridian eastwards (1) or westwards (-1).
-constexpr unsigned kAreaMask = GeographicLib::Geodesic::AREA;
+// GeographicLib's PolygonArea, for the shared edge sums: its transit(), whether lon1 -> lon2
+// crosses the prime meridian eastwards (1) or westwards (-1).
 int transit(double lon1, double lon2) {
   using GeographicLib::Math;
   // Off the antimeridian and less than 180 apart, AngDiff is the plain difference (same sign,
@@ -75,6 +81,30 @@ double reduced_area(GeographicLib::Accumulator<> sum, int crossings, double plan
   double area = 0 + sum();
   if (area < 0 && std::fabs(planar_deg2) > 10000) area += whole;
   return area;
+}
+
+// The geodesic segments of the edge a -> interior -> b as PolygonArea sees them (repeated
+// positions dropped), appended to `segments`; returns the edge's prime-meridian crossings.
+template <typename Interior>
+int append_segments(const Pt& a, const Interior& interior, const Pt& b, std::vector<GeodesicEdge>& segments) {
+  int crossings = 0;
+  double lon = a.lon, lat = a.lat;
+  auto segment = [&](double lon2, double lat2) {
+    if (lon2 == lon && lat2 == lat) return;
+    segments.push_back({lat, lon, lat2, lon2});
+    crossings += transit(lon, lon2);
+    lon = lon2, lat = lat2;
+  };
+  for (const auto& q : interior) segment(q.lon, q.lat);
+  segment(b.lon, b.lat);
+  return crossings;
+}
+
+// The sum of S12 over segments, in order (GeographicLib's Accumulator, as PolygonArea sums).
+double sum_s12(std::span<const double> s12) {
+  GeographicLib::Accumulator<> acc;
+  for (const double x : s12) acc += x;
+  return acc();
 }
 
 }  // namespace
@@ -172,15 +202,62 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     }
   });
 
-  // The shared edge areas: zero pages from calloc, touched first by the cells' threads.
+  // Every edge once, in the direction of its canonical cell (the smaller site id): its densified
+  // points, and its area terms in batches of segments (geodesic_s12 solves them in vector lanes).
   num_edge_slots_ = 3 * nv;
-  edge_s12_.reset(static_cast<double*>(std::calloc(num_edge_slots_, sizeof(double))));
-  edge_state_.reset(static_cast<std::int32_t*>(std::calloc(num_edge_slots_, sizeof(std::int32_t))));
-  if (!edge_s12_ || !edge_state_) throw std::bad_alloc();
+  edge_slots_.reset(static_cast<EdgeSlot*>(std::calloc(num_edge_slots_, sizeof(EdgeSlot))));
+  if (!edge_slots_) throw std::bad_alloc();
   for (const SiteId s : order) {
     const SiteId* p = diagram.cell_neighbors(s).data();
     if (nbr_base_ == nullptr || p < nbr_base_) nbr_base_ = p;
   }
+  points_.resize(threads);
+  split(order.size(), [&](unsigned thread, std::size_t begin, std::size_t end) {
+    std::vector<Pt> edge;
+    Densifier dens(options_.densify_m, options_.max_step_deg, options_.max_depth, edge);
+    std::vector<BoundaryPoint>& points = points_[thread];
+    std::vector<GeodesicEdge> segments;
+    std::vector<double> s12;
+    std::vector<std::pair<std::size_t, std::size_t>> pending;  // (slot, end of its segments)
+    auto flush = [&] {
+      s12.resize(segments.size());
+      geodesic_s12(segments, s12);
+      std::size_t first = 0;
+      for (const auto& [slot, last] : pending) {
+        edge_slots_[slot].s12 = sum_s12(std::span<const double>(s12).subspan(first, last - first));
+        first = last;
+      }
+      segments.clear();
+      pending.clear();
+    };
+    for (std::size_t j = begin; j < end; ++j) {
+      const SiteId s = order[j];
+      const std::span<const TriId> tris = diagram.cell_vertices(s);
+      const std::span<const SiteId> nbrs = diagram.cell_neighbors(s);
+      const std::size_t d = tris.size();
+      for (std::size_t i = 0; i < d; ++i) {
+        const SiteId w = nbrs[i];
+        const Vertex& va = vertices_[tris[i]];
+        const Vertex& vb = vertices_[tris[i + 1 == d ? 0 : i + 1]];
+        if (w < s || va.rep == vb.rep) continue;  // the other cell's, or collapsed
+        const Pt a{va.v, va.lon, va.lat}, b{vb.v, vb.lon, vb.lat};
+        // Both triangles of the edge contain its two sites: the shorter of their shortest
+        // sides bounds their distance.
+        edge.clear();
+        dens.edge(a, b, diagram.site(s), diagram.site(w), std::min(va.min_side2, vb.min_side2));
+        const std::size_t slot = static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
+        EdgeSlot& e = edge_slots_[slot];
+        e.first = static_cast<std::uint32_t>(points.size());
+        e.count = static_cast<std::uint32_t>(edge.size());
+        e.part = thread;
+        for (const Pt& q : edge) points.push_back({q.v, q.lon, q.lat});
+        e.crossings = append_segments(a, edge, b, segments);
+        pending.push_back({slot, segments.size()});
+        if (segments.size() >= 4096) flush();
+      }
+    }
+    flush();
+  });
 }
 
 MultiPolygon CellGeometry::polygon(SiteId s, BBox* bbox) const {
@@ -193,6 +270,16 @@ void CellGeometry::polygon(SiteId s, MultiPolygon& out, BBox* bbox) const { buil
 
 void CellGeometry::polygon(SiteId s, MultiPolygon& out, double& area_m2, BBox* bbox) const {
   build(s, out, bbox, &area_m2);
+}
+
+std::size_t CellGeometry::edge_slot(SiteId s, std::size_t i) const {
+  const std::span<const SiteId> nbrs = vd_->cell_neighbors(s);
+  const SiteId w = nbrs[i];
+  if (s < w) return static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
+  const std::span<const SiteId> other = vd_->cell_neighbors(w);
+  const auto it = std::find(other.begin(), other.end(), s);
+  if (it == other.end() || std::find(it + 1, other.end(), s) != other.end()) return num_edge_slots_;
+  return static_cast<std::size_t>(other.data() - nbr_base_) + static_cast<std::size_t>(it - other.begin());
 }
 
 void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const {
@@ -243,75 +330,50 @@ void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m
     const std::span<const TriId> tris = vd.cell_vertices(s);
     const std::span<const SiteId> nbrs = vd.cell_neighbors(s);
     const std::size_t d = tris.size();
-    // The canonical slot of edge i and its area terms (computed here unless already shared).
-    auto add_edge_area = [&](std::size_t i, const Pt& first, const Pt& last) {
-      const SiteId w = nbrs[i];
-      std::size_t slot = static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
-      if (w < s) {
-        const std::span<const SiteId> other = vd.cell_neighbors(w);
-        const auto it = std::find(other.begin(), other.end(), s);
-        if (it == other.end() || std::find(it + 1, other.end(), s) != other.end()) {
-          slot = num_edge_slots_;  // not one edge: computed here, not shared
-        } else {
-          slot = static_cast<std::size_t>(other.data() - nbr_base_) + static_cast<std::size_t>(it - other.begin());
-        }
-      }
-      double sum = 0;
-      int crossings = 0;
-      const bool shared = slot < num_edge_slots_;
-      const std::int32_t state =
-          shared ? std::atomic_ref<std::int32_t>(edge_state_[slot]).load(std::memory_order_acquire) : 0;
-      if (state != 0) {
-        sum = std::atomic_ref<double>(edge_s12_[slot]).load(std::memory_order_relaxed);
-        crossings = (state - 1) / 2;
-      } else {
-        const GeographicLib::Geodesic& geod = GeographicLib::Geodesic::WGS84();
-        GeographicLib::Accumulator<> acc;
-        const Pt* p = &first;
-        auto segment = [&](const Pt& q) {
-          if (q.lon != p->lon || q.lat != p->lat) {  // the ring drops repeated positions
-            double s12, t, S12;
-            geod.GenInverse(p->lat, p->lon, q.lat, q.lon, kAreaMask, s12, t, t, t, t, t, S12);
-            acc += S12;
-            crossings += transit(p->lon, q.lon);
-          }
-          p = &q;
-        };
-        for (const Pt& q : edge) segment(q);
-        segment(last);
-        sum = acc();
-        if (shared) {
-          std::atomic_ref<double>(edge_s12_[slot]).store(sum, std::memory_order_relaxed);
-          std::atomic_ref<std::int32_t>(edge_state_[slot]).store(2 * crossings + 1, std::memory_order_release);
-        }
-      }
-      return std::pair<double, int>(w > s ? sum : -sum, w > s ? crossings : -crossings);
-    };
     GeographicLib::Accumulator<> area_sum;
     int area_crossings = 0;
+    std::vector<GeodesicEdge>& segments = segment_scratch();
+    std::vector<double>& s12 = s12_scratch();
     for (std::size_t i = 0; i < d; ++i) {
       const Vertex& va = vertices_[tris[i]];
       const Vertex& vb = vertices_[tris[i + 1 == d ? 0 : i + 1]];
       if (va.rep == vb.rep) continue;  // collapsed edge
       const Pt a{va.v, va.lon, va.lat}, b{vb.v, vb.lon, vb.lat};
       loop.push_back(a);
-      // Canonical direction: as the cell of the smaller site id runs it. Both triangles of the
-      // edge contain its two sites: the shorter of their shortest sides bounds their distance.
       const SiteId w = nbrs[i];
-      const double chord2 = std::min(va.min_side2, vb.min_side2);
-      edge.clear();
-      if (s < w) {
-        dens.edge(a, b, vd.site(s), vd.site(w), chord2);
-        loop.insert(loop.end(), edge.begin(), edge.end());
-      } else {
-        dens.edge(b, a, vd.site(w), vd.site(s), chord2);
-        loop.insert(loop.end(), edge.rbegin(), edge.rend());
+      const std::size_t slot = edge_slot(s, i);
+      double sum = 0;
+      int crossings = 0;
+      if (slot < num_edge_slots_) {  // computed at construction, in the canonical direction
+        const EdgeSlot& e = edge_slots_[slot];
+        const BoundaryPoint* p = points_[e.part].data() + e.first;
+        if (s < w) {
+          for (std::uint32_t k = 0; k < e.count; ++k) loop.push_back({p[k].v, p[k].lon, p[k].lat});
+        } else {
+          for (std::uint32_t k = e.count; k-- > 0;) loop.push_back({p[k].v, p[k].lon, p[k].lat});
+        }
+        sum = e.s12;
+        crossings = e.crossings;
+      } else {  // the same, in place: canonical direction from the smaller site id
+        const bool forward = s < w;
+        const Pt& from = forward ? a : b;
+        const Pt& to = forward ? b : a;
+        edge.clear();
+        dens.edge(from, to, vd.site(std::min(s, w)), vd.site(std::max(s, w)), std::min(va.min_side2, vb.min_side2));
+        if (forward)
+          loop.insert(loop.end(), edge.begin(), edge.end());
+        else
+          loop.insert(loop.end(), edge.rbegin(), edge.rend());
+        if (area_m2) {
+          segments.clear();
+          crossings = append_segments(from, edge, to, segments);
+          s12.resize(segments.size());
+          geodesic_s12(segments, s12);
+          sum = sum_s12(s12);
+        }
       }
-      if (area_m2) {
-        const auto [sum, crossings] = s < w ? add_edge_area(i, a, b) : add_edge_area(i, b, a);
-        area_sum += sum;
-        area_crossings += crossings;
-      }
+      area_sum += s < w ? sum : -sum;
+      area_crossings += s < w ? crossings : -crossings;
     }
     lonlat::loop_to_polygons(loop, out, bbox);
     if (area_m2) {

@@ -63,17 +63,20 @@ struct CellGeometryOptions {
   /// Voronoi edges shorter than this (metres on the sphere) are collapsed. DEFAULT: 0.005 m.
   /// REQUIRES: >= 0 and well below 0.19 m.
   double collapse_m = 0.005;
-  /// Threads computing the vertices' lon/lat at construction (0: one per core). DEFAULT: 1.
+  /// Threads computing the vertices' lon/lat and the edges at construction (0: one per core).
+  /// DEFAULT: 1.
   /// The result does not depend on it.
   unsigned threads = 1;
 };
 
 /// Builds the lon/lat polygons of the cells of one VoronoiDiagram. Construction precomputes, for
-/// every Voronoi vertex, its collapsed representative, its snapped position and its lon/lat
-/// (O(number of vertices)), and reserves one shared area slot per Voronoi edge and cell (16 bytes,
-/// about 96 bytes per site); each cell is then built in O(its output size). The diagram must
-/// outlive this object. polygon() is thread-safe (scratch buffers are thread-local). Building the
-/// cells in VoronoiDiagram::storage_order() is faster than by id when ids are spatially random.
+/// every Voronoi vertex, its collapsed representative, its snapped position and its lon/lat, and
+/// for every Voronoi edge, once, its densified points and its geodesic area terms, in one slot
+/// per edge and cell (24 bytes, about 144 bytes per site, plus 40 bytes per densified point);
+/// O(size of the diagram and of the densified edges), on options.threads threads. Each cell is
+/// then built in O(its output size). The diagram must outlive this object. polygon() is
+/// thread-safe (scratch buffers are thread-local). Building the cells in
+/// VoronoiDiagram::storage_order() is faster than by id when ids are spatially random.
 class CellGeometry {
  public:
   /// Points within this angle (radians on the unit sphere, 1.5e-11, about 0.1 mm) of a pole or
@@ -91,12 +94,12 @@ class CellGeometry {
   /// Same, reusing the storage of `out` (no allocation once its capacity suffices).
   void polygon(SiteId s, MultiPolygon& out, BBox* bbox = nullptr) const;
   /// Same, with the cell's area on the WGS84 ellipsoid, ellipsoid_area_m2(out), computed
-  /// faster: the geodesic area terms (Geodesic::GenInverse S12) of each densified Voronoi edge
-  /// are summed once, in its canonical direction, and shared by its two cells (negated for the
-  /// second); cells cut at the antimeridian or holding a pole use ellipsoid_area_m2(out) itself.
-  /// The two agree within rounding: 1e-9 relative, or a few ulps of the ellipsoid's area
-  /// (0.0625 m^2) for tiny cells. Thread-safe (the shared sums are atomics, and whichever cell
-  /// computes an edge's sum first gives the same bits, so the result never depends on threads).
+  /// faster: the geodesic area terms S12 (geodesic_s12(), which reproduces GeographicLib's
+  /// Geodesic::GenInverse) of each densified Voronoi edge are summed once, at construction, in
+  /// its canonical direction, and shared by its two cells (negated for the second); cells cut
+  /// at the antimeridian or holding a pole use ellipsoid_area_m2(out) itself. The two agree
+  /// within rounding: 1e-9 relative, or a few ulps of the ellipsoid's area (0.0625 m^2) for
+  /// tiny cells. Thread-safe; the result does not depend on threads.
   void polygon(SiteId s, MultiPolygon& out, double& area_m2, BBox* bbox = nullptr) const;
 
   const VoronoiDiagram& diagram() const { return *vd_; }
@@ -116,16 +119,29 @@ class CellGeometry {
   };
   std::vector<Vertex> vertices_;
   // Per Voronoi edge, in the slot of its canonical cell (the smaller site id; slot = index in
-  // the diagram's neighbour lists): the sum of S12 over its densified segments and the number
-  // of prime-meridian crossings c (PolygonArea's transit), in that cell's direction, the state
-  // 2 c + 1 (0: not computed yet) released after the sum; accessed through std::atomic_ref.
+  // the diagram's neighbour lists), computed at construction in that cell's direction: its
+  // densified points strictly between its end vertices (points_[part][first .. first + count)),
+  // the sum of S12 over its segments, and its prime-meridian crossings (PolygonArea's transit).
+  struct EdgeSlot {
+    double s12;
+    std::uint32_t first, count;
+    std::int32_t crossings;
+    std::uint32_t part;
+  };
   struct Free {
     void operator()(void* p) const { std::free(p); }
   };
-  std::unique_ptr<double[], Free> edge_s12_;
-  std::unique_ptr<std::int32_t[], Free> edge_state_;
+  std::unique_ptr<EdgeSlot[], Free> edge_slots_;  // zero pages from calloc, written by the threads
   std::size_t num_edge_slots_ = 0;
   const SiteId* nbr_base_ = nullptr;  // cell_neighbors() of the first cell in storage
+  struct BoundaryPoint {
+    Vec3 v;
+    double lon, lat;
+  };
+  std::vector<std::vector<BoundaryPoint>> points_;  // one part per construction thread
+  // The slot of edge i of cell s (own or the neighbour's), or num_edge_slots_ when the two
+  // sites share more than that one edge (tiny diagrams): then the edge is computed in place.
+  std::size_t edge_slot(SiteId s, std::size_t i) const;
   void build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
 };
 
