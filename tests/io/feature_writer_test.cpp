@@ -31,6 +31,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -657,6 +658,57 @@ TEST(GeoJson, EncodedBlocksWriteTheSameBytesAsWrite) {
   EXPECT_EQ(error_of([&] { gpkg->write_encoded(EncodedFeatures{}); }).code(), ErrorCode::InvalidArgument);
 }
 
+// encode_json() with each value's text from append_json_value() gives encode()'s bytes in every
+// framing, a null id field (text "null") leaves the feature without "id", and a wrong number of
+// values is refused by feature number with nothing appended.
+TEST(GeoJson, EncodeJsonWritesTheSameBytesAsEncode) {
+  TempDir dir;
+  for (const std::string name : {"cells.geojson", "cells.geojsons", "cells.geojsonl"}) {
+    WriterOptions options;
+    options.id_field = "name";  // null in cell 3
+    auto writer = open_feature_writer(dir / name, GeometryType::MultiPolygon, cell_schema(), options);
+    const FeatureEncoder* encoder = writer->encoder();
+    ASSERT_NE(encoder, nullptr);
+    EncodedFeatures by_values, by_texts;
+    for (std::size_t i = 0; i < cells().size(); ++i) {
+      const Cell& cell = cells()[i];
+      encoder->encode(cell.geometry, cell.values, i + 1, by_values);
+      std::vector<std::string> texts;
+      for (const FieldValue& v : cell.values) {
+        texts.emplace_back();
+        append_json_value(texts.back(), v);
+      }
+      const std::vector<std::string_view> views(texts.begin(), texts.end());
+      encoder->encode_json(cell.geometry, views, i + 1, by_texts);
+    }
+    EXPECT_EQ(by_texts.text, by_values.text) << name;
+    EXPECT_EQ(by_texts.boxes.size(), cells().size());
+    EXPECT_TRUE(contains(by_texts.text, "{\"type\":\"Feature\",\"id\":\"plain\","));
+    EXPECT_TRUE(contains(by_texts.text, "{\"type\":\"Feature\",\"bbox\":[-180,-90,180,-74],"));
+    const std::vector<std::string_view> too_few = {"1", "\"x\""};
+    const std::size_t before = by_texts.text.size();
+    const Error e = error_of([&] { encoder->encode_json(cells()[0].geometry, too_few, 7, by_texts); });
+    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+    EXPECT_TRUE(contains(e.what(), "feature 7")) << e.what();
+    EXPECT_EQ(by_texts.text.size(), before);
+  }
+}
+
+TEST(GeoJson, AppendJsonValueWritesEachKindAsTheWriter) {
+  auto text = [](const FieldValue& v) {
+    std::string s = "<";
+    append_json_value(s, v);
+    return s;
+  };
+  EXPECT_EQ(text(std::monostate{}), "<null");
+  EXPECT_EQ(text(std::int64_t{-9223372036854775807 - 1}), "<-9223372036854775808");
+  EXPECT_EQ(text(2.0), "<2.0");
+  EXPECT_EQ(text(1e-300), "<1e-300");
+  EXPECT_EQ(text(std::numeric_limits<double>::quiet_NaN()), "<null");
+  EXPECT_EQ(text(-std::numeric_limits<double>::infinity()), "<null");
+  EXPECT_EQ(text(std::string("a\"b\n")), "<\"a\\\"b\\n\"");
+}
+
 // A file of several MB (the writer stages the temporary file in 4 MB aligned blocks for direct
 // I/O, then writes the partial last block normally) holds exactly the encoded text, in the
 // test's temporary directory and on tmpfs.
@@ -825,6 +877,11 @@ TEST(FormatCoordinate, MatchesToCharsFixed) {
   EXPECT_EQ(coord(1e-300, 7), "0");
   EXPECT_EQ(coord(5e-324, 17), "0");
   EXPECT_EQ(coord(12.3456789012, 7), "12.3456789");
+  // Whole parts of 1, 2, 3 and more digits, just below and at each power of ten, every precision.
+  for (const double v : {9.0, 10.0, 99.0, 100.0, 999.0, 1000.0, 123456.0})
+    for (int p = 0; p <= 17; ++p)
+      for (const double w : {v, std::nextafter(v, 0.0), -v, -std::nextafter(v, 0.0), v + 0.5, v - 0.25})
+        ASSERT_EQ(coord(w, p), reference(w, p)) << w << " precision " << p;
   EXPECT_EQ(coord(4503599627370495.5, 17), reference(4503599627370495.5, 17));  // slow path
   // Near-ties of the 7th decimal (the fast path must leave them to the exact path).
   for (int k = -100000; k < 100000; ++k) {

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cerrno>
@@ -31,6 +32,9 @@ namespace fs = std::filesystem;
 constexpr double kPow10d[10] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
 
 char* write_scaled(char* out, bool negative, std::uint64_t digits_value, int precision);
+// Writes text as a JSON string, quotes included (append_json_string()), to p, which has room for
+// 6 * text.size() + 2 characters; returns the end.
+char* put_json_string(char* p, std::string_view text);
 
 constexpr std::uint64_t pow5(int p) {
   std::uint64_t r = 1;
@@ -186,16 +190,46 @@ class GeoJsonEncoder final : public FeatureEncoder {
       if (i > 0) key += ',';
       append_json_string(key, schema[i].name);
       key += ':';
+      keys_chars_ += key.size();
       keys_.push_back(std::move(key));
     }
   }
 
   void encode(const Geometry& geometry, std::span<const FieldValue> values, std::uint64_t number,
               EncodedFeatures& out) const override {
-    if (values.size() != keys_.size()) {
+    const bool has_id = id_index_ >= 0 && static_cast<std::size_t>(id_index_) < values.size() &&
+                        !std::holds_alternative<std::monostate>(values[id_index_]);
+    std::size_t values_bound = 0;
+    for (const FieldValue& v : values) values_bound += value_bound(v);
+    if (has_id) values_bound += value_bound(values[id_index_]);
+    encode_with(geometry, values.size(), number, out, has_id, values_bound,
+                [&](char* p, std::size_t i) { return put_json_value(p, values[i]); });
+  }
+
+  void encode_json(const Geometry& geometry, std::span<const std::string_view> json_values, std::uint64_t number,
+                   EncodedFeatures& out) const override {
+    const bool has_id = id_index_ >= 0 && static_cast<std::size_t>(id_index_) < json_values.size() &&
+                        json_values[id_index_] != "null";
+    std::size_t values_bound = 0;
+    for (const std::string_view v : json_values) values_bound += v.size();
+    if (has_id) values_bound += json_values[id_index_].size();
+    encode_with(geometry, json_values.size(), number, out, has_id, values_bound, [&](char* p, std::size_t i) {
+      std::memcpy(p, json_values[i].data(), json_values[i].size());
+      return p + json_values[i].size();
+    });
+  }
+
+  // The feature's text, each value written by put(p, i) (which returns the end; the values
+  // together, the id's twice if has_id, take at most values_bound characters); has_id: the id
+  // field's value is not null. The text is written in place, into room made for the longest
+  // possible text, which spares a call and a capacity check per piece.
+  template <typename PutValue>
+  void encode_with(const Geometry& geometry, std::size_t num_values, std::uint64_t number, EncodedFeatures& out,
+                   bool has_id, std::size_t values_bound, const PutValue& put) const {
+    if (num_values != keys_.size()) {
       throw Error(ErrorCode::InvalidArgument,
                   path_ + ": feature " + std::to_string(number) + " has " +
-                      std::to_string(values.size()) + " values for " +
+                      std::to_string(num_values) + " values for " +
                       std::to_string(keys_.size()) + " fields");
     }
     if (type_of(geometry) != geometry_type_) {
@@ -210,33 +244,86 @@ class GeoJsonEncoder final : public FeatureEncoder {
     }
     const std::optional<BBox> box = geojson_bbox(geometry);
     std::string& t = out.text;
+    const std::size_t old_size = t.size();
+    t.resize(old_size + kFeatureFrameChars + keys_chars_ + values_bound + kBBoxChars + geometry_bound(geometry));
+    char* p = t.data() + old_size;
     // Every feature of a collection starts with its separator; the writer drops the first one.
-    if (framing_ == GeoJsonFraming::RecordSeparated) t += '\x1e';
-    if (framing_ == GeoJsonFraming::FeatureCollection) t += ",\n";
-    t += "{\"type\":\"Feature\"";
-    if (id_index_ >= 0 && !std::holds_alternative<std::monostate>(values[id_index_])) {
-      t += ",\"id\":";
-      put_value(t, values[id_index_]);
+    if (framing_ == GeoJsonFraming::RecordSeparated) *p++ = '\x1e';
+    if (framing_ == GeoJsonFraming::FeatureCollection) p = put_text(p, ",\n");
+    p = put_text(p, "{\"type\":\"Feature\"");
+    if (has_id) {
+      p = put_text(p, ",\"id\":");
+      p = put(p, static_cast<std::size_t>(id_index_));
     }
     if (box) {
-      t += ",\"bbox\":";
-      put_bbox(t, *box);
+      p = put_text(p, ",\"bbox\":");
+      p = put_bbox(p, *box);
     }
-    t += ",\"properties\":{";
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      t += keys_[i];
-      put_value(t, values[i]);
+    p = put_text(p, ",\"properties\":{");
+    for (std::size_t i = 0; i < num_values; ++i) {
+      std::memcpy(p, keys_[i].data(), keys_[i].size());
+      p = put(p + keys_[i].size(), i);
     }
-    t += "},\"geometry\":";
-    put_geometry(t, geometry);
-    t += '}';
-    if (framing_ != GeoJsonFraming::FeatureCollection) t += '\n';
+    p = put_text(p, "},\"geometry\":");
+    p = put_geometry(p, geometry);
+    *p++ = '}';
+    if (framing_ != GeoJsonFraming::FeatureCollection) *p++ = '\n';
+    t.resize(static_cast<std::size_t>(p - t.data()));
     out.boxes.push_back(box);
   }
 
   void put_bbox(std::string& t, const BBox& b) const {
-    char buf[4 * kMaxCoordinateChars + 8];
-    char* p = buf;
+    char buf[kBBoxChars];
+    t.append(buf, static_cast<std::size_t>(put_bbox(buf, b) - buf));
+  }
+
+ private:
+  // Longest text of a feature's framing without its keys, values, bbox and geometry (the
+  // literals of encode_with(): 2 + 17 + 6 + 8 + 15 + 13 + 2 characters, rounded up).
+  static constexpr std::size_t kFeatureFrameChars = 80;
+  static constexpr std::size_t kBBoxChars = 4 * kMaxCoordinateChars + 8;
+  static constexpr std::size_t kPositionChars = 2 * kMaxCoordinateChars + 4;  // [x,y],
+
+  // Copies a string literal without its terminating zero; returns the end.
+  template <std::size_t N>
+  static char* put_text(char* p, const char (&text)[N]) {
+    std::memcpy(p, text, N - 1);
+    return p + (N - 1);
+  }
+
+  // Longest text put_json_value() writes for v.
+  static std::size_t value_bound(const FieldValue& v) {
+    if (const auto* s = std::get_if<std::string>(&v)) return 6 * s->size() + 2;
+    return std::max<std::size_t>(kMaxRealChars, 24);
+  }
+
+  static char* put_json_value(char* p, const FieldValue& v) {
+    if (const auto* i = std::get_if<std::int64_t>(&v)) return std::to_chars(p, p + 24, *i).ptr;
+    if (const auto* d = std::get_if<double>(&v)) {
+      if (!std::isfinite(*d)) return put_text(p, "null");  // JSON has no NaN or infinity (GDAL writes null too)
+      return format_real(p, *d);
+    }
+    if (const auto* s = std::get_if<std::string>(&v)) return put_json_string(p, *s);
+    return put_text(p, "null");
+  }
+
+  // Longest text put_geometry() writes for g.
+  static std::size_t geometry_bound(const Geometry& g) {
+    constexpr std::size_t kHead = 48;  // {"type":"MultiLineString","coordinates":[ ... ]}
+    if (std::holds_alternative<LonLat>(g)) return kHead + kPositionChars;
+    std::size_t n = kHead;
+    if (const auto* lines = std::get_if<MultiLineString>(&g)) {
+      for (const LineString& line : *lines) n += 3 + line.size() * kPositionChars;
+    } else {
+      for (const Polygon& poly : std::get<MultiPolygon>(g)) {
+        n += 3 + 3 + poly.exterior.size() * kPositionChars;
+        for (const Ring& hole : poly.holes) n += 3 + hole.size() * kPositionChars;
+      }
+    }
+    return n;
+  }
+
+  char* put_bbox(char* p, const BBox& b) const {
     *p++ = '[';
     p = format_coordinate(p, b.west, precision_);
     *p++ = ',';
@@ -246,15 +333,10 @@ class GeoJsonEncoder final : public FeatureEncoder {
     *p++ = ',';
     p = format_coordinate(p, b.north, precision_);
     *p++ = ']';
-    t.append(buf, static_cast<std::size_t>(p - buf));
+    return p;
   }
 
- private:
-  // Positions go through a stack buffer, several at a time, to keep std::string's checks rare.
-  void put_positions(std::string& t, const std::vector<LonLat>& ps) const {
-    constexpr std::size_t kBatch = 16;
-    char buf[kBatch * (2 * kMaxCoordinateChars + 4) + 2];
-    char* p = buf;
+  char* put_positions(char* p, const std::vector<LonLat>& ps) const {
     *p++ = '[';
     for (std::size_t i = 0; i < ps.size(); ++i) {
       if (i > 0) *p++ = ',';
@@ -263,73 +345,47 @@ class GeoJsonEncoder final : public FeatureEncoder {
       *p++ = ',';
       p = format_coordinate(p, ps[i].lat_deg, precision_);
       *p++ = ']';
-      if ((i + 1) % kBatch == 0) {
-        t.append(buf, static_cast<std::size_t>(p - buf));
-        p = buf;
-      }
     }
     *p++ = ']';
-    t.append(buf, static_cast<std::size_t>(p - buf));
+    return p;
   }
 
-  void put_geometry(std::string& t, const Geometry& g) const {
+  char* put_geometry(char* p, const Geometry& g) const {
     if (const auto* pt = std::get_if<LonLat>(&g)) {
-      t += "{\"type\":\"Point\",\"coordinates\":";
-      char buf[2 * kMaxCoordinateChars + 4];
-      char* p = buf;
-      *p++ = '[';
+      p = put_text(p, "{\"type\":\"Point\",\"coordinates\":[");
       p = format_coordinate(p, pt->lon_deg, precision_);
       *p++ = ',';
       p = format_coordinate(p, pt->lat_deg, precision_);
-      *p++ = ']';
-      t.append(buf, static_cast<std::size_t>(p - buf));
-      t += '}';
-    } else if (const auto* lines = std::get_if<MultiLineString>(&g)) {
-      t += "{\"type\":\"MultiLineString\",\"coordinates\":[";
+      return put_text(p, "]}");
+    }
+    if (const auto* lines = std::get_if<MultiLineString>(&g)) {
+      p = put_text(p, "{\"type\":\"MultiLineString\",\"coordinates\":[");
       for (std::size_t i = 0; i < lines->size(); ++i) {
-        if (i > 0) t += ',';
-        put_positions(t, (*lines)[i]);
+        if (i > 0) *p++ = ',';
+        p = put_positions(p, (*lines)[i]);
       }
-      t += "]}";
-    } else {
-      const auto& polys = std::get<MultiPolygon>(g);
-      t += "{\"type\":\"MultiPolygon\",\"coordinates\":[";
-      for (std::size_t i = 0; i < polys.size(); ++i) {
-        if (i > 0) t += ',';
-        t += '[';
-        put_positions(t, polys[i].exterior);
-        for (const Ring& hole : polys[i].holes) {
-          t += ',';
-          put_positions(t, hole);
-        }
-        t += ']';
-      }
-      t += "]}";
+      return put_text(p, "]}");
     }
-  }
-
-  static void put_value(std::string& t, const FieldValue& v) {
-    if (const auto* i = std::get_if<std::int64_t>(&v)) {
-      char buf[24];
-      t.append(buf, static_cast<std::size_t>(std::to_chars(buf, buf + sizeof buf, *i).ptr - buf));
-    } else if (const auto* d = std::get_if<double>(&v)) {
-      if (!std::isfinite(*d)) {
-        t += "null";  // JSON has no NaN or infinity (GDAL writes null too by default)
-        return;
+    const auto& polys = std::get<MultiPolygon>(g);
+    p = put_text(p, "{\"type\":\"MultiPolygon\",\"coordinates\":[");
+    for (std::size_t i = 0; i < polys.size(); ++i) {
+      if (i > 0) *p++ = ',';
+      *p++ = '[';
+      p = put_positions(p, polys[i].exterior);
+      for (const Ring& hole : polys[i].holes) {
+        *p++ = ',';
+        p = put_positions(p, hole);
       }
-      char buf[kMaxRealChars];
-      t.append(buf, static_cast<std::size_t>(format_real(buf, *d) - buf));
-    } else if (const auto* s = std::get_if<std::string>(&v)) {
-      append_json_string(t, *s);
-    } else {
-      t += "null";
+      *p++ = ']';
     }
+    return put_text(p, "]}");
   }
 
   std::string path_;
   GeoJsonFraming framing_;
   GeometryType geometry_type_;
   std::vector<std::string> keys_;  // ,"name":
+  std::size_t keys_chars_ = 0;     // of all keys_
   int precision_;
   int id_index_ = -1;
 };
@@ -642,20 +698,34 @@ char* format_coordinate(char* out, double value, int precision) {
 
 namespace {
 
-// Writes +-q / 10^precision with trailing zeros trimmed; "0" (never "-0") for q == 0.
-char* write_scaled(char* out, bool negative, std::uint64_t digits_value, int precision) {
+// Writes +-q / 10^P with trailing zeros trimmed; "0" (never "-0") for q == 0. P is a template
+// argument so that the divisions by 10^P compile to multiplications.
+template <int P>
+char* write_scaled_p(char* out, bool negative, std::uint64_t digits_value) {
   if (digits_value == 0) {
     *out++ = '0';
     return out;
   }
   if (negative) *out++ = '-';
-  // The whole part, then the `precision` decimals without their trailing zeros, written digit
-  // by digit from the end (no temporary buffer to copy).
-  const std::uint64_t scale = kPow10u[precision];
+  // The whole part (coordinates: below 1000), then the P decimals without their trailing zeros,
+  // written two at a time from the end (no temporary buffer to copy).
+  constexpr std::uint64_t scale = pow10u(P);
   std::uint64_t decimals_value = digits_value % scale;
-  out = std::to_chars(out, out + 24, digits_value / scale).ptr;
+  const std::uint64_t whole = digits_value / scale;
+  if (whole < 10) {
+    *out++ = static_cast<char>('0' + whole);
+  } else if (whole < 100) {
+    std::memcpy(out, kDigitPairs + 2 * whole, 2);
+    out += 2;
+  } else if (whole < 1000) {
+    *out++ = static_cast<char>('0' + whole / 100);
+    std::memcpy(out, kDigitPairs + 2 * (whole % 100), 2);
+    out += 2;
+  } else {
+    out = std::to_chars(out, out + 24, whole).ptr;
+  }
   if (decimals_value != 0) {
-    int decimals = precision;
+    int decimals = P;
     while (decimals_value % 10 == 0) decimals_value /= 10, --decimals;
     *out++ = '.';
     char* end = out + decimals;
@@ -668,6 +738,17 @@ char* write_scaled(char* out, bool negative, std::uint64_t digits_value, int pre
     out = end;
   }
   return out;
+}
+
+template <int... P>
+constexpr auto scaled_writers(std::integer_sequence<int, P...>) {
+  return std::array<char* (*)(char*, bool, std::uint64_t), sizeof...(P)>{&write_scaled_p<P>...};
+}
+constexpr auto kScaledWriters = scaled_writers(std::make_integer_sequence<int, 18>());
+
+char* write_scaled(char* out, bool negative, std::uint64_t digits_value, int precision) {
+  if (precision == 7) return write_scaled_p<7>(out, negative, digits_value);  // the default, inlined
+  return kScaledWriters[static_cast<std::size_t>(precision)](out, negative, digits_value);
 }
 
 }  // namespace
@@ -788,6 +869,13 @@ char* escape_json(char* p, const unsigned char* s, std::size_t n) {
   return p;
 }
 
+char* put_json_string(char* p, std::string_view text) {
+  *p++ = '"';
+  p = escape_json(p, reinterpret_cast<const unsigned char*>(text.data()), text.size());
+  *p++ = '"';
+  return p;
+}
+
 }  // namespace
 
 void append_json_string(std::string& out, std::string_view text) {
@@ -810,6 +898,24 @@ void append_json_string(std::string& out, std::string_view text) {
   p = escape_json(p, s, n);
   *p++ = '"';
   out.resize(static_cast<std::size_t>(p - out.data()));
+}
+
+void append_json_value(std::string& out, const FieldValue& value) {
+  if (const auto* i = std::get_if<std::int64_t>(&value)) {
+    char buf[24];
+    out.append(buf, static_cast<std::size_t>(std::to_chars(buf, buf + sizeof buf, *i).ptr - buf));
+  } else if (const auto* d = std::get_if<double>(&value)) {
+    if (!std::isfinite(*d)) {
+      out += "null";  // JSON has no NaN or infinity (GDAL writes null too by default)
+      return;
+    }
+    char buf[kMaxRealChars];
+    out.append(buf, static_cast<std::size_t>(format_real(buf, *d) - buf));
+  } else if (const auto* s = std::get_if<std::string>(&value)) {
+    append_json_string(out, *s);
+  } else {
+    out += "null";
+  }
 }
 
 std::string geometry_problem(const Geometry& geometry) {

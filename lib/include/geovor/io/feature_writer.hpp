@@ -27,6 +27,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -94,6 +95,13 @@ class FeatureEncoder {
   /// @exception Error(InvalidArgument) as FeatureWriter::write(), with `out` unchanged.
   virtual void encode(const Geometry& geometry, std::span<const FieldValue> values, std::uint64_t number,
                       EncodedFeatures& out) const = 0;
+  /// As encode(), with each value given as the JSON text encode() writes for it
+  /// (append_json_value() in geojson_writer.hpp), so that a caller can make the text of values
+  /// repeated across features (ids, lists of ids) once. The texts are copied unchecked: each must
+  /// be one JSON value. The feature gets an "id" unless the id field's text is "null".
+  /// @exception Error(InvalidArgument) as encode().
+  virtual void encode_json(const Geometry& geometry, std::span<const std::string_view> json_values,
+                           std::uint64_t number, EncodedFeatures& out) const = 0;
 };
 
 /// Streams features to a file. The output appears under its final name only when finish()

@@ -112,4 +112,9 @@ char* format_real(char* out, double value);
 /// UTF-8 replaced by U+FFFD (JSON text must be UTF-8, RFC 8259 §8.1).
 void append_json_string(std::string& out, std::string_view text);
 
+/// Appends `value` as the GeoJSON writers write a property value: null for monostate and for a
+/// non-finite double (JSON has neither NaN nor infinity), an integer in decimal, a double as
+/// format_real(), a string as append_json_string().
+void append_json_value(std::string& out, const FieldValue& value);
+
 }  // namespace geovor
