@@ -9,10 +9,12 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
 #include "geovor/io/feature_writer.hpp"
+#include "geovor/io/geojson_writer.hpp"
 #include "geovor/voronoi/cell_geometry.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 #include "site_input.hpp"
@@ -48,6 +50,60 @@ void append_json(std::string& out, const std::string& s) {
   }
   out.append(s, plain, std::string::npos);
   out += '"';
+}
+
+// Whether append_json() only adds quotes around `id`.
+bool plain_json(const std::string& id) {
+  return std::none_of(id.begin(), id.end(), [](char c) { return c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20; });
+}
+
+// Appends the text append_json() makes of `id` as it stands inside a JSON string (escaped once
+// more, without the quotes): an element of the ids/neighbors lists in GeoJSON. Escaping a list
+// piece by piece gives the same bytes as escaping it whole, since every piece ("[", ",", "]",
+// elements) starts and ends with an ASCII character.
+void append_escaped_element(std::string& out, const std::string& id) {
+  std::string element, escaped;
+  append_json(element, id);
+  append_json_string(escaped, element);
+  out.append(escaped, 1, escaped.size() - 2);
+}
+
+// Two texts per site: first[s] and second[s] (views into `storage`).
+struct SiteTexts {
+  std::vector<std::string> storage;  // one string per thread
+  std::vector<std::string_view> first, second;
+};
+
+// make(out, s) appends site s's first text then its second, and returns where the second starts;
+// for every site, on `threads` threads.
+template <typename Make>
+SiteTexts make_site_texts(std::size_t num_sites, unsigned threads, const Make& make) {
+  threads = static_cast<unsigned>(std::clamp<std::size_t>(num_sites / 4096, 1, threads));
+  SiteTexts texts;
+  texts.storage.resize(threads);
+  texts.first.resize(num_sites);
+  texts.second.resize(num_sites);
+  auto run = [&](unsigned t) {
+    const std::size_t begin = num_sites * t / threads, end = num_sites * (t + 1) / threads;
+    std::string& out = texts.storage[t];
+    std::vector<std::size_t> ends;  // the views come once `out` stops moving
+    ends.reserve(2 * (end - begin));
+    for (std::size_t s = begin; s < end; ++s) {
+      ends.push_back(make(out, static_cast<SiteId>(s)));
+      ends.push_back(out.size());
+    }
+    const std::string_view all(out);
+    for (std::size_t s = begin, k = 0, from = 0; s < end; ++s, k += 2) {
+      texts.first[s] = all.substr(from, ends[k] - from);
+      texts.second[s] = all.substr(ends[k], ends[k + 1] - ends[k]);
+      from = ends[k + 1];
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(run, t);
+  run(0);
+  for (std::thread& th : pool) th.join();
+  return texts;
 }
 
 std::string lower(std::string s) {
@@ -86,16 +142,6 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   auto rows_of = [&](SiteId s) {
     return std::span<const std::uint32_t>(row_list.data() + row_begin[s], row_list.data() + row_begin[s + 1]);
   };
-  // Each site's id (its first row's) as JSON text, made once: the neighbour lists name every
-  // site about six times. Site s: id_json[id_end[s] .. id_end[s + 1]).
-  std::string id_json;
-  std::vector<std::size_t> id_end(num_sites + 1, 0);
-  for (std::size_t s = 0; s < num_sites; ++s) {
-    if (row_begin[s] < row_begin[s + 1]) append_json(id_json, table.sites[row_list[row_begin[s]]].id);
-    id_end[s + 1] = id_json.size();
-  }
-  auto append_id = [&](std::string& out, SiteId s) { out.append(id_json, id_end[s], id_end[s + 1] - id_end[s]); };
-
   // Schema: our fields, then every input column (renamed src_<name> if it clashes with ours).
   const std::vector<std::string> ours = {"site_index", "site_id", "ids",        "n_rows",
                                          "area_m2",    "area_sr", "n_vertices", "neighbors"};
@@ -114,6 +160,38 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   writer_options.overwrite = args.overwrite;
   writer_options.id_field = "site_id";
   const auto writer = open_feature_writer(args.output, GeometryType::MultiPolygon, schema, writer_options);
+  const FeatureEncoder* encoder = writer->encoder();
+
+  // Each site's id (its first row's) as text, made once: the neighbour lists name every site
+  // about six times. Without an encoder: as a JSON string, an element of the lists. With one
+  // (GeoJSON): as the encoder writes the id (site_id, the feature id), and as a list element
+  // escaped inside the list's JSON string.
+  auto has_rows = [&](std::size_t s) { return row_begin[s] < row_begin[s + 1]; };
+  auto first_id = [&](std::size_t s) -> const std::string& { return table.sites[row_list[row_begin[s]]].id; };
+  // Encoder: first = the id as written, second = the list element; otherwise first = append_json(id).
+  const SiteTexts ids = make_site_texts(num_sites, threads, [&](std::string& out, SiteId s) {
+    if (!has_rows(s)) return out.size();
+    const std::size_t at = out.size();
+    if (!encoder) {
+      append_json(out, first_id(s));
+      return out.size();
+    }
+    append_json_string(out, first_id(s));
+    const std::size_t split = out.size();
+    if (plain_json(first_id(s))) {
+      // The quotes become \": \" + the id as just written without its closing quote + \".
+      out += '\\';
+      out.append(out, at, split - 1 - at);  // (appending part of itself is well-defined)
+      out += "\\\"";
+    } else {
+      append_escaped_element(out, first_id(s));
+    }
+    return split;
+  });
+  const std::vector<std::string_view>& id_json = ids.first;
+  const std::vector<std::string_view>& id_text = ids.first;
+  const std::vector<std::string_view>& id_element = ids.second;
+  auto append_id = [&](std::string& out, SiteId s) { out += id_json[s]; };
 
   // One cell's geometry and properties (thread-safe: only reads shared state).
   auto make_cell = [&](SiteId s, MultiPolygon& polygon, std::vector<FieldValue>& values, std::string& buffer) {
@@ -147,6 +225,55 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
     for (std::size_t c = 0; c < table.columns.size(); ++c)
       values[8 + c] = c < first.fields.size() ? FieldValue(first.fields[c]) : FieldValue();
   };
+  // The same properties as the JSON text of each value, in one string (`text`, value i ends at
+  // ends[i]), for the encoder.
+  const std::size_t id_column = table.id_column >= 0 ? static_cast<std::size_t>(table.id_column) : schema.size();
+  auto make_cell_json = [&](SiteId s, MultiPolygon& polygon, std::string& text, std::vector<std::size_t>& ends) {
+    double area_m2 = 0;
+    cells.polygon(s, polygon, area_m2);
+    const std::span<const std::uint32_t> site_rows = rows_of(s);
+    const InputSite& first = table.sites[site_rows.front()];
+    const auto neighbours = diagram.cell_neighbors(s);
+    text.clear();
+    ends.clear();
+    auto done = [&] { ends.push_back(text.size()); };
+    append_json_value(text, static_cast<std::int64_t>(s));
+    done();
+    text += id_text[s];
+    done();
+    text += "\"[";
+    text += id_element[s];
+    for (std::size_t k = 1; k < site_rows.size(); ++k) {
+      text += ',';
+      append_escaped_element(text, table.sites[site_rows[k]].id);
+    }
+    text += "]\"";
+    done();
+    append_json_value(text, static_cast<std::int64_t>(site_rows.size()));
+    done();
+    append_json_value(text, area_m2);
+    done();
+    append_json_value(text, diagram.cell_area_sr(s));
+    done();
+    append_json_value(text, static_cast<std::int64_t>(diagram.cell_vertices(s).size()));
+    done();
+    text += "\"[";
+    for (std::size_t k = 0; k < neighbours.size(); ++k) {
+      if (k) text += ',';
+      text += id_element[neighbours[k]];
+    }
+    text += "]\"";
+    done();
+    for (std::size_t c = 0; c < table.columns.size(); ++c) {
+      if (c >= first.fields.size())
+        text += "null";
+      else if (c == id_column && first.fields[c] == first.id)
+        text += id_text[s];
+      else
+        append_json_string(text, first.fields[c]);
+      done();
+    }
+  };
   std::vector<SiteId> order;
   for (SiteId s = 0; s < dt.site_capacity(); ++s)
     if (diagram.has_cell(s)) order.push_back(s);
@@ -154,7 +281,6 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   // A pipeline: worker threads take blocks of consecutive cells (in site order) and compute
   // them, and encode them too when the format has an encoder (GeoJSON), while this thread
   // writes the finished blocks in order. At most kWindow blocks are in flight, in reused slots.
-  const FeatureEncoder* encoder = writer->encoder();
   constexpr std::size_t kBlock = 1024;
   const std::size_t num_blocks = (order.size() + kBlock - 1) / kBlock;
   const std::size_t window = 2 * static_cast<std::size_t>(threads) + 2;
@@ -170,14 +296,25 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   std::size_t next_block = 0, blocks_written = 0;
   bool stop = false;
 
-  auto compute = [&](std::size_t b, Slot& slot, std::string& buffer, MultiPolygon& polygon,
-                     std::vector<FieldValue>& values) {
+  // A worker's reused memory.
+  struct Scratch {
+    std::string buffer;
+    MultiPolygon polygon;
+    std::vector<FieldValue> values;
+    std::vector<std::size_t> ends;
+    std::vector<std::string_view> json_values;
+  };
+  auto compute = [&](std::size_t b, Slot& slot, Scratch& scratch) {
     const std::size_t begin = b * kBlock, end = std::min(order.size(), begin + kBlock);
+    std::string& buffer = scratch.buffer;
     if (encoder) {
       slot.text.clear();
       for (std::size_t i = begin; i < end; ++i) {
-        make_cell(order[i], polygon, values, buffer);
-        encoder->encode(polygon, values, i + 1, slot.text);
+        make_cell_json(order[i], scratch.polygon, buffer, scratch.ends);
+        scratch.json_values.clear();
+        for (std::size_t k = 0, from = 0; k < scratch.ends.size(); from = scratch.ends[k++])
+          scratch.json_values.push_back(std::string_view(buffer).substr(from, scratch.ends[k] - from));
+        encoder->encode_json(scratch.polygon, scratch.json_values, i + 1, slot.text);
       }
       return;
     }
@@ -190,9 +327,7 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
       make_cell(block.sites[i], block.polygons[i], block.values[i], buffer);
   };
   auto work = [&] {
-    std::string buffer;
-    MultiPolygon polygon;
-    std::vector<FieldValue> values;
+    Scratch scratch;
     for (;;) {
       std::size_t b;
       {
@@ -204,7 +339,7 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
       Slot& slot = slots[b % window];
       std::exception_ptr error;
       try {
-        compute(b, slot, buffer, polygon, values);
+        compute(b, slot, scratch);
       } catch (...) {
         error = std::current_exception();
       }
