@@ -275,8 +275,8 @@ SiteTable read_csv_table(std::istream& in, const std::string& source, const Site
     site.line = line;
     site.id = table.id_column >= 0 ? fields[static_cast<std::size_t>(table.id_column)]
                                    : std::to_string(row);
-    site.fields = std::move(fields);
-    fields.clear();
+    // Copied, not moved: `fields` keeps its strings and their capacity for the next record.
+    site.fields.assign(fields.begin(), fields.end());
     rows.push_back(std::move(site));
   }
 
