@@ -34,15 +34,21 @@ SiteEncoder::Geodetic SiteEncoder::from_ecef(double x_m, double y_m, double z_m)
 
 LatLon SiteEncoder::to_lat_lon(const Vec3& u) {
   using GeographicLib::Math;
-  // atan2d is exact at multiples of 45 degrees, so axis directions map to exact degrees.
+  // The geodetic latitude of the direction: tan(lat) = z / ((1 - e^2) rho), (1 - e^2) = (1 - f)^2,
+  // in one atan2d (exact at multiples of 45 degrees, so the poles and the equator come out exact;
+  // GeographicLib's geocentric-to-geodetic conversion takes three trigonometric calls instead).
   // sqrt rather than hypot (three times slower): |u| is far from overflow, and both are exact on
   // the axes.
-  const double theta = Math::atan2d(u.z, std::sqrt(u.x * u.x + u.y * u.y));
-  LatLon p{GeographicLib::Ellipsoid::WGS84().InverseGeocentricLatitude(theta),
-           Math::atan2d(u.y, u.x)};
-  const std::string reason = normalize_lat_lon(p.lat_deg, p.lon_deg);
-  GEOVOR_ASSERT(reason.empty());
-  return p;
+  static const double one_minus_e2 = [] {
+    const double f1 = 1 - GeographicLib::Ellipsoid::WGS84().Flattening();
+    return f1 * f1;
+  }();
+  double lat = Math::atan2d(u.z, one_minus_e2 * std::sqrt(u.x * u.x + u.y * u.y));
+  double lon = Math::atan2d(u.y, u.x);
+  // normalize_lat_lon's canonical form (without its checks: atan2d's results are in range).
+  if (lon == 180) lon = -180;
+  if (std::fabs(lat) == 90) lon = 0;
+  return {positive_zero(lat), positive_zero(lon)};
 }
 
 }  // namespace geovor
