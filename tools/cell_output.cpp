@@ -68,34 +68,29 @@ void append_escaped_element(std::string& out, const std::string& id) {
   out.append(escaped, 1, escaped.size() - 2);
 }
 
-// Two texts per site: first[s] and second[s] (views into `storage`).
-struct SiteTexts {
-  std::vector<std::string> storage;  // one string per thread
-  std::vector<std::string_view> first, second;
-};
-
-// make(out, s) appends site s's first text then its second, and returns where the second starts;
-// for every site, on `threads` threads.
+// make(out, i) appends item i's first text then its second, and returns where the second
+// starts; for items 0 .. n - 1, on `threads` threads.
 template <typename Make>
-SiteTexts make_site_texts(std::size_t num_sites, unsigned threads, const Make& make) {
-  threads = static_cast<unsigned>(std::clamp<std::size_t>(num_sites / 4096, 1, threads));
-  SiteTexts texts;
+IdTexts make_texts(std::size_t n, unsigned threads, const Make& make) {
+  threads = static_cast<unsigned>(std::clamp<std::size_t>(n / 4096, 1, std::max(1u, threads)));
+  IdTexts texts;
   texts.storage.resize(threads);
-  texts.first.resize(num_sites);
-  texts.second.resize(num_sites);
+  texts.text.resize(n);
+  texts.element.resize(n);
   auto run = [&](unsigned t) {
-    const std::size_t begin = num_sites * t / threads, end = num_sites * (t + 1) / threads;
+    const std::size_t begin = n * t / threads, end = n * (t + 1) / threads;
     std::string& out = texts.storage[t];
+    out.reserve(64);  // on the heap from the start: moving `texts` keeps the views valid
     std::vector<std::size_t> ends;  // the views come once `out` stops moving
     ends.reserve(2 * (end - begin));
-    for (std::size_t s = begin; s < end; ++s) {
-      ends.push_back(make(out, static_cast<SiteId>(s)));
+    for (std::size_t i = begin; i < end; ++i) {
+      ends.push_back(make(out, i));
       ends.push_back(out.size());
     }
     const std::string_view all(out);
-    for (std::size_t s = begin, k = 0, from = 0; s < end; ++s, k += 2) {
-      texts.first[s] = all.substr(from, ends[k] - from);
-      texts.second[s] = all.substr(ends[k], ends[k + 1] - ends[k]);
+    for (std::size_t i = begin, k = 0, from = 0; i < end; ++i, k += 2) {
+      texts.text[i] = all.substr(from, ends[k] - from);
+      texts.element[i] = all.substr(ends[k], ends[k + 1] - ends[k]);
       from = ends[k + 1];
     }
   };
@@ -113,8 +108,34 @@ std::string lower(std::string s) {
 
 }  // namespace
 
+bool writes_geojson(const CellOutputArgs& args) {
+  const std::string format = lower(!args.format.empty() ? args.format
+                                   : args.output == "-"  ? std::string("GeoJSON")
+                                                         : format_from_extension(args.output));
+  return format == "geojson" || format == "geojsonseq";
+}
+
+IdTexts make_id_texts(const SiteTable& table, unsigned threads) {
+  return make_texts(table.sites.size(), threads, [&](std::string& out, std::size_t row) {
+    const std::string& id = table.sites[row].id;
+    const std::size_t at = out.size();
+    append_json_string(out, id);
+    const std::size_t split = out.size();
+    if (plain_json(id)) {
+      // The quotes become \": \" + the id as just written without its closing quote + \".
+      out += '\\';
+      out.append(out, at, split - 1 - at);  // (appending part of itself is well-defined)
+      out += "\\\"";
+    } else {
+      append_escaped_element(out, id);
+    }
+    return split;
+  });
+}
+
 std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
-                        const SphericalDelaunay& dt, const std::function<void()>& before_finish) {
+                        const SphericalDelaunay& dt, const std::function<void()>& before_finish,
+                        const IdTexts* id_texts) {
   const unsigned threads = args.threads > 0 ? static_cast<unsigned>(args.threads)
                                             : std::max(1u, std::thread::hardware_concurrency());
   const VoronoiDiagram diagram(dt, threads);
@@ -166,32 +187,32 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   // about six times. Without an encoder: as a JSON string, an element of the lists. With one
   // (GeoJSON): as the encoder writes the id (site_id, the feature id), and as a list element
   // escaped inside the list's JSON string.
-  auto has_rows = [&](std::size_t s) { return row_begin[s] < row_begin[s + 1]; };
-  auto first_id = [&](std::size_t s) -> const std::string& { return table.sites[row_list[row_begin[s]]].id; };
-  // Encoder: first = the id as written, second = the list element; otherwise first = append_json(id).
-  const SiteTexts ids = make_site_texts(num_sites, threads, [&](std::string& out, SiteId s) {
-    if (!has_rows(s)) return out.size();
-    const std::size_t at = out.size();
-    if (!encoder) {
-      append_json(out, first_id(s));
+  // Without an encoder: each site's id as a JSON string, an element of the lists (site s:
+  // id_json.text[s]). With one: each row's id as written and as a list element (id_texts).
+  IdTexts id_json, made;
+  if (!encoder) {
+    id_json = make_texts(num_sites, threads, [&](std::string& out, std::size_t s) {
+      if (row_begin[s] < row_begin[s + 1]) append_json(out, table.sites[row_list[row_begin[s]]].id);
       return out.size();
-    }
-    append_json_string(out, first_id(s));
-    const std::size_t split = out.size();
-    if (plain_json(first_id(s))) {
-      // The quotes become \": \" + the id as just written without its closing quote + \".
-      out += '\\';
-      out.append(out, at, split - 1 - at);  // (appending part of itself is well-defined)
-      out += "\\\"";
-    } else {
-      append_escaped_element(out, first_id(s));
-    }
-    return split;
-  });
-  const std::vector<std::string_view>& id_json = ids.first;
-  const std::vector<std::string_view>& id_text = ids.first;
-  const std::vector<std::string_view>& id_element = ids.second;
-  auto append_id = [&](std::string& out, SiteId s) { out += id_json[s]; };
+    });
+  } else if (id_texts == nullptr || id_texts->text.size() != table.sites.size()) {
+    made = make_id_texts(table, threads);
+    id_texts = &made;
+  }
+  // By site (its first row's), so that a cell reaches its neighbours' text in one step.
+  std::vector<std::string_view> site_text, site_element;
+  if (encoder) {
+    site_text.resize(num_sites);
+    site_element.resize(num_sites);
+    for (std::size_t s = 0; s < num_sites; ++s)
+      if (row_begin[s] < row_begin[s + 1]) {
+        site_text[s] = id_texts->text[row_list[row_begin[s]]];
+        site_element[s] = id_texts->element[row_list[row_begin[s]]];
+      }
+  }
+  auto id_text = [&](SiteId s) { return site_text[s]; };
+  auto id_element = [&](SiteId s) { return site_element[s]; };
+  auto append_id = [&](std::string& out, SiteId s) { out += id_json.text[s]; };
 
   // One cell's geometry and properties (thread-safe: only reads shared state).
   auto make_cell = [&](SiteId s, MultiPolygon& polygon, std::vector<FieldValue>& values, std::string& buffer) {
@@ -239,10 +260,10 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
     auto done = [&] { ends.push_back(text.size()); };
     append_json_value(text, static_cast<std::int64_t>(s));
     done();
-    text += id_text[s];
+    text += id_text(s);
     done();
     text += "\"[";
-    text += id_element[s];
+    text += id_element(s);
     for (std::size_t k = 1; k < site_rows.size(); ++k) {
       text += ',';
       append_escaped_element(text, table.sites[site_rows[k]].id);
@@ -260,7 +281,7 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
     text += "\"[";
     for (std::size_t k = 0; k < neighbours.size(); ++k) {
       if (k) text += ',';
-      text += id_element[neighbours[k]];
+      text += id_element(neighbours[k]);
     }
     text += "]\"";
     done();
@@ -268,7 +289,7 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
       if (c >= first.fields.size())
         text += "null";
       else if (c == id_column && first.fields[c] == first.id)
-        text += id_text[s];
+        text += id_text(s);
       else
         append_json_string(text, first.fields[c]);
       done();

@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/geo/site_reader.hpp"
@@ -23,12 +25,30 @@ struct CellOutputArgs {
   int threads = 0;  // 0: one per core
 };
 
+/// Each input row's id as the cells' GeoJSON output writes it: `text[row]`, the id as a JSON
+/// string (site_id, the feature id), and `element[row]`, the id as an element of the ids and
+/// neighbors lists, escaped again inside the lists' JSON strings. Views into `storage` (whose
+/// strings are on the heap, so moving an IdTexts keeps them valid).
+struct IdTexts {
+  std::vector<std::string> storage;
+  std::vector<std::string_view> text, element;
+};
+
+/// The IdTexts of table's rows, made on `threads` threads; write_cells() makes them itself when
+/// not given them, so this is for making them earlier (while the triangulation is built).
+IdTexts make_id_texts(const SiteTable& table, unsigned threads);
+
+/// Whether args.output is GeoJSON or GeoJSONSeq (the formats written natively, which use IdTexts).
+bool writes_geojson(const CellOutputArgs& args);
+
 /// Writes the Voronoi cell of every live site of `dt` (site s built from the rows
 /// rows_of_sites(report) names) to args.output; returns the number of cells written.
 /// `before_finish`, if given, runs after the last cell and before the file is moved into place
 /// (so that a companion file that fails, such as the row report, leaves no cells file either).
+/// `id_texts`, if given, is make_id_texts(table, ...) (used for GeoJSON output only).
 /// @exception Error as open_feature_writer and the writer.
 std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
-                        const SphericalDelaunay& dt, const std::function<void()>& before_finish = {});
+                        const SphericalDelaunay& dt, const std::function<void()>& before_finish = {},
+                        const IdTexts* id_texts = nullptr);
 
 }  // namespace geovor::tools

@@ -1,6 +1,7 @@
 // geovor cells INPUT -o OUTPUT: the Voronoi cell of every site, as GIS polygons with the site's
 // attributes, its areas and its neighbours.
 #include <cstdio>
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -50,12 +51,18 @@ int run(CellsArgs& args) {
   args.sites.reader.threads = static_cast<unsigned>(args.out.threads);  // 0: one per core
   const SiteTable table = read_site_input(args.sites);
   const std::vector<Vec3> points = site_points(table);
+  // The ids' GeoJSON text is made on another core while the triangulation is built (on one).
+  std::future<IdTexts> id_texts;
+  if (args.out.threads != 1 && writes_geojson(args.out))
+    id_texts = std::async(std::launch::async, [&] { return make_id_texts(table, 1); });
   BuildReport report;
   const SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
   report_merges(table, report);
-  const std::size_t written = write_cells(args.out, table, report, dt, [&] {
-    if (report_file) write_report(*report_file, table, report);
-  });
+  const bool prepared = id_texts.valid();
+  const IdTexts ids = prepared ? id_texts.get() : IdTexts{};
+  const std::size_t written = write_cells(
+      args.out, table, report, dt, [&] { if (report_file) write_report(*report_file, table, report); },
+      prepared ? &ids : nullptr);
   if (report_file) report_file->commit();
   if (!args.out.quiet)
     std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s\n",

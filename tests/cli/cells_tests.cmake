@@ -57,3 +57,11 @@ add_test(NAME cli.cells.report.rows
   COMMAND ${CMAKE_COMMAND} -E cat ${cells_out}/bad_rows_report.csv)
 set_tests_properties(cli.cells.report.rows PROPERTIES LABELS cli DEPENDS cli.cells.report
   PASS_REGULAR_EXPRESSION "${report_regex}")
+# Ids with quotes, backslashes, control characters and non-ASCII letters, and a merged row: the
+# GeoJSON outputs' id fields (escaped ahead, twice in the lists) read back by GDAL as the
+# GeoPackage's (written as values).
+add_test(NAME cli.cells.tricky_ids
+  COMMAND ${CMAKE_COMMAND} -DGEOVOR=$<TARGET_FILE:geovor_cli> -DINPUT=tests/cli/fixtures/tricky_ids.csv
+          -DOUT=${cells_out} -P ${CMAKE_CURRENT_SOURCE_DIR}/check_id_texts.cmake
+  WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+set_tests_properties(cli.cells.tricky_ids PROPERTIES LABELS cli)

@@ -1,0 +1,51 @@
+# cmake -DGEOVOR=... -DINPUT=... -DOUT=dir -P check_id_texts.cmake: the GeoJSON writer takes the
+# ids, ids lists and neighbour lists as text escaped ahead (geovor cells), the GeoPackage writer
+# as values (through GDAL); GDAL's own GeoJSON reader must read back from the .geojson, the
+# .geojsons and stdout exactly the values it reads from the .gpkg.
+function(run_geovor)
+  execute_process(COMMAND ${GEOVOR} cells ${INPUT} ${ARGN} --overwrite -q RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "geovor cells ${INPUT} ${ARGN} failed (${rc}): ${err}")
+  endif()
+endfunction()
+# The id-bearing fields of every cell as ogrinfo prints them, in site order.
+function(id_fields file layer out_var)
+  execute_process(COMMAND ogrinfo -ro -q -dialect SQLite
+    -sql "SELECT site_index, site_id, ids, n_rows, neighbors FROM \"${layer}\" ORDER BY site_index" ${file}
+    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "ogrinfo failed on ${file}: ${err}")
+  endif()
+  string(REGEX REPLACE "OGRFeature\\([^)]*\\)" "OGRFeature" out "${out}")  # layer names differ
+  string(REPLACE "(Integer64)" "(Integer)" out "${out}")  # GeoJSON reads small integers as Integer
+  string(STRIP "${out}" out)
+  set(${out_var} "${out}" PARENT_SCOPE)
+endfunction()
+
+run_geovor(-o ${OUT}/tricky_ids.gpkg)
+run_geovor(-o ${OUT}/tricky_ids.geojson)
+run_geovor(-o ${OUT}/tricky_ids.geojsons)
+execute_process(COMMAND ${GEOVOR} cells ${INPUT} -o - -q OUTPUT_FILE ${OUT}/tricky_ids_stdout.geojson RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "geovor cells ${INPUT} -o - failed (${rc})")
+endif()
+id_fields(${OUT}/tricky_ids.gpkg cells expected)
+# Sanity: the values GDAL reads from the GeoPackage are the ids as written by append_json.
+foreach(piece "q\\\"uote" "back\\\\slash" "tab\\u0009id" "new\\u000aline" "Zürich" "dup\\\"2\\\\\"")
+  string(FIND "${expected}" "${piece}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "${piece} not in the GeoPackage's id fields:\n${expected}")
+  endif()
+endforeach()
+foreach(file tricky_ids.geojson tricky_ids.geojsons tricky_ids_stdout.geojson)
+  set(layer cells)
+  if(file STREQUAL "tricky_ids.geojsons")
+    set(layer tricky_ids)
+  elseif(file STREQUAL "tricky_ids_stdout.geojson")
+    set(layer cells)
+  endif()
+  id_fields(${OUT}/${file} ${layer} got)
+  if(NOT got STREQUAL expected)
+    message(FATAL_ERROR "${file} reads back other id fields than the GeoPackage:\n${got}\nexpected:\n${expected}")
+  endif()
+endforeach()
