@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "geovor/core/assert.hpp"
+#include "geovor/core/small_angle.hpp"
 
 namespace geovor {
 namespace {
@@ -25,7 +26,7 @@ constexpr double kMaxLon12Deg = 2.5;
 constexpr double kMaxDLatDeg = 2.5;
 constexpr double kMaxAbsLatDeg = 89;
 constexpr double kResidualRad = 0x1p-47;
-constexpr double kMaxStepRad = 0.07;  // also the range of the small-angle polynomials
+constexpr double kMaxStepRad = kSmallAngleMax;  // the range of the small-angle polynomials
 constexpr int kMaxEvaluations = 8;
 
 // 4-point Gauss-Legendre nodes +-kNode[q] on [-1, 1] and their weights.
@@ -70,19 +71,32 @@ const Constants& constants() {
   return c;
 }
 
-// atan(t) for |t| <= 0.07 (the next term is below 1e-20 |t|).
-inline double atan_small(double t) {
-  const double t2 = t * t;
-  return t * (1 + t2 * (-1.0 / 3 + t2 * (1.0 / 5 + t2 * (-1.0 / 7 + t2 * (1.0 / 9 + t2 * (-1.0 / 11 + t2 * (1.0 / 13 - t2 / 15)))))));
+// 1 / n! for n <= 24 (within a few ulps).
+struct InverseFactorials {
+  double v[25];
+  constexpr InverseFactorials() : v() {
+    v[0] = 1;
+    for (int n = 1; n <= 24; ++n) v[n] = v[n - 1] / n;
+  }
+};
+constexpr InverseFactorials kInverseFactorial;
+
+// sin x and cos x for |x| <= 89 degrees by their Taylor series to x^23 and x^24 (the next terms
+// are below 1e-20; with Horner's roundings, within a few 1e-16 absolute, which is all the
+// latitudes need), so the lanes need no libm call.
+inline double sin_lat(double x) {
+  const double x2 = x * x;
+  double p = -kInverseFactorial.v[23];
+#pragma GCC unroll 12
+  for (int n = 21; n >= 1; n -= 2) p = p * x2 + ((n / 2) % 2 ? -kInverseFactorial.v[n] : kInverseFactorial.v[n]);
+  return x * p;
 }
-// sin u and cos u for |u| <= 0.07 (next terms below 1e-20).
-inline double sin_small(double u) {
-  const double u2 = u * u;
-  return u * (1 + u2 * (-1.0 / 6 + u2 * (1.0 / 120 + u2 * (-1.0 / 5040 + u2 * (1.0 / 362880 - u2 / 39916800)))));
-}
-inline double cos_small(double u) {
-  const double u2 = u * u;
-  return 1 + u2 * (-0.5 + u2 * (1.0 / 24 + u2 * (-1.0 / 720 + u2 * (1.0 / 40320 - u2 / 3628800))));
+inline double cos_lat(double x) {
+  const double x2 = x * x;
+  double p = kInverseFactorial.v[24];
+#pragma GCC unroll 12
+  for (int n = 22; n >= 0; n -= 2) p = p * x2 + ((n / 2) % 2 ? -kInverseFactorial.v[n] : kInverseFactorial.v[n]);
+  return p;
 }
 
 constexpr int kLanes = 8;
@@ -90,6 +104,7 @@ constexpr int kLanes = 8;
 // One batch of up to kLanes edges, as structure of arrays (the loops over lanes vectorize).
 struct Lanes {
   // Canonical edge: point 1 the more poleward, in the south; lon12 >= 0.
+  double phi1[kLanes], phi2[kLanes];                           // latitudes (radians)
   double sb1[kLanes], cb1[kLanes], sb2[kLanes], cb2[kLanes];  // reduced latitudes
   double lam12[kLanes], sign[kLanes];
   // Newton's unknown alpha1 and the state of the last evaluation.
@@ -131,11 +146,7 @@ bool canonical(const GeodesicEdge& edge, Lanes& l, int i) {
   if (!(d > 0 && d <= kMaxLon12Deg && lam > 0 && lat1 < 0 && lat1 >= -kMaxAbsLatDeg &&
         std::fabs(lat1 - lat2) <= kMaxDLatDeg))
     return false;
-  const double phi1 = lat1 * kDegree, phi2 = lat2 * kDegree;
-  double s1 = kF1 * std::sin(phi1), c1 = std::cos(phi1);
-  double s2 = kF1 * std::sin(phi2), c2 = std::cos(phi2);
-  const double r1 = 1 / std::sqrt(s1 * s1 + c1 * c1), r2 = 1 / std::sqrt(s2 * s2 + c2 * c2);
-  l.sb1[i] = s1 * r1, l.cb1[i] = c1 * r1, l.sb2[i] = s2 * r2, l.cb2[i] = c2 * r2;
+  l.phi1[i] = lat1 * kDegree, l.phi2[i] = lat2 * kDegree;
   l.lam12[i] = lam;
   l.sign[i] = sign;
   return true;
@@ -193,6 +204,13 @@ __attribute__((target_clones("avx2", "default")))
 #endif
 void solve(Lanes& l, double* s12) {
   const Constants& k = constants();
+  // Reduced latitudes: tan beta = (1 - f) tan phi.
+  for (int i = 0; i < kLanes; ++i) {
+    const double s1 = kF1 * sin_lat(l.phi1[i]), c1 = cos_lat(l.phi1[i]);
+    const double s2 = kF1 * sin_lat(l.phi2[i]), c2 = cos_lat(l.phi2[i]);
+    const double r1 = 1 / std::sqrt(s1 * s1 + c1 * c1), r2 = 1 / std::sqrt(s2 * s2 + c2 * c2);
+    l.sb1[i] = s1 * r1, l.cb1[i] = c1 * r1, l.sb2[i] = s2 * r2, l.cb2[i] = c2 * r2;
+  }
   // Start: the great circle on the auxiliary sphere, its longitude scaled by the mean
   // (1 - f) sqrt(1 + e'^2 sin^2 beta).
   for (int i = 0; i < kLanes; ++i) {
@@ -278,7 +296,7 @@ void geodesic_s12(std::span<const GeodesicEdge> edges, std::span<double> s12_m2)
     if (filler >= 0) {
       for (int i = 0; i < kLanes; ++i) {
         if (l.fast[i]) continue;
-        l.sb1[i] = l.sb1[filler], l.cb1[i] = l.cb1[filler], l.sb2[i] = l.sb2[filler], l.cb2[i] = l.cb2[filler];
+        l.phi1[i] = l.phi1[filler], l.phi2[i] = l.phi2[filler];
         l.lam12[i] = l.lam12[filler], l.sign[i] = 0;
       }
       double out[kLanes];
