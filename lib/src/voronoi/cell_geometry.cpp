@@ -102,6 +102,7 @@ int append_segments(const Pt& a, const Interior& interior, const Pt& b, std::vec
 
 // The sum of S12 over segments, in order (GeographicLib's Accumulator, as PolygonArea sums).
 double sum_s12(std::span<const double> s12) {
+  if (s12.size() == 1) return s12[0];  // the Accumulator's value for one term
   GeographicLib::Accumulator<> acc;
   for (const double x : s12) acc += x;
   return acc();

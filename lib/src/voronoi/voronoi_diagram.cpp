@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "geovor/core/assert.hpp"
+#include "geovor/core/small_angle.hpp"
 #include "geovor/delaunay/halfedge.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
 
@@ -48,9 +49,11 @@ Vec3 VoronoiDiagram::arc_midpoint(const Vec3& a, const Vec3& b, const Vec3& axis
 }
 
 double VoronoiDiagram::triangle_area_sr(const Vec3& a, const Vec3& b, const Vec3& c) {
-  // tan(omega / 2) = det(a, b, c) / (1 + a.b + b.c + c.a): atan2 keeps the full range (-2pi, 2pi).
+  // tan(omega / 2) = det(a, b, c) / (1 + a.b + b.c + c.a): atan2 keeps the full range (-2pi, 2pi);
+  // the small triangles of most cells take the polynomial instead (same value within an ulp).
   const double det = dot(a, cross(b, c));
   const double den = 1 + dot(a, b) + dot(b, c) + dot(c, a);
+  if (den > 0 && std::fabs(det) <= kSmallAngleMax * den) return 2 * atan_small(det / den);
   return 2 * std::atan2(det, den);
 }
 
