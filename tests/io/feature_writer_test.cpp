@@ -877,6 +877,18 @@ TEST(FormatCoordinate, MatchesToCharsFixed) {
   EXPECT_EQ(coord(1e-300, 7), "0");
   EXPECT_EQ(coord(5e-324, 17), "0");
   EXPECT_EQ(coord(12.3456789012, 7), "12.3456789");
+  // Every 7th value of the 7 decimals (all digit patterns and numbers of trailing zeros), with
+  // whole parts of 0, 1, 2 and 3 digits.
+  for (std::int64_t k = 1; k < 10000000; k += 7) {
+    const double v = static_cast<double>(k) / 1e7 + static_cast<double>(k % 4 == 0 ? 0 : k % 4 == 1 ? 7 : k % 4 == 2 ? 42 : 179);
+    ASSERT_EQ(coord(v, 7), reference(v, 7)) << v;
+    ASSERT_EQ(coord(-v, 7), reference(-v, 7)) << v;
+  }
+  for (std::int64_t k = 1; k <= 9; ++k)
+    for (std::int64_t z = 1; z < 10000000; z *= 10) {
+      const double v = static_cast<double>(k * z) / 1e7;
+      ASSERT_EQ(coord(v, 7), reference(v, 7)) << v;
+    }
   // Whole parts of 1, 2, 3 and more digits, just below and at each power of ten, every precision.
   for (const double v : {9.0, 10.0, 99.0, 100.0, 999.0, 1000.0, 123456.0})
     for (int p = 0; p <= 17; ++p)

@@ -698,6 +698,20 @@ char* format_coordinate(char* out, double value, int precision) {
 
 namespace {
 
+// The 8 decimal digits of x < 10^8 as the bytes of a word, the most significant in the lowest
+// byte (the first in memory), without division instructions: x is split into two halves of 4
+// digits in 32-bit lanes, each into two pairs in 16-bit lanes, each into two digits in bytes
+// (the multiply-shift pairs divide exactly by 100 and by 10 in their ranges).
+std::uint64_t eight_digits(std::uint64_t x) {
+  static_assert(std::endian::native == std::endian::little);
+  const std::uint64_t halves = (x / 10000) | ((x % 10000) << 32);
+  const std::uint64_t high_pairs = ((halves * 10486) >> 20) & ((0x7FULL << 32) | 0x7FULL);
+  const std::uint64_t pairs = ((halves - 100 * high_pairs) << 16) + high_pairs;
+  std::uint64_t tens = ((pairs * 103) >> 10) & ((0xFULL << 48) | (0xFULL << 32) | (0xFULL << 16) | 0xFULL);
+  tens += (pairs - 10 * tens) << 8;
+  return tens;
+}
+
 // Writes +-q / 10^P with trailing zeros trimmed; "0" (never "-0") for q == 0. P is a template
 // argument so that the divisions by 10^P compile to multiplications.
 template <int P>
@@ -723,6 +737,18 @@ char* write_scaled_p(char* out, bool negative, std::uint64_t digits_value) {
     out += 2;
   } else {
     out = std::to_chars(out, out + 24, whole).ptr;
+  }
+  if constexpr (P >= 1 && P <= 8) {
+    // The decimals as 8 digits (P, then zeros) in one word, and its trailing zeros dropped.
+    if (decimals_value != 0) {
+      std::uint64_t digits = eight_digits(decimals_value * pow10u(8 - P));
+      const int kept = 8 - std::countl_zero(digits) / 8;  // the last digits are the high bytes
+      digits += 0x3030303030303030;                        // '0' in every byte
+      *out++ = '.';
+      std::memcpy(out, &digits, 8);  // within kMaxCoordinateChars, the rest overwritten later
+      out += kept;
+    }
+    return out;
   }
   if (decimals_value != 0) {
     int decimals = P;

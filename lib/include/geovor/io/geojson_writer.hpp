@@ -98,8 +98,9 @@ inline constexpr int kMaxRealChars = 32;
 /// "-0" becomes "0". It computes round(value * 10^precision) exactly in 128-bit integers, which
 /// is several times faster than std::to_chars and matters for large outputs. Values of magnitude
 /// >= 2^52 (never a coordinate) are written in shortest round-trip form instead.
-/// `value` must be finite and 0 <= precision <= 17.
-/// @return one past the last character written (at most kMaxCoordinateChars).
+/// `value` must be finite and 0 <= precision <= 17. `out` must have room for
+/// kMaxCoordinateChars characters, all of which may be written (past the returned end: scratch).
+/// @return one past the last character of the number (at most kMaxCoordinateChars).
 char* format_coordinate(char* out, double value, int precision);
 
 /// Writes `value` (finite) in the shortest form that reads back to the same double
