@@ -5,6 +5,7 @@
 #include <GeographicLib/Math.hpp>
 #include <GeographicLib/PolygonArea.hpp>
 #include <algorithm>
+#include <bit>
 #include <cstdlib>
 #include <new>
 #include <cmath>
@@ -102,6 +103,7 @@ int append_segments(const Pt& a, const Interior& interior, const Pt& b, std::vec
 
 // The sum of S12 over segments, in order (GeographicLib's Accumulator, as PolygonArea sums).
 double sum_s12(std::span<const double> s12) {
+  if (s12.empty()) return 0;
   if (s12.size() == 1) return s12[0];  // the Accumulator's value for one term
   GeographicLib::Accumulator<> acc;
   for (const double x : s12) acc += x;
@@ -146,12 +148,29 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   // here); the root is the smallest id, whatever the order of the unions.
   const double collapse2 = std::pow(options.collapse_m / SiteEncoder::kEarthRadiusM, 2);
   std::vector<std::vector<std::pair<TriId, TriId>>> short_edges(threads);
+  // In the same pass, the shortest side of each triangle, rounded down to float (the same for
+  // both cells of an edge): triangle t_i of cell s has the sites s, neighbour i - 1 and
+  // neighbour i, and is measured by the cell of its smallest site.
+  std::vector<float> min_side2(nv);
+  auto round_down = [](double d2) {
+    float f = static_cast<float>(d2);
+    if (f > d2) f = std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) - 1);  // f > 0: the next float down
+    return f;
+  };
   split(order.size(), [&](unsigned thread, std::size_t begin, std::size_t end) {
     for (std::size_t j = begin; j < end; ++j) {
-      const std::span<const TriId> tris = diagram.cell_vertices(order[j]);
-      for (std::size_t i = 0; i < tris.size(); ++i) {
-        const TriId a = tris[i], b = tris[i + 1 == tris.size() ? 0 : i + 1];
+      const SiteId s = order[j];
+      const std::span<const TriId> tris = diagram.cell_vertices(s);
+      const std::span<const SiteId> nbrs = diagram.cell_neighbors(s);
+      const std::size_t d = tris.size();
+      for (std::size_t i = 0; i < d; ++i) {
+        const TriId a = tris[i], b = tris[i + 1 == d ? 0 : i + 1];
         if (a < b && norm2(diagram.vertex(a) - diagram.vertex(b)) < collapse2) short_edges[thread].push_back({a, b});
+        const SiteId u = nbrs[i == 0 ? d - 1 : i - 1], w = nbrs[i];
+        if (s < u && s < w) {
+          const Vec3 &ps = diagram.site(s), &pu = diagram.site(u), &pw = diagram.site(w);
+          min_side2[a] = round_down(std::min({norm2(ps - pu), norm2(ps - pw), norm2(pu - pw)}));
+        }
       }
     }
   });
@@ -175,33 +194,11 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     for (std::size_t t = begin; t < end; ++t) {
       if (rep[t] != t) continue;
       const Pt p = make_pt(diagram.vertex(static_cast<TriId>(t)));
-      vertices_[t] = {p.v, p.lon, p.lat, static_cast<TriId>(t), std::numeric_limits<float>::infinity()};
+      vertices_[t] = {p.v, p.lon, p.lat, static_cast<TriId>(t), min_side2[t]};
     }
   });
   for (TriId t = 0; t < nv; ++t)
-    if (rep[t] != t) vertices_[t] = vertices_[rep[t]];
-
-  // Shortest side of each triangle, rounded down to float (the same for both cells of an
-  // edge): triangle t_i of cell s has the sites s, neighbour i - 1 and neighbour i, and is
-  // written by the cell of its smallest site.
-  auto side2 = [&](SiteId a, SiteId b) {
-    const double d2 = norm2(diagram.site(a) - diagram.site(b));
-    float f = static_cast<float>(d2);
-    if (f > d2) f = std::nextafter(f, 0.0f);
-    return f;
-  };
-  split(order.size(), [&](unsigned, std::size_t begin, std::size_t end) {
-    for (std::size_t j = begin; j < end; ++j) {
-      const SiteId s = order[j];
-      const std::span<const TriId> tris = diagram.cell_vertices(s);
-      const std::span<const SiteId> nbrs = diagram.cell_neighbors(s);
-      const std::size_t d = tris.size();
-      for (std::size_t i = 0; i < d; ++i) {
-        const SiteId u = nbrs[i == 0 ? d - 1 : i - 1], w = nbrs[i];
-        if (s < u && s < w) vertices_[tris[i]].min_side2 = std::min({side2(s, u), side2(s, w), side2(u, w)});
-      }
-    }
-  });
+    if (rep[t] != t) vertices_[t] = {vertices_[rep[t]].v, vertices_[rep[t]].lon, vertices_[rep[t]].lat, rep[t], min_side2[t]};
 
   // Every edge once, in the direction of its canonical cell (the smaller site id): its densified
   // points, and its area terms in batches of segments (geodesic_s12 solves them in vector lanes).
@@ -219,14 +216,20 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     std::vector<BoundaryPoint>& points = points_[thread];
     std::vector<GeodesicEdge> segments;
     std::vector<double> s12;
-    std::vector<std::pair<std::size_t, std::size_t>> pending;  // (slot, end of its segments)
+    constexpr std::size_t kNoSlot = ~std::size_t{0};
+    struct Pending {
+      std::size_t slot, other, end;  // the edge's two slots, the end of its segments
+    };
+    std::vector<Pending> pending;
     auto flush = [&] {
       s12.resize(segments.size());
       geodesic_s12(segments, s12);
       std::size_t first = 0;
-      for (const auto& [slot, last] : pending) {
-        edge_slots_[slot].s12 = sum_s12(std::span<const double>(s12).subspan(first, last - first));
-        first = last;
+      for (const Pending& p : pending) {
+        const double sum = sum_s12(std::span<const double>(s12).subspan(first, p.end - first));
+        edge_slots_[p.slot].s12 = sum;
+        if (p.other != kNoSlot) edge_slots_[p.other].s12 = sum;
+        first = p.end;
       }
       segments.clear();
       pending.clear();
@@ -250,10 +253,20 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
         EdgeSlot& e = edge_slots_[slot];
         e.first = static_cast<std::uint32_t>(points.size());
         e.count = static_cast<std::uint32_t>(edge.size());
-        e.part = thread;
+        e.part = thread + 1;  // 0: not computed (calloc)
         for (const Pt& q : edge) points.push_back({q.v, q.lon, q.lat});
         e.crossings = append_segments(a, edge, b, segments);
-        pending.push_back({slot, segments.size()});
+        // The other cell's slot of the edge gets the same data (its sum at the flush), so that
+        // each cell reads only its own slots, in storage order; not when the two sites share
+        // more than this edge (tiny diagrams: that cell computes it in place).
+        const std::span<const SiteId> other_nbrs = diagram.cell_neighbors(w);
+        const auto it = std::find(other_nbrs.begin(), other_nbrs.end(), s);
+        std::size_t other = kNoSlot;
+        if (it != other_nbrs.end() && std::find(it + 1, other_nbrs.end(), s) == other_nbrs.end()) {
+          other = static_cast<std::size_t>(other_nbrs.data() - nbr_base_) + static_cast<std::size_t>(it - other_nbrs.begin());
+          edge_slots_[other] = e;
+        }
+        pending.push_back({slot, other, segments.size()});
         if (segments.size() >= 4096) flush();
       }
     }
@@ -271,16 +284,6 @@ void CellGeometry::polygon(SiteId s, MultiPolygon& out, BBox* bbox) const { buil
 
 void CellGeometry::polygon(SiteId s, MultiPolygon& out, double& area_m2, BBox* bbox) const {
   build(s, out, bbox, &area_m2);
-}
-
-std::size_t CellGeometry::edge_slot(SiteId s, std::size_t i) const {
-  const std::span<const SiteId> nbrs = vd_->cell_neighbors(s);
-  const SiteId w = nbrs[i];
-  if (s < w) return static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
-  const std::span<const SiteId> other = vd_->cell_neighbors(w);
-  const auto it = std::find(other.begin(), other.end(), s);
-  if (it == other.end() || std::find(it + 1, other.end(), s) != other.end()) return num_edge_slots_;
-  return static_cast<std::size_t>(other.data() - nbr_base_) + static_cast<std::size_t>(it - other.begin());
 }
 
 void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const {
@@ -335,6 +338,7 @@ void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m
     int area_crossings = 0;
     std::vector<GeodesicEdge>& segments = segment_scratch();
     std::vector<double>& s12 = s12_scratch();
+    const EdgeSlot* own = edge_slots_.get() + (nbrs.data() - nbr_base_);  // this cell's slots
     for (std::size_t i = 0; i < d; ++i) {
       const Vertex& va = vertices_[tris[i]];
       const Vertex& vb = vertices_[tris[i + 1 == d ? 0 : i + 1]];
@@ -342,16 +346,17 @@ void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m
       const Pt a{va.v, va.lon, va.lat}, b{vb.v, vb.lon, vb.lat};
       loop.push_back(a);
       const SiteId w = nbrs[i];
-      const std::size_t slot = edge_slot(s, i);
+      const EdgeSlot& e = own[i];
       double sum = 0;
       int crossings = 0;
-      if (slot < num_edge_slots_) {  // computed at construction, in the canonical direction
-        const EdgeSlot& e = edge_slots_[slot];
-        const BoundaryPoint* p = points_[e.part].data() + e.first;
-        if (s < w) {
-          for (std::uint32_t k = 0; k < e.count; ++k) loop.push_back({p[k].v, p[k].lon, p[k].lat});
-        } else {
-          for (std::uint32_t k = e.count; k-- > 0;) loop.push_back({p[k].v, p[k].lon, p[k].lat});
+      if (e.part != 0) {  // computed at construction, in the canonical direction
+        if (e.count != 0) {
+          const BoundaryPoint* p = points_[e.part - 1].data() + e.first;
+          if (s < w) {
+            for (std::uint32_t k = 0; k < e.count; ++k) loop.push_back({p[k].v, p[k].lon, p[k].lat});
+          } else {
+            for (std::uint32_t k = e.count; k-- > 0;) loop.push_back({p[k].v, p[k].lon, p[k].lat});
+          }
         }
         sum = e.s12;
         crossings = e.crossings;

@@ -118,10 +118,12 @@ class CellGeometry {
     float min_side2;
   };
   std::vector<Vertex> vertices_;
-  // Per Voronoi edge, in the slot of its canonical cell (the smaller site id; slot = index in
-  // the diagram's neighbour lists), computed at construction in that cell's direction: its
-  // densified points strictly between its end vertices (points_[part][first .. first + count)),
-  // the sum of S12 over its segments, and its prime-meridian crossings (PolygonArea's transit).
+  // Per Voronoi edge and each of its two cells, in that cell's slot (slot = index in the
+  // diagram's neighbour lists), computed at construction in the direction of the canonical cell
+  // (the smaller site id): its densified points strictly between its end vertices
+  // (points_[part - 1][first .. first + count)), the sum of S12 over its segments, and its
+  // prime-meridian crossings (PolygonArea's transit); part 0: not computed, when the two sites
+  // share more than this one edge (tiny diagrams), and the larger site's cell computes it in place.
   struct EdgeSlot {
     double s12;
     std::uint32_t first, count;
@@ -139,9 +141,6 @@ class CellGeometry {
     double lon, lat;
   };
   std::vector<std::vector<BoundaryPoint>> points_;  // one part per construction thread
-  // The slot of edge i of cell s (own or the neighbour's), or num_edge_slots_ when the two
-  // sites share more than that one edge (tiny diagrams): then the edge is computed in place.
-  std::size_t edge_slot(SiteId s, std::size_t i) const;
   void build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
 };
 
