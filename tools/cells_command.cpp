@@ -68,7 +68,7 @@ int run(CellsArgs& args) {
     std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s\n",
                  table.source.c_str(), static_cast<unsigned long long>(table.rows_read), dt.num_sites(),
                  report.merges.size(), table.rejected.size(), written, args.out.output.c_str());
-  return kOk;
+  return finish_command(kOk);  // every output is complete: no need to free the data
 }
 
 }  // namespace

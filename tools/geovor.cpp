@@ -5,6 +5,7 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <string>
@@ -13,6 +14,30 @@
 
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
+
+namespace geovor::tools {
+namespace {
+// What went to stdout (info's summary, a full disk behind `> file`) must not fail silently.
+void check_stdout() {
+  if (std::fflush(stdout) != 0 || std::ferror(stdout))
+    throw geovor::Error(geovor::ErrorCode::Io, std::string("<stdout>: write error: ") + std::strerror(errno));
+}
+}  // namespace
+
+int finish_command(int code) {
+  check_stdout();
+#if defined(__SANITIZE_ADDRESS__)
+  return code;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  return code;
+#endif
+#endif
+  std::fflush(stderr);
+  std::_Exit(code);
+}
+
+}  // namespace geovor::tools
 
 int main(int argc, char** argv) {
   using namespace geovor::tools;
@@ -44,9 +69,7 @@ int main(int argc, char** argv) {
     for (const auto& [name, run] : commands)
       if (app.got_subcommand(name)) {
         const int code = run();
-        // What went to stdout (info's summary, a full disk behind `> file`) must not fail silently.
-        if (std::fflush(stdout) != 0 || std::ferror(stdout))
-          throw geovor::Error(geovor::ErrorCode::Io, std::string("<stdout>: write error: ") + std::strerror(errno));
+        geovor::tools::check_stdout();
         return code;
       }
   } catch (const geovor::Error& e) {
