@@ -98,7 +98,7 @@ class CellGeometry {
   /// Geodesic::GenInverse) of each densified Voronoi edge are summed once, at construction, in
   /// its canonical direction, and shared by its two cells (negated for the second); cells cut
   /// at the antimeridian or holding a pole use ellipsoid_area_m2(out) itself. The two agree
-  /// within rounding: 1e-9 relative, or a few ulps of the ellipsoid's area (0.0625 m^2) for
+  /// within rounding: 1e-9 relative, or 4 ulps of the ellipsoid's area (0.25 m^2) for
   /// tiny cells. Thread-safe; the result does not depend on threads.
   void polygon(SiteId s, MultiPolygon& out, double& area_m2, BBox* bbox = nullptr) const;
 
