@@ -123,7 +123,7 @@ struct Lanes {
   // Newton's unknown alpha1 and the state of the last evaluation.
   double sa1[kLanes], ca1[kLanes];
   double sa0[kLanes], ca0[kLanes], k2[kLanes];
-  double ss1[kLanes], cs1[kLanes], ss2[kLanes], cs2[kLanes];  // sigma1, sigma2 (unit)
+  double sm[kLanes], cm[kLanes], h[kLanes];  // the mid-arc sigma_m (unit) and sigma12 / 2
   double i3[kLanes];  // I3(sigma2) - I3(sigma1)
   double v[kLanes], dv[kLanes];
   bool fast[kLanes];
@@ -216,7 +216,7 @@ bool canonical(const GeodesicEdge& edge, Lanes& l, int i) {
     const double m12b = sqrt1p(k2 * ss2 * ss2) * cs1 * ss2 - sqrt1p(k2 * ss1 * ss1) * ss1 * cs2 - cs1 * cs2 * j;
     l.dv[i] = m12b * kF1 / x2;
     l.sa0[i] = sa0, l.ca0[i] = ca0, l.k2[i] = k2;
-    l.ss1[i] = ss1, l.cs1[i] = cs1, l.ss2[i] = ss2, l.cs2[i] = cs2;
+    l.sm[i] = sm, l.cm[i] = cm, l.h[i] = h;
     l.i3[i] = i3;
   }
 }
@@ -283,10 +283,7 @@ void solve(Lanes& l, double* s12) {
     // sphere, tan(E/2) = tan(omega12/2) (tan(b1/2) + tan(b2/2)) / (1 + tan(b1/2) tan(b2/2)).
     const double e12 = 2 * atan_small((so * (sb1 * (1 + cb2) + sb2 * (1 + cb1))) /
                                       ((1 + co) * (sb1 * sb2 + (1 + cb1) * (1 + cb2))));
-    const double ss1 = l.ss1[i], cs1 = l.cs1[i], ss2 = l.ss2[i], cs2 = l.cs2[i];
-    const double sig12 = atan_small((cs1 * ss2 - ss1 * cs2) / (cs1 * cs2 + ss1 * ss2));
-    const double ms = ss1 + ss2, mc = cs1 + cs2, rm = 1 / std::sqrt(ms * ms + mc * mc);
-    const double sm = ms * rm, cm = mc * rm, h = sig12 / 2, k2 = l.k2[i];
+    const double sm = l.sm[i], cm = l.cm[i], h = l.h[i], k2 = l.k2[i];
     double i4 = 0;
 #pragma GCC unroll 2
     for (int q = 0; q < 2; ++q) {

@@ -33,22 +33,11 @@ static_assert(CellGeometry::kSnapRad == lonlat::kSnapRad);
 // Planar area (square degrees) of the whole lon/lat rectangle.
 constexpr double kWholeDeg2 = 360.0 * 180.0;
 
-// The boundary loop of a cell, reused (polygon() is thread-safe).
-std::vector<Pt>& loop_scratch() {
-  thread_local std::vector<Pt> loop;
-  return loop;
-}
-std::vector<Pt>& edge_scratch() {
-  thread_local std::vector<Pt> edge;
-  return edge;
-}
-std::vector<GeodesicEdge>& segment_scratch() {
-  thread_local std::vector<GeodesicEdge> segments;
-  return segments;
-}
-std::vector<double>& s12_scratch() {
-  thread_local std::vector<double> s12;
-  return s12;
+// Per-thread buffers of build(), reused (polygon() is thread-safe); Slot tells apart two of one type.
+template <typename T, int Slot = 0>
+std::vector<T>& scratch() {
+  thread_local std::vector<T> buffer;
+  return buffer;
 }
 
 // GeographicLib's PolygonArea, for the shared edge sums: its transit(), whether lon1 -> lon2
@@ -198,7 +187,10 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     }
   });
   for (TriId t = 0; t < nv; ++t)
-    if (rep[t] != t) vertices_[t] = {vertices_[rep[t]].v, vertices_[rep[t]].lon, vertices_[rep[t]].lat, rep[t], min_side2[t]};
+    if (rep[t] != t) {
+      vertices_[t] = vertices_[rep[t]];
+      vertices_[t].min_side2 = min_side2[t];
+    }
 
   // Every edge once, in the direction of its canonical cell (the smaller site id): its densified
   // points, and its area terms in batches of segments (geodesic_s12 solves them in vector lanes).
@@ -303,8 +295,8 @@ void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m
     return;
   }
 
-  std::vector<Pt>& loop = loop_scratch();
-  std::vector<Pt>& edge = edge_scratch();
+  std::vector<Pt>& loop = scratch<Pt, 0>();
+  std::vector<Pt>& edge = scratch<Pt, 1>();
   loop.clear();
   Densifier dens(options_.densify_m, options_.max_step_deg, options_.max_depth, edge);
 
@@ -336,8 +328,8 @@ void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m
     const std::size_t d = tris.size();
     GeographicLib::Accumulator<> area_sum;
     int area_crossings = 0;
-    std::vector<GeodesicEdge>& segments = segment_scratch();
-    std::vector<double>& s12 = s12_scratch();
+    std::vector<GeodesicEdge>& segments = scratch<GeodesicEdge>();
+    std::vector<double>& s12 = scratch<double>();
     const EdgeSlot* own = edge_slots_.get() + (nbrs.data() - nbr_base_);  // this cell's slots
     for (std::size_t i = 0; i < d; ++i) {
       const Vertex& va = vertices_[tris[i]];
