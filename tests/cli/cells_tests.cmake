@@ -48,7 +48,7 @@ geovor_cli_expect(cli.cells.refuses_existing 4 STDERR "exists.*--overwrite"
 geovor_cli_expect(cli.cells.overwrites_existing 0 SCRIPT
   "printf 'old contents' > ${cells_out}/replaced.geojson && \"$0\" cells ${fixtures}/three_sites.csv -o ${cells_out}/replaced.geojson --overwrite -q && grep -q FeatureCollection ${cells_out}/replaced.geojson && ! grep -q 'old contents' ${cells_out}/replaced.geojson")
 geovor_cli_expect(cli.cells.output_was_the_input 0 STDOUT "Feature Count: 3.*MULTIPOLYGON" SCRIPT
-  "ogr2ogr -f GeoJSON ${cells_out}/in_out.geojson ${fixtures}/three_sites.csv -oo X_POSSIBLE_NAMES=lon* -oo Y_POSSIBLE_NAMES=lat* -overwrite && \"$0\" cells ${cells_out}/in_out.geojson -o ${cells_out}/in_out.geojson --overwrite -q && ogrinfo -al -so ${cells_out}/in_out.geojson && ogrinfo -al ${cells_out}/in_out.geojson | grep -m1 MULTIPOLYGON")
+  "rm -f ${cells_out}/in_out.geojson && ogr2ogr -f GeoJSON ${cells_out}/in_out.geojson ${fixtures}/three_sites.csv -oo X_POSSIBLE_NAMES=lon* -oo Y_POSSIBLE_NAMES=lat* && \"$0\" cells ${cells_out}/in_out.geojson -o ${cells_out}/in_out.geojson --overwrite -q && ogrinfo -al -so ${cells_out}/in_out.geojson && ogrinfo -al ${cells_out}/in_out.geojson | grep -m1 MULTIPOLYGON")
 # The row report accounts for every row: bad_rows.csv has 4 sites and 8 rejected rows.
 geovor_cli_expect(cli.cells.report 0
   COMMAND cells ${fixtures}/bad_rows.csv -o ${cells_out}/bad_rows.geojson --overwrite -q
