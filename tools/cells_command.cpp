@@ -69,7 +69,7 @@ int run(CellsArgs& args) {
   BuildReport report;
   const SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
   if (removed.valid()) removed.get();
-  report_merges(table, report);
+  if (!args.out.quiet) report_merges(table, report);  // merged rows stay in the cells' ids and the report
   const bool prepared = id_texts.valid();
   const IdTexts ids = prepared ? id_texts.get() : IdTexts{};
   const std::size_t written = write_cells(
@@ -85,7 +85,7 @@ int run(CellsArgs& args) {
 
 }  // namespace
 
-std::function<int()> add_cells_command(CLI::App& app) {
+Command add_cells_command(CLI::App& app) {
   auto args = std::make_shared<CellsArgs>();
   CLI::App* cmd = app.add_subcommand("cells", "Write the Voronoi cell of every site as GIS polygons");
   add_site_input_options(cmd, args->sites);
@@ -100,7 +100,7 @@ std::function<int()> add_cells_command(CLI::App& app) {
       ->check(CLI::Range(1, 17));
   cmd->add_option("--report", args->report, "CSV file listing every input row: site, merged (with its site) or rejected (with the reason)");
   cmd->add_flag("--overwrite", args->out.overwrite, "Replace existing output files");
-  cmd->add_flag("-q,--quiet", args->out.quiet, "No progress and no summary on stderr");
+  cmd->add_flag("-q,--quiet", args->out.quiet, "No progress, no summary and no list of merged rows on stderr (they stay in the cells' ids and --report); rejected rows are still listed");
   cmd->add_option("--threads", args->out.threads, "Threads converting the coordinates and computing and formatting the cells (default: one per core); the output is the same")
       ->check(CLI::NonNegativeNumber);
   cmd->footer(
@@ -110,7 +110,11 @@ std::function<int()> add_cells_command(CLI::App& app) {
       "Examples:\n"
       "  geovor cells datasets/weather_stations.csv -o cells.geojson\n"
       "  geovor cells stations.gpkg -o cells.fgb --densify-m 10 --report rows.csv");
-  return [args] { return run(*args); };
+  return {[args] { return run(*args); },
+          [args] {
+            return site_input_needs_gdal(args->sites.input, args->sites.layer) ||
+                   output_needs_gdal(args->out.output, args->out.format);
+          }};
 }
 
 }  // namespace geovor::tools

@@ -24,11 +24,29 @@ enum ExitCode : int { kOk = 0, kUsage = 2, kBadData = 3, kIo = 4, kInternal = 70
 /// @exception Error(Io) if stdout cannot be written.
 int finish_command(int code);
 
-std::function<int()> add_info_command(CLI::App& app);
+/// A subcommand: what runs it, and whether the parsed job needs GDAL (an OGR input, or an output
+/// other than GeoJSON/GeoJSONSeq). geovor, built without GDAL so that it starts in about a
+/// millisecond instead of 30 (GDAL's 115 shared libraries), hands such jobs to geovor-gdal.
+struct Command {
+  std::function<int()> run;
+  std::function<bool()> needs_gdal;
+};
+
+/// Whether reading sites from `input` (with --layer `layer`) needs GDAL: any path but CSV/TXT and "-".
+bool site_input_needs_gdal(const std::string& input, const std::string& layer);
+/// Whether writing `path` in `format` ("" for the extension's) needs GDAL: any but GeoJSON/GeoJSONSeq.
+bool output_needs_gdal(const std::string& path, const std::string& format);
+
+/// Runs the geovor tool: parses the arguments, then runs the chosen command, or re-executes the
+/// same arguments with geovor-gdal (found beside this executable, or in its install's libexec
+/// directory) when the job needs GDAL and `has_gdal` is false. Returns the exit code.
+int run_geovor(int argc, char** argv, bool has_gdal);
+
+Command add_info_command(CLI::App& app);
 /// Adds `geovor index` (tools/index_command.cpp).
-std::function<int()> add_index_command(CLI::App& app);
+Command add_index_command(CLI::App& app);
 /// Adds `geovor nearest` (tools/nearest_command.cpp).
-std::function<int()> add_nearest_command(CLI::App& app);
+Command add_nearest_command(CLI::App& app);
 
 /// What build_index_from_table did, for the summary lines of index and nearest.
 struct TableBuild {
@@ -41,10 +59,10 @@ struct SiteInputArgs;  // site_input.hpp
 /// on stderr as `geovor info` does, and builds the nearest-site index (tools/index_command.cpp).
 /// @exception Error as the readers and the build; Error(BadData) if no row is a site.
 SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary);
-std::function<int()> add_cells_command(CLI::App& app);
+Command add_cells_command(CLI::App& app);
 /// Adds `geovor delaunay` (tools/delaunay_command.cpp).
-std::function<int()> add_delaunay_command(CLI::App& app);
+Command add_delaunay_command(CLI::App& app);
 /// Adds `geovor relax` (tools/relax_command.cpp).
-std::function<int()> add_relax_command(CLI::App& app);
+Command add_relax_command(CLI::App& app);
 
 }  // namespace geovor::tools

@@ -141,7 +141,7 @@ int run(DelaunayArgs& args) {
 
 }  // namespace
 
-std::function<int()> add_delaunay_command(CLI::App& app) {
+Command add_delaunay_command(CLI::App& app) {
   auto args = std::make_shared<DelaunayArgs>();
   CLI::App* cmd = app.add_subcommand("delaunay", "Write the Delaunay triangles (polygons) and edges (lines) of the sites");
   add_site_input_options(cmd, args->sites);
@@ -171,7 +171,12 @@ std::function<int()> add_delaunay_command(CLI::App& app) {
       "Examples:\n"
       "  geovor delaunay datasets/weather_stations.csv -o triangles.geojson --edges edges.geojson\n"
       "  geovor delaunay stations.gpkg -o tin.gpkg --edges edges.fgb --no-ghosts");
-  return [args] { return run(*args); };
+  return {[args] { return run(*args); },
+          [args] {
+            return site_input_needs_gdal(args->sites.input, args->sites.layer) ||
+                   (!args->triangles.empty() && output_needs_gdal(args->triangles, args->format)) ||
+                   (!args->edges.empty() && output_needs_gdal(args->edges, args->edges_format));
+          }};
 }
 
 }  // namespace geovor::tools

@@ -2,7 +2,9 @@
 // A thin tool over the library (GeographicLib's Planimeter style): parse arguments, run, map
 // errors to exit codes.
 #include <CLI/CLI.hpp>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -14,6 +16,8 @@
 
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
+#include "geovor/io/feature_writer.hpp"
+#include "geovor/io/ogr_site_reader.hpp"
 
 namespace geovor::tools {
 namespace {
@@ -22,7 +26,50 @@ void check_stdout() {
   if (std::fflush(stdout) != 0 || std::ferror(stdout))
     throw geovor::Error(geovor::ErrorCode::Io, std::string("<stdout>: write error: ") + std::strerror(errno));
 }
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+  return s;
+}
+
+// The directory of this executable, from /proc/self/exe ("" if unknown).
+std::string executable_dir() {
+  std::string path(4096, '\0');
+  const ssize_t n = ::readlink("/proc/self/exe", path.data(), path.size());
+  if (n <= 0 || static_cast<std::size_t>(n) >= path.size()) return "";
+  path.resize(static_cast<std::size_t>(n));
+  return path.substr(0, path.rfind('/') + 1);
+}
+
+// Runs the same arguments with geovor-gdal: beside this executable (the build tree), else where
+// the install puts it (GEOVOR_GDAL_TOOL_FROM_BIN, relative to the bin directory). Returns only
+// on failure, with the exit code.
+int hand_to_gdal_tool(char** argv) {
+  const std::string dir = executable_dir();
+  const std::vector<std::string> candidates = {dir + "geovor-gdal", dir + GEOVOR_GDAL_TOOL_FROM_BIN};
+  for (const std::string& path : candidates) {
+    if (::access(path.c_str(), X_OK) != 0) continue;
+    std::fflush(stdout);
+    std::fflush(stderr);
+    ::execv(path.c_str(), argv);
+    std::fprintf(stderr, "geovor: cannot run %s: %s\n", path.c_str(), std::strerror(errno));
+    return kInternal;
+  }
+  std::fprintf(stderr, "geovor: this job needs GDAL (an OGR input or an output other than GeoJSON), which geovor hands to geovor-gdal, but there is no executable %s nor %s\n",
+               candidates[0].c_str(), candidates[1].c_str());
+  return kInternal;
+}
+
 }  // namespace
+
+bool site_input_needs_gdal(const std::string& input, const std::string& layer) {
+  return !layer.empty() || !is_csv_site_path(input);
+}
+
+bool output_needs_gdal(const std::string& path, const std::string& format) {
+  const std::string f = lower(!format.empty() ? format : path == "-" ? std::string("GeoJSON") : format_from_extension(path));
+  return f != "geojson" && f != "geojsonseq";
+}
 
 int finish_command(int code) {
   check_stdout();
@@ -39,8 +86,9 @@ int finish_command(int code) {
 
 }  // namespace geovor::tools
 
-int main(int argc, char** argv) {
-  using namespace geovor::tools;
+namespace geovor::tools {
+
+int run_geovor(int argc, char** argv, bool has_gdal) {
   CLI::App app{"geovor: Voronoi cells, Delaunay triangulations and nearest sites on the Earth"};
   app.footer(
       "Exit codes: 0 ok, 2 usage error, 3 bad input data, 4 I/O error, 70 internal error.\n"
@@ -51,7 +99,7 @@ int main(int argc, char** argv) {
       "  geovor nearest --sites datasets/weather_stations.csv --queries points.csv");
   app.require_subcommand(1);
   // Each subcommand: its name and the function that runs it.
-  const std::vector<std::pair<std::string, std::function<int()>>> commands = {
+  const std::vector<std::pair<std::string, Command>> commands = {
       {"info", add_info_command(app)},
       {"cells", add_cells_command(app)},
       {"delaunay", add_delaunay_command(app)},
@@ -66,9 +114,10 @@ int main(int argc, char** argv) {
     return code == 0 ? kOk : kUsage;
   }
   try {
-    for (const auto& [name, run] : commands)
+    for (const auto& [name, command] : commands)
       if (app.got_subcommand(name)) {
-        const int code = run();
+        if (!has_gdal && command.needs_gdal()) return hand_to_gdal_tool(argv);
+        const int code = command.run();
         geovor::tools::check_stdout();
         return code;
       }
@@ -86,3 +135,5 @@ int main(int argc, char** argv) {
   }
   return kUsage;
 }
+
+}  // namespace geovor::tools

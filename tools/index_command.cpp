@@ -77,7 +77,7 @@ SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary) {
   return index;
 }
 
-std::function<int()> add_index_command(CLI::App& app) {
+Command add_index_command(CLI::App& app) {
   auto args = std::make_shared<IndexArgs>();
   CLI::App* cmd = app.add_subcommand(
       "index", "Read sites, build the nearest-site index (Delaunay hierarchy) and save it to a file");
@@ -90,7 +90,8 @@ std::function<int()> add_index_command(CLI::App& app) {
       "renamed. Prints input, output, rows, sites, merged, rejected, levels, bytes and timings;\n"
       "rejected rows and merged sites are listed on stderr with their row numbers.\n"
       "Example: geovor index datasets/weather_stations.csv -o stations.gvi");
-  return [args] { return run(*args); };
+  return {[args] { return run(*args); },
+          [args] { return site_input_needs_gdal(args->sites.input, args->sites.layer); }};
 }
 
 }  // namespace geovor::tools

@@ -68,7 +68,7 @@ int run(InfoArgs& args) {
 
 }  // namespace
 
-std::function<int()> add_info_command(CLI::App& app) {
+Command add_info_command(CLI::App& app) {
   auto args = std::make_shared<InfoArgs>();
   CLI::App* cmd = app.add_subcommand(
       "info", "Read sites, build the Delaunay triangulation, validate it and print a summary");
@@ -79,7 +79,8 @@ std::function<int()> add_info_command(CLI::App& app) {
       "ghost_triangles, degenerate, valid, read_seconds, build_seconds, validate_seconds.\n"
       "Rejected rows and merged sites are listed on stderr with their row numbers.\n"
       "Example: geovor info datasets/weather_stations.csv");
-  return [args] { return run(*args); };
+  return {[args] { return run(*args); },
+          [args] { return site_input_needs_gdal(args->sites.input, args->sites.layer); }};
 }
 
 }  // namespace geovor::tools

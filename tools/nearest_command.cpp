@@ -353,6 +353,11 @@ class LineBlocks {
   bool eof_ = false;
 };
 
+// Whether --sites names an index file (by its header, or a .gvi name) rather than a site table.
+bool is_index_path(const std::string& path) {
+  return path != "-" && (is_index_file(path) || (path.size() > 4 && path.ends_with(".gvi")));
+}
+
 int run(NearestArgs& args) {
   const std::string& sites_path = args.sites.input;
   if (args.queries == "-" && sites_path == "-")
@@ -368,8 +373,7 @@ int run(NearestArgs& args) {
     throw Error(ErrorCode::Io, args.output + ": exists; use --overwrite to replace it");
 
   // The sites: an index file, or a table built here.
-  const bool is_index = sites_path != "-" && (is_index_file(sites_path) ||
-                                              (sites_path.size() > 4 && sites_path.ends_with(".gvi")));
+  const bool is_index = is_index_path(sites_path);
   SiteIndex index;
   if (is_index) {
     for (const CLI::Option* o : args.site_options)
@@ -470,7 +474,7 @@ int run(NearestArgs& args) {
 
 }  // namespace
 
-std::function<int()> add_nearest_command(CLI::App& app) {
+Command add_nearest_command(CLI::App& app) {
   auto args = std::make_shared<NearestArgs>();
   CLI::App* cmd = app.add_subcommand("nearest", "The exact nearest site (or k nearest) of every query of a CSV stream");
   cmd->add_option("--sites", args->sites.input,
@@ -497,7 +501,8 @@ std::function<int()> add_nearest_command(CLI::App& app) {
       "id, icao, code or name) or its line number. Malformed query lines are reported on stderr with\n"
       "their line number and skipped (--strict: exit 3).\n"
       "Example: geovor nearest --sites stations.gvi --queries points.csv -o nearest.csv");
-  return [args] { return run(*args); };
+  return {[args] { return run(*args); },
+          [args] { return !is_index_path(args->sites.input) && site_input_needs_gdal(args->sites.input, args->sites.layer); }};
 }
 
 }  // namespace geovor::tools

@@ -145,7 +145,7 @@ int run(RelaxArgs& args) {
 
 }  // namespace
 
-std::function<int()> add_relax_command(CLI::App& app) {
+Command add_relax_command(CLI::App& app) {
   auto args = std::make_shared<RelaxArgs>();
   CLI::App* cmd = app.add_subcommand(
       "relax", "Move every site to the centroid of its cell, N times (Lloyd), and write the final cells");
@@ -187,7 +187,12 @@ std::function<int()> add_relax_command(CLI::App& app) {
       "Examples:\n"
       "  geovor relax datasets/weather_stations.csv -o relaxed.geojson --iterations 50\n"
       "  geovor relax sites.csv -o cells.gpkg -n 100 --sites-output sites.fgb --relocation rebuild");
-  return [args] { return run(*args); };
+  return {[args] { return run(*args); },
+          [args] {
+            return site_input_needs_gdal(args->sites.input, args->sites.layer) ||
+                   output_needs_gdal(args->cells.output, args->cells.format) ||
+                   (!args->sites_output.empty() && output_needs_gdal(args->sites_output, ""));
+          }};
 }
 
 }  // namespace geovor::tools

@@ -71,3 +71,8 @@ add_test(NAME cli.cells.tricky_ids
           -DOUT=${cells_out} -P ${CMAKE_CURRENT_SOURCE_DIR}/check_id_texts.cmake
   WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
 set_tests_properties(cli.cells.tricky_ids PROPERTIES LABELS cli)
+# --quiet drops the list of merged rows (they are in the cells' ids) but never the rejected rows.
+geovor_cli_expect(cli.cells.quiet_keeps_rejections 0 STDOUT "^merged 0 rejected 8\n$" SCRIPT
+  "\"$0\" cells ${fixtures}/duplicates.csv -o ${cells_out}/quiet_dup.geojson --overwrite -q 2>${cells_out}/quiet_dup.err && \"$0\" cells ${fixtures}/bad_rows.csv -o ${cells_out}/quiet_bad.geojson --overwrite -q 2>${cells_out}/quiet_bad.err && echo merged $(grep -c 'merged into' ${cells_out}/quiet_dup.err) rejected $(grep -c rejected ${cells_out}/quiet_bad.err)")
+geovor_cli_expect(cli.cells.lists_merges 0 STDERR "row 2 .id 2. merged into the site of row 1 .id 1.: same position"
+  COMMAND cells ${fixtures}/duplicates.csv -o ${cells_out}/loud_dup.geojson --overwrite)

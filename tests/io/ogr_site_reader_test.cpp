@@ -286,21 +286,5 @@ TEST(OgrSiteReader, LayersAndErrors) {
   EXPECT_EQ(error_of([&] { read_sites(junk); }).code(), ErrorCode::BadData);
 }
 
-TEST(OgrSiteReader, CsvPathsGoToTheCsvReader) {
-  EXPECT_TRUE(is_csv_site_path("-"));
-  EXPECT_TRUE(is_csv_site_path("a/b.csv"));
-  EXPECT_TRUE(is_csv_site_path("b.TXT"));
-  EXPECT_FALSE(is_csv_site_path("b.gpkg"));
-  EXPECT_FALSE(is_csv_site_path("b.tsv"));
-  TempDir dir;
-  const std::string path = dir / "s.csv";
-  std::ofstream(path) << "id,lat,lon\nA,1,2\nB,x,3\n";
-  const SiteTable t = read_sites(path);
-  ASSERT_EQ(t.sites.size(), 1u);
-  EXPECT_EQ(t.sites[0].line, 2u);  // the CSV reader's line numbers
-  ASSERT_EQ(t.rejected.size(), 1u);
-  EXPECT_EQ(t.rejected[0].reason, "lat: 'x' is not a number");
-}
-
 }  // namespace
 }  // namespace geovor

@@ -31,14 +31,6 @@ using gdal_detail::ErrorCapture;
 
 constexpr std::array<std::string_view, 4> kIdNames = {"id", "icao", "code", "name"};
 
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
-  return out;
-}
-
 std::string_view trim(std::string_view s) {
   constexpr std::string_view kSpace = " \t\r\n\v\f";
   const auto first = s.find_first_not_of(kSpace);
@@ -128,17 +120,6 @@ SiteTable read_attribute_positions(OGRLayer& layer, const std::string& source,
 }
 
 }  // namespace
-
-bool is_csv_site_path(const std::string& path) {
-  if (path == "-") return true;
-  const std::string ext = lower(fs::path(path).extension().string());
-  return ext == ".csv" || ext == ".txt";
-}
-
-SiteTable read_sites(const std::string& path, const SiteReaderOptions& options) {
-  return is_csv_site_path(path) ? read_sites_csv_file(path, options)
-                                : read_sites_ogr(path, options);
-}
 
 SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& options,
                          const std::string& layer_name) {

@@ -1,0 +1,34 @@
+// The GDAL entry points of a library built without GDAL (geovor_without_gdal, linked by the
+// geovor tool so that it starts without loading GDAL's 115 shared libraries). The tool hands
+// every job that needs GDAL to geovor-gdal before it reaches these; reaching one is a bug.
+#include <memory>
+#include <string>
+
+#include "geovor/core/error.hpp"
+#include "geovor/io/ogr_site_reader.hpp"
+#include "io/gdal_writer.hpp"
+
+namespace geovor {
+namespace {
+
+[[noreturn]] void absent(const std::string& path, const char* what) {
+  throw Error(ErrorCode::Internal, path + ": " + what + " needs GDAL, which this build of the library does not link (use geovor-gdal or the geovor library)");
+}
+
+}  // namespace
+
+SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions&, const std::string&) {
+  absent(path, "reading an OGR source");
+}
+
+namespace gdal_detail {
+
+std::string driver_for_extension(const std::string& path) { absent(path, "choosing a GDAL driver"); }
+
+std::unique_ptr<FeatureWriter> open_gdal_writer(const std::string& path, const std::string& driver,
+                                                GeometryType, const std::vector<Field>&, const WriterOptions&) {
+  absent(path, ("writing " + driver).c_str());
+}
+
+}  // namespace gdal_detail
+}  // namespace geovor

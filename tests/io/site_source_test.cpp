@@ -1,0 +1,53 @@
+// read_sites() picks the CSV reader for "-", .csv and .txt (any case) and the OGR reader for
+// everything else; is_csv_site_path() says which.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "geovor/core/error.hpp"
+#include "geovor/geo/site_reader.hpp"
+#include "geovor/io/ogr_site_reader.hpp"
+
+namespace geovor {
+namespace {
+
+TEST(SiteSource, CsvPathsByExtension) {
+  for (const char* path : {"-", "a.csv", "a.CSV", "dir.x/a.Csv", "a.txt", "a.TXT", "/tmp/b.c.csv"})
+    EXPECT_TRUE(is_csv_site_path(path)) << path;
+  for (const char* path : {"a.gpkg", "a.geojson", "a.shp", "a.csv.gz", "a", "csv", "a.csvx", "dir.csv/a", "/vsizip/a.zip/b.shp"})
+    EXPECT_FALSE(is_csv_site_path(path)) << path;
+}
+
+TEST(SiteSource, ReadsCsvWithTheCsvReader) {
+  const std::string path = testing::TempDir() + "site_source_test.TXT";
+  std::ofstream(path) << "id,lat,lon\nA,10,20\nB,x,30\n";
+  const SiteTable via_source = read_sites(path);
+  const SiteTable direct = read_sites_csv_file(path);
+  ASSERT_EQ(via_source.sites.size(), 1u);
+  EXPECT_EQ(via_source.sites[0].id, "A");
+  EXPECT_EQ(via_source.sites[0].line, direct.sites[0].line);  // CSV rows have lines; OGR's have 0
+  EXPECT_EQ(via_source.sites[0].line, 2u);
+  ASSERT_EQ(via_source.rejected.size(), 1u);
+  EXPECT_EQ(via_source.rejected[0].reason, direct.rejected[0].reason);
+  std::remove(path.c_str());
+}
+
+TEST(SiteSource, OtherPathsGoToOgr) {
+  // GeoJSON text, which the CSV reader would reject (no latitude column), read by GDAL: one
+  // feature, and line 0 as for every OGR feature.
+  const std::string path = testing::TempDir() + "site_source_test.json";
+  std::ofstream(path) << R"({"type":"FeatureCollection","features":[{"type":"Feature","properties":{"id":"A"},)"
+                         R"("geometry":{"type":"Point","coordinates":[20,10]}}]})";
+  const SiteTable t = read_sites(path);
+  ASSERT_EQ(t.sites.size(), 1u);
+  EXPECT_EQ(t.sites[0].id, "A");
+  EXPECT_EQ(t.sites[0].line, 0u);
+  EXPECT_DOUBLE_EQ(t.sites[0].lat_deg, 10);
+  EXPECT_DOUBLE_EQ(t.sites[0].lon_deg, 20);
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace geovor
