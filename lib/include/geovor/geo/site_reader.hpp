@@ -34,8 +34,9 @@ struct SiteReaderOptions {
   /// Exactly 3 column names (X, Y, Z earth-centred earth-fixed WGS84, metres), or empty for
   /// latitude/longitude input. Exclusive with lat_field/lon_field.
   std::vector<std::string> ecef_fields;
-  /// Threads converting the rows' coordinates (parsing, normalising, unit vectors) once the
-  /// file is read (0: one per core). DEFAULT: 1. The result does not depend on it.
+  /// Threads tokenising the rows and converting their coordinates (parsing, normalising, unit
+  /// vectors), each on its share of the input (0: one per core); see CsvSiteScan. DEFAULT: 1.
+  /// The result does not depend on it.
   unsigned threads = 1;
 };
 
@@ -71,7 +72,8 @@ struct SiteTable {
   std::vector<RejectedRow> rejected;
 };
 
-/// Read sites from a CSV stream whose first record is the header.
+/// Read sites from a CSV stream whose first record is the header: CsvSiteScan::read, then
+/// finish() (csv_site_scan.hpp, for a caller that wants the positions before the strings).
 /// \param[in] in the CSV text.
 /// \param[in] source the name used in messages and kept in SiteTable::source.
 /// \param[in] options column choices.

@@ -1,0 +1,798 @@
+#include "geovor/geo/csv_site_scan.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <string_view>
+#include <system_error>
+#include <thread>
+#include <utility>
+
+#include "geovor/core/error.hpp"
+#include "geovor/geo/lat_lon.hpp"
+#include "geovor/geo/site_encoder.hpp"
+
+namespace geovor {
+namespace {
+
+constexpr std::array<std::string_view, 4> kLatNames = {"lat", "latitude", "lat_deg", "y"};
+constexpr std::array<std::string_view, 6> kLonNames = {"lon",       "lng",     "long",
+                                                       "longitude", "lon_deg", "x"};
+constexpr std::array<std::string_view, 4> kIdNames = {"id", "icao", "code", "name"};
+
+// A value longer than this is cut in messages: a reason must stay one readable line.
+constexpr std::size_t kMaxQuotedValue = 40;
+
+// Streams are read in blocks of this size, as CsvReader did (a read error drops the whole block).
+constexpr std::size_t kBlockSize = std::size_t{1} << 16;
+
+std::string_view trim(std::string_view s) {
+  constexpr std::string_view kSpace = " \t\r\n\v\f";
+  const auto first = s.find_first_not_of(kSpace);
+  if (first == std::string_view::npos) return {};
+  return s.substr(first, s.find_last_not_of(kSpace) - first + 1);
+}
+
+template <std::size_t N>
+int detect_column(const std::vector<std::string>& columns,
+                  const std::array<std::string_view, N>& names) {
+  return find_column(columns, std::span<const std::string_view>(names.data(), N));
+}
+
+template <typename Range>
+std::string join(const Range& names) {
+  std::string out;
+  for (const auto& name : names) {
+    if (!out.empty()) out += ", ";
+    out += name;
+  }
+  return out;
+}
+
+std::string quoted(std::string_view value) {
+  if (value.size() <= kMaxQuotedValue) return "'" + std::string(value) + "'";
+  return "'" + std::string(value.substr(0, kMaxQuotedValue)) + "...' (" +
+         std::to_string(value.size()) + " characters)";
+}
+
+// Parse one number; "" on success, else the reason (without the column name).
+std::string parse_double(std::string_view text, double& value) {
+  const std::string_view s = trim(text);
+  if (s.empty()) return "empty value";
+  std::string_view digits = s;
+  // std::from_chars refuses a leading '+', which spreadsheets and printf("%+f") do write.
+  if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-' && digits[1] != '+') {
+    digits.remove_prefix(1);
+  }
+  const char* const last = digits.data() + digits.size();
+  const auto [ptr, ec] = std::from_chars(digits.data(), last, value);
+  if (ec == std::errc::result_out_of_range) return quoted(s) + " is out of the range of a double";
+  if (ec != std::errc() || ptr != last) return quoted(s) + " is not a number";
+  return "";
+}
+
+// The header's names for a message: long names cut, and at most kMaxListedColumns of them.
+std::string column_list(const std::vector<std::string>& columns) {
+  constexpr std::size_t kMaxListedColumns = 50;
+  std::string out;
+  for (std::size_t i = 0; i < columns.size() && i < kMaxListedColumns; ++i) {
+    if (i > 0) out += ", ";
+    const std::string_view name = columns[i];
+    out += name.size() <= kMaxQuotedValue ? std::string(name)
+                                          : std::string(name.substr(0, kMaxQuotedValue)) + "...";
+  }
+  if (columns.size() > kMaxListedColumns) {
+    out += ", ... (" + std::to_string(columns.size()) + " columns)";
+  }
+  return out;
+}
+
+Error named_field_error(const std::string& source, const char* what, const std::string& name,
+                        const std::vector<std::string>& columns) {
+  return Error(ErrorCode::InvalidArgument,
+               source + ": " + what + " field '" + name +
+                   "' is not a column; found columns: " + column_list(columns));
+}
+
+int named_column(const std::string& source, const char* what, const std::string& name,
+                 const std::vector<std::string>& columns) {
+  const int c = find_column(columns, name);
+  if (c < 0) throw named_field_error(source, what, name, columns);
+  return c;
+}
+
+void check_options(const SiteReaderOptions& options) {
+  if (!options.ecef_fields.empty() && options.ecef_fields.size() != 3) {
+    throw Error(ErrorCode::InvalidArgument, "ECEF input needs exactly 3 columns (X, Y, Z), got " +
+                                                std::to_string(options.ecef_fields.size()) + ": " +
+                                                join(options.ecef_fields));
+  }
+  if (!options.ecef_fields.empty() && (!options.lat_field.empty() || !options.lon_field.empty())) {
+    throw Error(ErrorCode::InvalidArgument,
+                "ECEF columns and latitude/longitude columns cannot both be given");
+  }
+}
+
+// Which columns of the header hold what; throws when the table cannot be used at all.
+void choose_columns(SiteTable& table, const SiteReaderOptions& options) {
+  const auto& columns = table.columns;
+  const std::string& source = table.source;
+  if (!options.ecef_fields.empty()) {
+    for (const auto& name : options.ecef_fields) {
+      table.ecef_columns.push_back(named_column(source, "ECEF", name, columns));
+    }
+  } else {
+    table.lat_column = options.lat_field.empty()
+                           ? detect_column(columns, kLatNames)
+                           : named_column(source, "latitude", options.lat_field, columns);
+    table.lon_column = options.lon_field.empty()
+                           ? detect_column(columns, kLonNames)
+                           : named_column(source, "longitude", options.lon_field, columns);
+    if (table.lat_column < 0 || table.lon_column < 0) {
+      std::string which;
+      if (table.lat_column >= 0) which = " (found latitude '" + columns[table.lat_column] + "')";
+      if (table.lon_column >= 0) which = " (found longitude '" + columns[table.lon_column] + "')";
+      throw Error(ErrorCode::BadData,
+                  source + ": no latitude/longitude columns" + which + "; looked for " +
+                      join(kLatNames) + " and " + join(kLonNames) +
+                      "; found columns: " + column_list(columns) + "; use --lat-field/--lon-field");
+    }
+    if (table.lat_column == table.lon_column) {
+      throw Error(
+          ErrorCode::InvalidArgument,
+          source + ": latitude and longitude are both column '" + columns[table.lat_column] + "'");
+    }
+  }
+  table.id_column = options.id_field.empty()
+                        ? detect_column(columns, kIdNames)
+                        : named_column(source, "id", options.id_field, columns);
+}
+
+// A row's position as InputSite holds it.
+struct Located {
+  double lat_deg = 0, lon_deg = 0, height_m = 0;
+  Vec3 unit;
+};
+
+// The row's position; "" on success, else the reason naming the column.
+std::string locate_site(const SiteTable& table, std::span<const std::string_view> fields,
+                        Located& site) {
+  const auto& columns = table.columns;
+  if (!table.ecef_columns.empty()) {
+    std::array<double, 3> xyz{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const auto c = static_cast<std::size_t>(table.ecef_columns[k]);
+      if (auto reason = parse_double(fields[c], xyz[k]); !reason.empty()) {
+        return columns[c] + ": " + reason;
+      }
+      if (!std::isfinite(xyz[k])) {
+        return columns[c] + ": " + quoted(trim(fields[c])) + " is not a finite number";
+      }
+    }
+    const std::string names = columns[table.ecef_columns[0]] + ", " +
+                              columns[table.ecef_columns[1]] + ", " +
+                              columns[table.ecef_columns[2]];
+    // The centre of the Earth has no direction, so no latitude/longitude to give it.
+    if (xyz[0] == 0 && xyz[1] == 0 && xyz[2] == 0) {
+      return names + ": (0, 0, 0) is the centre of the Earth, not a position on it";
+    }
+    const auto g = SiteEncoder::from_ecef(xyz[0], xyz[1], xyz[2]);
+    site.lat_deg = g.lat_deg;
+    site.lon_deg = g.lon_deg;
+    site.height_m = g.height_m;
+    if (auto reason = normalize_lat_lon(site.lat_deg, site.lon_deg); !reason.empty()) {
+      return names + ": " + reason;
+    }
+  } else {
+    const auto lat_c = static_cast<std::size_t>(table.lat_column);
+    const auto lon_c = static_cast<std::size_t>(table.lon_column);
+    if (auto reason = parse_double(fields[lat_c], site.lat_deg); !reason.empty()) {
+      return columns[lat_c] + ": " + reason;
+    }
+    if (auto reason = parse_double(fields[lon_c], site.lon_deg); !reason.empty()) {
+      return columns[lon_c] + ": " + reason;
+    }
+    if (auto reason = normalize_lat_lon(site.lat_deg, site.lon_deg); !reason.empty()) {
+      // normalize_lat_lon's reasons start with the coordinate they are about.
+      const bool about_lat = reason.rfind("latitude", 0) == 0;
+      return columns[about_lat ? lat_c : lon_c] + ": " + reason;
+    }
+  }
+  site.unit = SiteEncoder::from_lat_lon(site.lat_deg, site.lon_deg);
+  return "";
+}
+
+// The whole input in one buffer.
+struct Text {
+  std::unique_ptr<char[]> data;
+  std::size_t size = 0;
+  bool failed = false;  // the stream reported a read error after `size` good bytes
+};
+
+// Reads `in` to its end; `size_hint` (a regular file's size, or 0) is read first in one go.
+// As CsvReader did: read in blocks while the stream is good; a block whose read fails is dropped.
+Text read_text(std::istream& in, std::size_t size_hint) {
+  Text text;
+  std::size_t capacity = size_hint + kBlockSize;
+  text.data = std::make_unique_for_overwrite<char[]>(capacity);
+  bool first = size_hint > 0;
+  for (;;) {
+    if (!in.good()) {
+      text.failed = in.bad();
+      break;
+    }
+    const std::size_t want = first ? size_hint : kBlockSize;
+    first = false;
+    if (capacity - text.size < want) {
+      const std::size_t grown = std::max(2 * capacity, text.size + want);
+      auto bigger = std::make_unique_for_overwrite<char[]>(grown);
+      std::memcpy(bigger.get(), text.data.get(), text.size);
+      text.data = std::move(bigger);
+      capacity = grown;
+    }
+    in.read(text.data.get() + text.size, static_cast<std::streamsize>(want));
+    if (in.bad()) {
+      text.failed = true;
+      break;
+    }
+    text.size += static_cast<std::size_t>(in.gcount());
+  }
+  return text;
+}
+
+// One record of the text, its fields decoded in place: [begin, end) holds them separated by
+// one ',' each (the text after a record's end is not touched).
+struct RawRecord {
+  std::size_t begin = 0, end = 0;
+  std::uint64_t line = 0;        // line where it starts, counted from the tokeniser's start (1)
+  std::uint64_t quote_line = 0;  // an unterminated quoted field: its first line; else 0
+  bool comma_in_field = false;   // a quoted field holds ',': the fields cannot be split at ','
+  bool line_end = false;         // ended by a line end (not by the end of the text)
+};
+
+// CsvReader's state machine (csv_reader.hpp) over [pos, end) of a buffer, which it decodes in
+// place: a record's decoded fields never run past its raw bytes, so they are written from its
+// first byte on.
+class Tokenizer {
+ public:
+  Tokenizer(char* buf, std::size_t pos, std::size_t end) : buf_(buf), pos_(pos), end_(end) {}
+
+  // The next record, or false at the end of the range; fields point into the buffer.
+  bool next(RawRecord& r, std::vector<std::string_view>& fields) {
+    fields.clear();
+    // Empty lines are not records, but are counted.
+    for (;;) {
+      if (pos_ == end_) return false;
+      const char c = buf_[pos_];
+      if (c != '\n' && c != '\r') break;
+      consume_line_end();
+    }
+    r.line = next_line_;
+    r.begin = pos_;
+    r.quote_line = 0;
+    r.comma_in_field = false;
+    r.line_end = false;
+    std::size_t w = pos_;  // where the next decoded byte goes (w <= pos_)
+    std::size_t field_begin = w;
+    auto end_field = [&]() { fields.emplace_back(buf_ + field_begin, w - field_begin); };
+    for (;;) {  // at the start of a field
+      if (pos_ < end_ && buf_[pos_] == '"') {
+        ++pos_;
+        const std::uint64_t quote_line = next_line_;
+        for (;;) {
+          // CRLF, LF and lone CR each count as one line; the quotes around reset the pairing.
+          const char* const first = buf_ + pos_;
+          const char* const last = buf_ + end_;
+          const char* p = first;
+          bool prev_cr = false;
+          for (; p != last && *p != '"'; ++p) {
+            const char c = *p;
+            if (c == '\n') {
+              if (!prev_cr) ++next_line_;
+              prev_cr = false;
+            } else if (c == '\r') {
+              ++next_line_;
+              prev_cr = true;
+            } else {
+              prev_cr = false;
+              if (c == ',') r.comma_in_field = true;
+            }
+          }
+          move_run(w, static_cast<std::size_t>(p - first));
+          if (pos_ == end_) {
+            r.quote_line = quote_line;
+            end_field();
+            r.end = w;
+            return true;
+          }
+          ++pos_;  // the closing quote, unless a second one follows: a quote in the field
+          if (pos_ < end_ && buf_[pos_] == '"') {
+            buf_[w++] = '"';
+            ++pos_;
+            continue;
+          }
+          break;
+        }
+        if (pos_ == end_) {
+          end_field();
+          r.end = w;
+          return true;
+        }
+        const char c = buf_[pos_];
+        if (c == ',') {
+          end_field();
+          buf_[w++] = ',';
+          ++pos_;
+          field_begin = w;
+          continue;
+        }
+        if (c == '\n' || c == '\r') {
+          end_field();
+          consume_line_end();
+          r.line_end = true;
+          r.end = w;
+          return true;
+        }
+        // Text after the closing quote: the field goes on unquoted.
+      }
+      // An unquoted run: this is the hot loop.
+      const char* const first = buf_ + pos_;
+      const char* const last = buf_ + end_;
+      const char* p = first;
+      while (p != last && *p != ',' && *p != '\n' && *p != '\r') ++p;
+      move_run(w, static_cast<std::size_t>(p - first));
+      if (pos_ == end_) {
+        end_field();
+        r.end = w;
+        return true;
+      }
+      end_field();
+      if (buf_[pos_] == ',') {
+        buf_[w++] = ',';
+        ++pos_;
+        field_begin = w;
+        continue;
+      }
+      consume_line_end();
+      r.line_end = true;
+      r.end = w;
+      return true;
+    }
+  }
+
+  std::size_t pos() const { return pos_; }
+  // Line of the next unread character, counted from 1 at the start.
+  std::uint64_t next_line() const { return next_line_; }
+
+ private:
+  // The next n raw bytes become decoded bytes at w.
+  void move_run(std::size_t& w, std::size_t n) {
+    if (w != pos_) std::memmove(buf_ + w, buf_ + pos_, n);
+    w += n;
+    pos_ += n;
+  }
+  void consume_line_end() {
+    const char c = buf_[pos_++];
+    if (c == '\r' && pos_ < end_ && buf_[pos_] == '\n') ++pos_;
+    ++next_line_;
+  }
+
+  char* buf_;
+  std::size_t pos_, end_;
+  std::uint64_t next_line_ = 1;
+};
+
+// Follows CsvReader's quoting over raw text from a record start, quote to quote (memchr), to
+// tell whether a position is inside a quoted field. A quote opens one at a field start (at
+// `begin`, or after ',' or a line end outside quotes) and right after a closing quote (a doubled
+// quote); inside, any quote closes it; elsewhere a quote is text.
+class QuoteWalker {
+ public:
+  QuoteWalker(const char* buf, std::size_t begin, std::size_t end)
+      : buf_(buf), begin_(begin), end_(end), next_(begin) {}
+
+  // Whether position e (>= every earlier e) is inside a quoted field.
+  bool inside_at(std::size_t e) {
+    while (next_ < e) {
+      const void* q = std::memchr(buf_ + next_, '"', e - next_);
+      if (q == nullptr) {
+        next_ = e;
+        break;
+      }
+      step(static_cast<std::size_t>(static_cast<const char*>(q) - buf_));
+    }
+    return inside_;
+  }
+
+  // Inside a quoted field: the position after its closing quote (end if there is none).
+  std::size_t skip_quoted() {
+    const void* q = std::memchr(buf_ + next_, '"', end_ - next_);
+    if (q == nullptr) {
+      next_ = end_;
+      return end_;
+    }
+    step(static_cast<std::size_t>(static_cast<const char*>(q) - buf_));
+    return next_;
+  }
+
+ private:
+  void step(std::size_t p) {
+    if (inside_) {
+      inside_ = false;
+      after_close_ = p + 1;
+    } else if (p == begin_ || p == after_close_ || buf_[p - 1] == ',' || buf_[p - 1] == '\n' ||
+               buf_[p - 1] == '\r') {
+      inside_ = true;
+    }
+    next_ = p + 1;
+  }
+
+  const char* buf_;
+  std::size_t begin_, end_, next_;
+  std::size_t after_close_ = std::numeric_limits<std::size_t>::max();
+  bool inside_ = false;
+};
+
+// The line CsvReader was on when it met a read error after the good bytes [0, size): every line
+// end before counted, except a CR outside quotes at the very end (it was looking for its LF).
+std::uint64_t read_error_line(const char* buf, std::size_t begin, std::size_t size) {
+  std::uint64_t line = 1;
+  for (std::size_t i = 0; i < size; ++i) {
+    if (buf[i] == '\r' || (buf[i] == '\n' && (i == 0 || buf[i - 1] != '\r'))) ++line;
+  }
+  if (size > begin && buf[size - 1] == '\r') {
+    QuoteWalker quotes(buf, begin, size);
+    if (!quotes.inside_at(size - 1)) --line;
+  }
+  return line;
+}
+
+Error read_error(const std::string& source, std::uint64_t line) {
+  return Error(ErrorCode::Io, source + ": read error near line " + std::to_string(line));
+}
+
+// An accepted row until finish(): its decoded fields are [begin, begin + size) of the buffer.
+struct PendingSite {
+  std::uint64_t row = 0;   // counted from 1 in its chunk
+  std::uint64_t line = 0;  // counted from 1 in its chunk
+  std::uint64_t begin = 0;
+  std::uint32_t size = 0;
+  std::uint32_t split = 0;  // 0: split at ','; else 1 + index of its field ends in Chunk::field_ends
+  double lat_deg = 0, lon_deg = 0;
+};
+
+constexpr std::uint64_t kNoUnterminated = std::numeric_limits<std::uint64_t>::max();
+
+// One thread's share of the data rows, and what it found there.
+struct Chunk {
+  std::size_t begin = 0, end = 0;  // raw bytes; begins at a record start
+  std::uint64_t records = 0;       // data rows
+  std::uint64_t lines = 0;         // line ends
+  std::vector<PendingSite> pending;
+  std::vector<Vec3> units;          // of pending, same order
+  std::vector<double> heights_m;    // of pending, ECEF input only
+  std::vector<std::size_t> field_ends;
+  std::vector<RejectedRow> rejected;  // row and line counted in the chunk
+  // The last record's quoted field is unterminated: its index in rejected, the quote's line, the
+  // field's column.
+  std::uint64_t unterminated = kNoUnterminated, quote_line = 0;
+  std::size_t quote_column = 0;
+};
+
+// Tokenises and locates the chunk's rows.
+void scan_chunk(char* buf, const SiteTable& table, Chunk& chunk) {
+  const std::size_t columns = table.columns.size();
+  const bool ecef = !table.ecef_columns.empty();
+  // Lines bound the records: reserve once rather than grow.
+  std::size_t lines = static_cast<std::size_t>(std::count(buf + chunk.begin, buf + chunk.end, '\n'));
+  if (lines == 0) lines = static_cast<std::size_t>(std::count(buf + chunk.begin, buf + chunk.end, '\r'));
+  chunk.pending.reserve(lines + 1);
+  chunk.units.reserve(lines + 1);
+  if (ecef) chunk.heights_m.reserve(lines + 1);
+
+  Tokenizer tokens(buf, chunk.begin, chunk.end);
+  RawRecord record;
+  std::vector<std::string_view> fields;
+  std::uint64_t row = 0;
+  while (tokens.next(record, fields)) {
+    ++row;
+    auto reject = [&](std::string reason) {
+      chunk.rejected.push_back(RejectedRow{row, record.line, std::move(reason)});
+    };
+    if (record.quote_line != 0) {
+      chunk.unterminated = chunk.rejected.size();
+      chunk.quote_line = record.quote_line;
+      chunk.quote_column = fields.size() - 1;
+      reject("");  // the reason names the absolute line: made once lines are numbered
+      continue;
+    }
+    if (fields.size() != columns) {
+      std::string reason = "found " + std::to_string(fields.size()) + " fields, expected " +
+                           std::to_string(columns) + " as in the header";
+      if (fields.size() < columns) {
+        std::vector<std::string> missing(
+            table.columns.begin() + static_cast<std::ptrdiff_t>(fields.size()),
+            table.columns.end());
+        reason += " (no value for " + join(missing) + ")";
+      }
+      reject(std::move(reason));
+      continue;
+    }
+    Located site;
+    if (std::string reason = locate_site(table, fields, site); !reason.empty()) {
+      reject(std::move(reason));
+      continue;
+    }
+    PendingSite pending;
+    pending.row = row;
+    pending.line = record.line;
+    pending.begin = record.begin;
+    pending.lat_deg = site.lat_deg;
+    pending.lon_deg = site.lon_deg;
+    const std::size_t size = record.end - record.begin;
+    if (record.comma_in_field || size > std::numeric_limits<std::uint32_t>::max()) {
+      pending.split = static_cast<std::uint32_t>(chunk.field_ends.size() / columns + 1);
+      for (const std::string_view f : fields) {
+        chunk.field_ends.push_back(static_cast<std::size_t>(f.data() + f.size() - buf));
+      }
+    } else {
+      pending.size = static_cast<std::uint32_t>(size);
+    }
+    chunk.pending.push_back(pending);
+    chunk.units.push_back(site.unit);
+    if (ecef) chunk.heights_m.push_back(site.height_m);
+  }
+  chunk.records = row;
+  chunk.lines = tokens.next_line() - 1;
+}
+
+// Where the chunks start: every target moved forward to the next record start (after a line end
+// outside quotes, after the LF of a CRLF), found from the raw text before any thread decodes it.
+std::vector<std::size_t> chunk_starts(const char* buf, std::size_t body, std::size_t size,
+                                      std::vector<std::size_t> targets) {
+  std::sort(targets.begin(), targets.end());
+  std::vector<std::size_t> starts = {body};
+  QuoteWalker quotes(buf, body, size);
+  for (const std::size_t target : targets) {
+    std::size_t pos = std::max(target, starts.back());
+    std::size_t start = size;
+    while (pos < size) {
+      std::size_t e = pos;
+      while (e < size && buf[e] != '\n' && buf[e] != '\r') ++e;
+      if (e == size) break;
+      if (!quotes.inside_at(e)) {
+        start = e + 1;
+        if (buf[e] == '\r' && start < size && buf[start] == '\n') ++start;
+        break;
+      }
+      pos = quotes.skip_quoted();
+    }
+    if (start >= size) break;  // so are all later targets'
+    starts.push_back(start);
+  }
+  return starts;
+}
+
+}  // namespace
+
+struct CsvSiteScan::State {
+  Text text;
+  SiteTable table;  // everything but the sites
+  std::vector<Chunk> chunks;
+  std::vector<std::uint64_t> row_base, line_base;  // per chunk: its first row and first line - 1
+  std::size_t sites = 0;
+};
+
+CsvSiteScan::CsvSiteScan(std::unique_ptr<State> state) : state_(std::move(state)) {}
+CsvSiteScan::CsvSiteScan(CsvSiteScan&&) noexcept = default;
+CsvSiteScan& CsvSiteScan::operator=(CsvSiteScan&&) noexcept = default;
+CsvSiteScan::~CsvSiteScan() = default;
+
+std::uint64_t CsvSiteScan::rows_read() const { return state_ ? state_->table.rows_read : 0; }
+
+CsvSiteScan CsvSiteScan::read(std::istream& in, const std::string& source,
+                              const SiteReaderOptions& options, const CsvScanTuning& tuning) {
+  check_options(options);
+  auto state = std::make_unique<State>();
+  state->table.source = source;
+  state->text = read_text(in, 0);
+  CsvSiteScan scan(std::move(state));
+  scan.scan(options, tuning);
+  return scan;
+}
+
+CsvSiteScan CsvSiteScan::open(const std::string& path, const SiteReaderOptions& options,
+                              const CsvScanTuning& tuning) {
+  if (path == "-") return read(std::cin, "<stdin>", options, tuning);
+  std::error_code ec;
+  // Opening a directory succeeds on POSIX and only reading fails; say so up front instead.
+  if (std::filesystem::is_directory(path, ec)) {
+    throw Error(ErrorCode::Io, path + ": cannot read: " + std::strerror(EISDIR));
+  }
+  errno = 0;
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    const int err = errno;
+    throw Error(ErrorCode::Io,
+                path + ": cannot open: " + (err != 0 ? std::strerror(err) : "unknown error"));
+  }
+  check_options(options);
+  // A regular file is read in one go: its size is known.
+  std::size_t size_hint = 0;
+  if (std::filesystem::is_regular_file(path, ec)) {
+    const auto size = std::filesystem::file_size(path, ec);
+    if (!ec) size_hint = static_cast<std::size_t>(size);
+  }
+  auto state = std::make_unique<State>();
+  state->table.source = path;
+  state->text = read_text(file, size_hint);
+  CsvSiteScan scan(std::move(state));
+  scan.scan(options, tuning);
+  return scan;
+}
+
+void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tuning) {
+  State& s = *state_;
+  std::vector<Vec3>& positions = positions_;
+  SiteTable& table = s.table;
+  const std::string& source = table.source;
+  char* const buf = s.text.data.get();
+  const std::size_t size = s.text.size;
+  const std::size_t start = size >= 3 && std::memcmp(buf, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+  // A read error: CsvReader would have met it when it needed the first byte after the good ones,
+  // which is at the end of the header unless the header is cut short.
+  const std::uint64_t error_line = s.text.failed ? read_error_line(buf, start, size) : 0;
+
+  Tokenizer header(buf, start, size);
+  RawRecord record;
+  std::vector<std::string_view> fields;
+  const bool has_header = header.next(record, fields);
+  if (s.text.failed && (!has_header || !record.line_end ||
+                        (header.pos() == size && buf[size - 1] == '\r'))) {
+    throw read_error(source, error_line);
+  }
+  if (!has_header) throw Error(ErrorCode::BadData, source + ": empty file, no header");
+  // A compressed file would otherwise be reported as a header of binary garbage.
+  if (fields[0].starts_with("\x1f\x8b")) {
+    throw Error(ErrorCode::BadData,
+                source + ": gzip-compressed data, not CSV; decompress it first");
+  }
+  if (record.quote_line != 0) {
+    throw Error(ErrorCode::BadData, source + ": header: unterminated quoted field starting on line " +
+                                        std::to_string(record.quote_line));
+  }
+  table.columns.assign(fields.begin(), fields.end());
+  choose_columns(table, options);
+  if (s.text.failed) throw read_error(source, error_line);
+
+  // One chunk per thread, each with at least min_chunk_bytes of rows.
+  const std::size_t body = header.pos();
+  std::vector<std::size_t> targets = tuning.cuts;
+  if (targets.empty()) {
+    const std::size_t wanted =
+        options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    const std::size_t n = std::max<std::size_t>(
+        1, std::min(wanted, (size - body) / std::max<std::size_t>(1, tuning.min_chunk_bytes)));
+    for (std::size_t k = 1; k < n; ++k) targets.push_back(body + (size - body) * k / n);
+  }
+  const std::vector<std::size_t> starts = chunk_starts(buf, body, size, std::move(targets));
+  s.chunks.resize(starts.size());
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    s.chunks[k].begin = starts[k];
+    s.chunks[k].end = k + 1 < starts.size() ? starts[k + 1] : size;
+  }
+
+  std::vector<std::exception_ptr> failures(s.chunks.size());
+  auto work = [&](std::size_t k) {
+    try {
+      scan_chunk(buf, table, s.chunks[k]);
+    } catch (...) {
+      failures[k] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t k = 1; k < s.chunks.size(); ++k) pool.emplace_back(work, k);
+  work(0);
+  for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& e : failures) {
+    if (e) std::rethrow_exception(e);
+  }
+
+  // Rows and lines numbered across chunks; rejected rows in row order, chunk after chunk.
+  std::uint64_t rows = 0, line = header.next_line() - 1;
+  std::size_t sites = 0, rejected = 0;
+  for (const Chunk& c : s.chunks) {
+    s.row_base.push_back(rows);
+    s.line_base.push_back(line);
+    rows += c.records;
+    line += c.lines;
+    sites += c.pending.size();
+    rejected += c.rejected.size();
+  }
+  table.rows_read = rows;
+  s.sites = sites;
+  table.rejected.reserve(rejected);
+  for (std::size_t k = 0; k < s.chunks.size(); ++k) {
+    Chunk& c = s.chunks[k];
+    if (c.unterminated != kNoUnterminated) {
+      const std::string error = "unterminated quoted field starting on line " +
+                                std::to_string(s.line_base[k] + c.quote_line);
+      c.rejected[c.unterminated].reason = c.quote_column < table.columns.size()
+                                              ? table.columns[c.quote_column] + ": " + error
+                                              : error;
+    }
+    for (RejectedRow& r : c.rejected) {
+      table.rejected.push_back(
+          RejectedRow{r.row + s.row_base[k], r.line + s.line_base[k], std::move(r.reason)});
+    }
+    c.rejected = {};
+  }
+  if (s.chunks.size() == 1) {
+    positions = std::move(s.chunks[0].units);
+  } else {
+    positions.reserve(sites);
+    for (Chunk& c : s.chunks) {
+      positions.insert(positions.end(), c.units.begin(), c.units.end());
+      c.units = {};
+    }
+  }
+}
+
+SiteTable CsvSiteScan::finish() && {
+  if (!state_) throw Error(ErrorCode::Internal, "CsvSiteScan::finish called twice");
+  State& s = *state_;
+  SiteTable table = std::move(s.table);
+  const char* const buf = s.text.data.get();
+  const std::size_t columns = table.columns.size();
+  const int id_column = table.id_column;
+  table.sites.reserve(s.sites);
+  std::size_t i = 0;  // index into positions_
+  for (std::size_t k = 0; k < s.chunks.size(); ++k) {
+    const Chunk& c = s.chunks[k];
+    for (std::size_t j = 0; j < c.pending.size(); ++j, ++i) {
+      const PendingSite& p = c.pending[j];
+      InputSite& site = table.sites.emplace_back();
+      site.row = p.row + s.row_base[k];
+      site.line = p.line + s.line_base[k];
+      site.lat_deg = p.lat_deg;
+      site.lon_deg = p.lon_deg;
+      if (!c.heights_m.empty()) site.height_m = c.heights_m[j];
+      site.unit = positions_[i];
+      site.fields.reserve(columns);
+      if (p.split == 0) {
+        const char* f = buf + p.begin;
+        const char* const last = f + p.size;
+        for (;;) {
+          const char* comma = static_cast<const char*>(std::memchr(f, ',', static_cast<std::size_t>(last - f)));
+          if (comma == nullptr) {
+            site.fields.emplace_back(f, last);
+            break;
+          }
+          site.fields.emplace_back(f, comma);
+          f = comma + 1;
+        }
+      } else {
+        const std::size_t* ends = c.field_ends.data() + (p.split - 1) * columns;
+        std::size_t f = p.begin;
+        for (std::size_t col = 0; col < columns; ++col) {
+          site.fields.emplace_back(buf + f, buf + ends[col]);
+          f = ends[col] + 1;
+        }
+      }
+      site.id = id_column >= 0 ? site.fields[static_cast<std::size_t>(id_column)]
+                               : std::to_string(site.row);
+    }
+  }
+  state_.reset();  // the buffer and the per-row data; positions_ stay
+  return table;
+}
+
+}  // namespace geovor
