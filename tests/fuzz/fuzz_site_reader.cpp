@@ -2,6 +2,9 @@
 // with ECEF columns X,Y,Z). The reader must return a table or throw geovor::Error; every data
 // row must be a site or a rejected row (checked against CsvReader's count of records), each
 // site a valid position; small tables are triangulated and validated with their report.
+// CsvSiteScan on 1 and 3 threads (chunks of any size) must give what the streaming reader it
+// replaced gives (tests/support/reference_site_reader.cpp), member by member, or the same error.
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -13,7 +16,9 @@
 #include "geovor/core/error.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/geo/csv_reader.hpp"
+#include "geovor/geo/csv_site_scan.hpp"
 #include "geovor/geo/site_reader.hpp"
+#include "support/reference_site_reader.hpp"
 
 namespace {
 
@@ -71,7 +76,65 @@ void check_table(const SiteTable& t, const std::string& text) {
              dt.num_sites(), report.merges.size(), points.size());
 }
 
+// The first difference between two tables, or "" if every member is equal.
+std::string difference(const SiteTable& a, const SiteTable& b) {
+  if (a.source != b.source || a.columns != b.columns || a.lat_column != b.lat_column ||
+      a.lon_column != b.lon_column || a.id_column != b.id_column || a.ecef_columns != b.ecef_columns ||
+      a.rows_read != b.rows_read) {
+    return "header or rows_read";
+  }
+  if (a.sites.size() != b.sites.size()) return "number of sites";
+  auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+  for (std::size_t i = 0; i < a.sites.size(); ++i) {
+    const InputSite& s = a.sites[i];
+    const InputSite& t = b.sites[i];
+    if (s.row != t.row || s.line != t.line || s.id != t.id || bits(s.lat_deg) != bits(t.lat_deg) ||
+        bits(s.lon_deg) != bits(t.lon_deg) || bits(s.height_m) != bits(t.height_m) || !(s.unit == t.unit) ||
+        s.fields != t.fields) {
+      return "site " + std::to_string(i);
+    }
+  }
+  if (a.rejected.size() != b.rejected.size()) return "number of rejected rows";
+  for (std::size_t i = 0; i < a.rejected.size(); ++i) {
+    const RejectedRow& r = a.rejected[i];
+    const RejectedRow& q = b.rejected[i];
+    if (r.row != q.row || r.line != q.line || r.reason != q.reason) return "rejected row " + std::to_string(i);
+  }
+  return "";
+}
+
+// CsvSiteScan with `threads` and tiny chunks against the reference's table or error.
+void compare_with_reference(const std::string& text, const SiteReaderOptions& base, unsigned threads) {
+  SiteTable want, got;
+  std::string want_error, got_error = "none";
+  try {
+    std::istringstream in(text);
+    want = testing::reference_read_sites_csv(in, "fuzz.csv", base);
+  } catch (const Error& e) {
+    want_error = std::to_string(static_cast<int>(e.code())) + " " + e.what();
+  }
+  try {
+    std::istringstream in(text);
+    SiteReaderOptions options = base;
+    options.threads = threads;
+    CsvScanTuning tuning;
+    tuning.min_chunk_bytes = 1;
+    got = CsvSiteScan::read(in, "fuzz.csv", options, tuning).finish();
+    got_error = "";
+  } catch (const Error& e) {
+    got_error = std::to_string(static_cast<int>(e.code())) + " " + e.what();
+  }
+  FUZZ_CHECK(got_error == want_error, "threads %u: error '%s', reference '%s'", threads, got_error.c_str(),
+             want_error.c_str());
+  if (want_error.empty()) {
+    const std::string d = difference(got, want);
+    FUZZ_CHECK(d.empty(), "threads %u: differs from the reference at %s", threads, d.c_str());
+  }
+}
+
 void read(const std::string& text, const SiteReaderOptions& options) {
+  compare_with_reference(text, options, 1);
+  compare_with_reference(text, options, 3);
   std::istringstream in(text);
   SiteTable table;
   try {
