@@ -37,6 +37,30 @@ Vec3 geodetic_direction(double lon_deg, double lat_deg) {
   return {cp * std::cos(lam), cp * std::sin(lam), (1 - kE2) * std::sin(phi)};
 }
 
+// The direction of the point halfway in longitude (the short way) and in geodetic latitude
+// between a and b, as normalized(geodetic_direction(mid lon, mid lat)) but by bisecting the
+// angles' (cos, sin) pairs, without trigonometry: v is proportional to (cos lat cos lon,
+// cos lat sin lon, (1 - e²) sin lat). Neither a nor b is a pole.
+Vec3 lonlat_midpoint(const Pt& a, const Pt& b) {
+  const double ra = std::sqrt(a.v.x * a.v.x + a.v.y * a.v.y), rb = std::sqrt(b.v.x * b.v.x + b.v.y * b.v.y);
+  // Longitudes: (x, y) / rho; their bisector is the short way's midpoint (up to 180 apart).
+  double cl = a.v.x / ra + b.v.x / rb, sl = a.v.y / ra + b.v.y / rb;
+  const double nl = std::sqrt(cl * cl + sl * sl);
+  // Latitudes: ((1 - e²) rho, z) / norm, in the right half-plane, 180 degrees apart at most.
+  const double ua = (1 - kE2) * ra, ub = (1 - kE2) * rb;
+  const double ha = std::sqrt(ua * ua + a.v.z * a.v.z), hb = std::sqrt(ub * ub + b.v.z * b.v.z);
+  double cp = ua / ha + ub / hb, sp = a.v.z / ha + b.v.z / hb;
+  const double np = std::sqrt(cp * cp + sp * sp);
+  if (!(nl > 1e-3) || !(np > 1e-3)) {  // about 180 degrees apart: the bisector is undefined
+    double dl = b.lon - a.lon;
+    if (dl > 180) dl -= 360;
+    if (dl < -180) dl += 360;
+    return normalized(geodetic_direction(a.lon + dl / 2, (a.lat + b.lat) / 2));
+  }
+  cl /= nl, sl /= nl, cp /= np, sp /= np;
+  return normalized(Vec3{cp * cl, cp * sl, (1 - kE2) * sp});
+}
+
 // A ring position with its sheet: the unwrapped longitude is lon + 360 k, with lon in
 // [-180, 180) as to_lat_lon gives it (on the antimeridian, lon = -180 exactly).
 struct RP {
@@ -218,11 +242,7 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
     m = midpoint(a.v, b.v);
     if (dot(a.v, b.v) >= cos_step_) {
       // Great-circle midpoint against the midpoint of the straight lon/lat segment.
-      double dl = b.lon - a.lon;
-      if (dl > 180) dl -= 360;
-      if (dl < -180) dl += 360;
-      const Vec3 q = normalized(geodetic_direction(a.lon + dl / 2, (a.lat + b.lat) / 2));
-      if (norm2(m - q) <= edge_tol2_) return;
+      if (norm2(m - lonlat_midpoint(a, b)) <= edge_tol2_) return;
     }
   }
   const Pt mp = make_pt(m);
