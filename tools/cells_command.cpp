@@ -52,12 +52,18 @@ int run(CellsArgs& args) {
   std::unique_ptr<OutputFile> report_file;
   if (!args.report.empty()) report_file = std::make_unique<OutputFile>(args.report, args.out.overwrite);
   args.sites.reader.threads = static_cast<unsigned>(args.out.threads);  // 0: one per core
-  const SiteTable table = read_site_input(args.sites);
-  const std::vector<Vec3> points = site_points(table);
-  // The ids' GeoJSON text is made on another core while the triangulation is built (on one).
-  std::future<IdTexts> id_texts;
-  if (args.out.threads != 1 && writes_geojson(args.out))
-    id_texts = std::async(std::launch::async, [&] { return make_id_texts(table, 1); });
+  // The triangulation (one thread) starts on the positions while another core makes the rows'
+  // strings (CSV input) and then the ids' GeoJSON text.
+  const bool in_background = args.out.threads != 1;
+  IdTexts ids;
+  bool prepared = false;
+  StagedSiteInput input(args.sites, in_background, [&, geojson = writes_geojson(args.out)](const SiteTable& table) {
+    if (in_background && geojson) {
+      ids = make_id_texts(table, 1);
+      prepared = true;
+    }
+  });
+  const std::span<const Vec3> points = input.positions();
   // With --overwrite, an existing GeoJSON output (one regular file; the input is read by now) is
   // removed on another core while the triangulation is built: freeing a large file's blocks
   // takes tens of milliseconds that the final rename over it would otherwise spend.
@@ -69,9 +75,8 @@ int run(CellsArgs& args) {
   BuildReport report;
   const SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
   if (removed.valid()) removed.get();
+  const SiteTable& table = input.table();
   if (!args.out.quiet) report_merges(table, report);  // merged rows stay in the cells' ids and the report
-  const bool prepared = id_texts.valid();
-  const IdTexts ids = prepared ? id_texts.get() : IdTexts{};
   const std::size_t written = write_cells(
       args.out, table, report, dt, [&] { if (report_file) write_report(*report_file, table, report); },
       prepared ? &ids : nullptr);

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "geovor/core/error.hpp"
+#include "geovor/geo/csv_site_scan.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
 
@@ -25,7 +26,10 @@ void add_site_input_options(CLI::App* cmd, SiteInputArgs& args) {
                   "Merge sites closer than this many metres (default and minimum: 2^-24 R = 0.38 m)");
 }
 
-SiteTable read_site_input(SiteInputArgs& args) {
+namespace {
+
+// --ecef-fields X,Y,Z into the reader's options; --layer refused for CSV.
+void prepare(SiteInputArgs& args) {
   if (!args.ecef_fields.empty() && args.reader.ecef_fields.empty()) {
     std::string field;
     for (const char c : args.ecef_fields + ",") {
@@ -39,8 +43,9 @@ SiteTable read_site_input(SiteInputArgs& args) {
   }
   if (!args.layer.empty() && is_csv_site_path(args.input))
     throw Error(ErrorCode::InvalidArgument, args.input + ": --layer is for OGR sources; a CSV file has one table");
-  SiteTable table = args.layer.empty() ? read_sites(args.input, args.reader)
-                                       : read_sites_ogr(args.input, args.reader, args.layer);
+}
+
+void list_rejected(const SiteTable& table) {
   for (const RejectedRow& r : table.rejected) {
     if (r.line > 0)  // CSV rows have a line; OGR features do not (their reason names the feature)
       std::fprintf(stderr, "%s: row %llu (line %llu) rejected: %s\n", table.source.c_str(),
@@ -49,7 +54,45 @@ SiteTable read_site_input(SiteInputArgs& args) {
       std::fprintf(stderr, "%s: row %llu rejected: %s\n", table.source.c_str(),
                    static_cast<unsigned long long>(r.row), r.reason.c_str());
   }
+}
+
+}  // namespace
+
+SiteTable read_site_input(SiteInputArgs& args) {
+  prepare(args);
+  SiteTable table = args.layer.empty() ? read_sites(args.input, args.reader)
+                                       : read_sites_ogr(args.input, args.reader, args.layer);
+  list_rejected(table);
   return table;
+}
+
+StagedSiteInput::StagedSiteInput(SiteInputArgs& args, bool in_background, std::function<void(const SiteTable&)> then) {
+  prepare(args);
+  if (args.layer.empty() && is_csv_site_path(args.input)) {
+    scan_ = std::make_unique<CsvSiteScan>(CsvSiteScan::open(args.input, args.reader));
+    positions_ = scan_->positions();
+    auto finish = [this, then = std::move(then)] {
+      SiteTable table = std::move(*scan_).finish();
+      if (then) then(table);
+      return table;
+    };
+    if (in_background)
+      pending_ = std::async(std::launch::async, std::move(finish));
+    else
+      table_ = finish();
+  } else {
+    table_ = args.layer.empty() ? read_sites(args.input, args.reader) : read_sites_ogr(args.input, args.reader, args.layer);
+    points_ = site_points(table_);
+    positions_ = points_;
+    if (then) then(table_);
+  }
+}
+
+const SiteTable& StagedSiteInput::table() {
+  if (pending_.valid()) table_ = pending_.get();
+  if (!listed_) list_rejected(table_);
+  listed_ = true;
+  return table_;
 }
 
 std::vector<Vec3> site_points(const SiteTable& table) {

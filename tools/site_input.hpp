@@ -6,10 +6,15 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <functional>
+#include <future>
+#include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "geovor/delaunay/spherical_delaunay.hpp"
+#include "geovor/geo/csv_site_scan.hpp"
 #include "geovor/geo/site_reader.hpp"
 
 namespace geovor::tools {
@@ -27,6 +32,27 @@ void add_site_input_options(CLI::App* cmd, SiteInputArgs& args);
 
 /// Reads the sites; rejected rows go to stderr (file, row, line, reason).
 SiteTable read_site_input(SiteInputArgs& args);
+
+/// The sites in two stages, so that the triangulation can start on the positions while the rows'
+/// strings are made: for CSV input (CsvSiteScan) the strings, then `then(table)`, are made on
+/// another thread when `in_background`; OGR input is read whole at once. table() waits for them
+/// and lists the rejected rows on stderr, as read_site_input does. Errors of the first stage are
+/// thrown by the constructor, those of the second by table().
+class StagedSiteInput {
+ public:
+  StagedSiteInput(SiteInputArgs& args, bool in_background, std::function<void(const SiteTable&)> then = {});
+  /// The accepted rows' unit vectors, in row order (valid while this object lives).
+  std::span<const Vec3> positions() const { return positions_; }
+  const SiteTable& table();
+
+ private:
+  std::unique_ptr<CsvSiteScan> scan_;
+  std::vector<Vec3> points_;
+  std::span<const Vec3> positions_;
+  std::future<SiteTable> pending_;
+  SiteTable table_;
+  bool listed_ = false;
+};
 
 /// The unit vectors of the accepted rows, in order.
 std::vector<Vec3> site_points(const SiteTable& table);
