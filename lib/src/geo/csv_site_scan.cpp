@@ -19,6 +19,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/geo/site_encoder.hpp"
+#include "geo/trim.hpp"
 
 namespace geovor {
 namespace {
@@ -33,13 +34,6 @@ constexpr std::size_t kMaxQuotedValue = 40;
 
 // Streams are read in blocks of this size, as CsvReader did (a read error drops the whole block).
 constexpr std::size_t kBlockSize = std::size_t{1} << 16;
-
-std::string_view trim(std::string_view s) {
-  constexpr std::string_view kSpace = " \t\r\n\v\f";
-  const auto first = s.find_first_not_of(kSpace);
-  if (first == std::string_view::npos) return {};
-  return s.substr(first, s.find_last_not_of(kSpace) - first + 1);
-}
 
 template <std::size_t N>
 int detect_column(const std::vector<std::string>& columns,

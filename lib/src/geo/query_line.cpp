@@ -10,6 +10,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/geo/site_reader.hpp"
+#include "geo/trim.hpp"
 
 namespace geovor {
 namespace {
@@ -17,13 +18,6 @@ namespace {
 constexpr std::string_view kLatNames[] = {"lat", "latitude", "lat_deg", "y"};
 constexpr std::string_view kLonNames[] = {"lon", "lng", "long", "longitude", "lon_deg", "x"};
 constexpr std::string_view kIdNames[] = {"query_id", "id", "icao", "code", "name"};
-
-std::string_view trim(std::string_view s) {
-  constexpr std::string_view kSpace = " \t\r\n\v\f";
-  const auto first = s.find_first_not_of(kSpace);
-  if (first == std::string_view::npos) return {};
-  return s.substr(first, s.find_last_not_of(kSpace) - first + 1);
-}
 
 template <std::size_t N>
 int detect(const std::vector<std::string>& columns, const std::string_view (&names)[N]) {

@@ -3,16 +3,10 @@
 #include <cstddef>
 
 #include "geovor/geo/csv_site_scan.hpp"
+#include "geo/trim.hpp"
 
 namespace geovor {
 namespace {
-
-std::string_view trim(std::string_view s) {
-  constexpr std::string_view kSpace = " \t\r\n\v\f";
-  const auto first = s.find_first_not_of(kSpace);
-  if (first == std::string_view::npos) return {};
-  return s.substr(first, s.find_last_not_of(kSpace) - first + 1);
-}
 
 bool same_name(std::string_view column, std::string_view name) {
   column = trim(column);

@@ -21,6 +21,7 @@
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
+#include "geo/trim.hpp"
 #include "io/gdal_writer.hpp"
 
 namespace geovor {
@@ -30,13 +31,6 @@ namespace fs = std::filesystem;
 using gdal_detail::ErrorCapture;
 
 constexpr std::array<std::string_view, 4> kIdNames = {"id", "icao", "code", "name"};
-
-std::string_view trim(std::string_view s) {
-  constexpr std::string_view kSpace = " \t\r\n\v\f";
-  const auto first = s.find_first_not_of(kSpace);
-  if (first == std::string_view::npos) return {};
-  return s.substr(first, s.find_last_not_of(kSpace) - first + 1);
-}
 
 // As the CSV reader: names compared trimmed and case-insensitively.
 std::string list_names(const std::vector<std::string>& names) {
