@@ -17,6 +17,7 @@
 #include "geovor/io/geojson_writer.hpp"
 #include "geovor/voronoi/cell_geometry.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
+#include "commands.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -108,12 +109,7 @@ std::string lower(std::string s) {
 
 }  // namespace
 
-bool writes_geojson(const CellOutputArgs& args) {
-  const std::string format = lower(!args.format.empty() ? args.format
-                                   : args.output == "-"  ? std::string("GeoJSON")
-                                                         : format_from_extension(args.output));
-  return format == "geojson" || format == "geojsonseq";
-}
+bool writes_geojson(const CellOutputArgs& args) { return !output_needs_gdal(args.output, args.format); }
 
 IdTexts make_id_texts(const SiteTable& table, unsigned threads) {
   return make_texts(table.sites.size(), threads, [&](std::string& out, std::size_t row) {

@@ -54,14 +54,9 @@ int run(CellsArgs& args) {
   args.sites.reader.threads = static_cast<unsigned>(args.out.threads);  // 0: one per core
   // The triangulation (one thread) starts on the positions while another core makes the rows'
   // strings (CSV input) and then the ids' GeoJSON text.
-  const bool in_background = args.out.threads != 1;
   IdTexts ids;
-  bool prepared = false;
-  StagedSiteInput input(args.sites, in_background, [&, geojson = writes_geojson(args.out)](const SiteTable& table) {
-    if (in_background && geojson) {
-      ids = make_id_texts(table, 1);
-      prepared = true;
-    }
+  StagedSiteInput input(args.sites, args.out.threads != 1, [&, geojson = writes_geojson(args.out)](const SiteTable& table) {
+    if (geojson) ids = make_id_texts(table, 1);
   });
   const std::span<const Vec3> points = input.positions();
   // With --overwrite, an existing GeoJSON output (one regular file; the input is read by now) is
@@ -79,7 +74,7 @@ int run(CellsArgs& args) {
   if (!args.out.quiet) report_merges(table, report);  // merged rows stay in the cells' ids and the report
   const std::size_t written = write_cells(
       args.out, table, report, dt, [&] { if (report_file) write_report(*report_file, table, report); },
-      prepared ? &ids : nullptr);
+      &ids);
   if (report_file) report_file->commit();
   if (!args.out.quiet)
     std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s\n",
@@ -117,7 +112,7 @@ Command add_cells_command(CLI::App& app) {
       "  geovor cells stations.gpkg -o cells.fgb --densify-m 10 --report rows.csv");
   return {[args] { return run(*args); },
           [args] {
-            return site_input_needs_gdal(args->sites.input, args->sites.layer) ||
+            return site_input_needs_gdal(args->sites) ||
                    output_needs_gdal(args->out.output, args->out.format);
           }};
 }

@@ -32,9 +32,8 @@ struct Command {
   std::function<bool()> needs_gdal;
 };
 
-/// Whether reading sites from `input` (with --layer `layer`) needs GDAL: any path but CSV/TXT and "-".
-bool site_input_needs_gdal(const std::string& input, const std::string& layer);
-/// Whether writing `path` in `format` ("" for the extension's) needs GDAL: any but GeoJSON/GeoJSONSeq.
+/// Whether writing `path` in `format` ("" for the extension's) needs GDAL: any but GeoJSON/GeoJSONSeq
+/// ("-" is GeoJSON). Reading sites: site_input_needs_gdal() in site_input.hpp.
 bool output_needs_gdal(const std::string& path, const std::string& format);
 
 /// Runs the geovor tool: parses the arguments, then runs the chosen command, or re-executes the

@@ -173,7 +173,7 @@ Command add_delaunay_command(CLI::App& app) {
       "  geovor delaunay stations.gpkg -o tin.gpkg --edges edges.fgb --no-ghosts");
   return {[args] { return run(*args); },
           [args] {
-            return site_input_needs_gdal(args->sites.input, args->sites.layer) ||
+            return site_input_needs_gdal(args->sites) ||
                    (!args->triangles.empty() && output_needs_gdal(args->triangles, args->format)) ||
                    (!args->edges.empty() && output_needs_gdal(args->edges, args->edges_format));
           }};

@@ -4,7 +4,6 @@
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -17,7 +16,6 @@
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/io/feature_writer.hpp"
-#include "geovor/io/ogr_site_reader.hpp"
 
 namespace geovor::tools {
 namespace {
@@ -61,10 +59,6 @@ int hand_to_gdal_tool(char** argv) {
 }
 
 }  // namespace
-
-bool site_input_needs_gdal(const std::string& input, const std::string& layer) {
-  return !layer.empty() || !is_csv_site_path(input);
-}
 
 bool output_needs_gdal(const std::string& path, const std::string& format) {
   const std::string f = lower(!format.empty() ? format : path == "-" ? std::string("GeoJSON") : format_from_extension(path));

@@ -91,7 +91,7 @@ Command add_index_command(CLI::App& app) {
       "rejected rows and merged sites are listed on stderr with their row numbers.\n"
       "Example: geovor index datasets/weather_stations.csv -o stations.gvi");
   return {[args] { return run(*args); },
-          [args] { return site_input_needs_gdal(args->sites.input, args->sites.layer); }};
+          [args] { return site_input_needs_gdal(args->sites); }};
 }
 
 }  // namespace geovor::tools

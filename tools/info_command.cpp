@@ -80,7 +80,7 @@ Command add_info_command(CLI::App& app) {
       "Rejected rows and merged sites are listed on stderr with their row numbers.\n"
       "Example: geovor info datasets/weather_stations.csv");
   return {[args] { return run(*args); },
-          [args] { return site_input_needs_gdal(args->sites.input, args->sites.layer); }};
+          [args] { return site_input_needs_gdal(args->sites); }};
 }
 
 }  // namespace geovor::tools

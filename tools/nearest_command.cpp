@@ -502,7 +502,7 @@ Command add_nearest_command(CLI::App& app) {
       "their line number and skipped (--strict: exit 3).\n"
       "Example: geovor nearest --sites stations.gvi --queries points.csv -o nearest.csv");
   return {[args] { return run(*args); },
-          [args] { return !is_index_path(args->sites.input) && site_input_needs_gdal(args->sites.input, args->sites.layer); }};
+          [args] { return !is_index_path(args->sites.input) && site_input_needs_gdal(args->sites); }};
 }
 
 }  // namespace geovor::tools

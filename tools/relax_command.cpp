@@ -189,7 +189,7 @@ Command add_relax_command(CLI::App& app) {
       "  geovor relax sites.csv -o cells.gpkg -n 100 --sites-output sites.fgb --relocation rebuild");
   return {[args] { return run(*args); },
           [args] {
-            return site_input_needs_gdal(args->sites.input, args->sites.layer) ||
+            return site_input_needs_gdal(args->sites) ||
                    output_needs_gdal(args->cells.output, args->cells.format) ||
                    (!args->sites_output.empty() && output_needs_gdal(args->sites_output, ""));
           }};

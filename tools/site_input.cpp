@@ -56,36 +56,42 @@ void list_rejected(const SiteTable& table) {
   }
 }
 
+// The whole table at once, by the reader the path calls for (a --layer is OGR's).
+SiteTable read_whole(const SiteInputArgs& args) {
+  return args.layer.empty() ? read_sites(args.input, args.reader) : read_sites_ogr(args.input, args.reader, args.layer);
+}
+
 }  // namespace
+
+bool site_input_needs_gdal(const SiteInputArgs& args) { return !args.layer.empty() || !is_csv_site_path(args.input); }
 
 SiteTable read_site_input(SiteInputArgs& args) {
   prepare(args);
-  SiteTable table = args.layer.empty() ? read_sites(args.input, args.reader)
-                                       : read_sites_ogr(args.input, args.reader, args.layer);
+  SiteTable table = read_whole(args);
   list_rejected(table);
   return table;
 }
 
 StagedSiteInput::StagedSiteInput(SiteInputArgs& args, bool in_background, std::function<void(const SiteTable&)> then) {
   prepare(args);
-  if (args.layer.empty() && is_csv_site_path(args.input)) {
+  if (!site_input_needs_gdal(args)) {
     scan_ = std::make_unique<CsvSiteScan>(CsvSiteScan::open(args.input, args.reader));
     positions_ = scan_->positions();
-    auto finish = [this, then = std::move(then)] {
-      SiteTable table = std::move(*scan_).finish();
-      if (then) then(table);
-      return table;
-    };
-    if (in_background)
-      pending_ = std::async(std::launch::async, std::move(finish));
-    else
-      table_ = finish();
   } else {
-    table_ = args.layer.empty() ? read_sites(args.input, args.reader) : read_sites_ogr(args.input, args.reader, args.layer);
+    table_ = read_whole(args);
     points_ = site_points(table_);
     positions_ = points_;
-    if (then) then(table_);
   }
+  // The rest: a CSV table's strings, then `then`.
+  auto rest = [this, then = std::move(then)] {
+    SiteTable table = scan_ ? std::move(*scan_).finish() : std::move(table_);
+    if (then) then(table);
+    return table;
+  };
+  if (in_background)
+    pending_ = std::async(std::launch::async, std::move(rest));
+  else
+    table_ = rest();
 }
 
 const SiteTable& StagedSiteInput::table() {

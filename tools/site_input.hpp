@@ -30,14 +30,17 @@ struct SiteInputArgs {
 /// Adds INPUT and the column options to a subcommand.
 void add_site_input_options(CLI::App* cmd, SiteInputArgs& args);
 
+/// Whether reading the sites needs GDAL: an OGR source (any path but CSV/TXT and "-") or --layer.
+bool site_input_needs_gdal(const SiteInputArgs& args);
+
 /// Reads the sites; rejected rows go to stderr (file, row, line, reason).
 SiteTable read_site_input(SiteInputArgs& args);
 
-/// The sites in two stages, so that the triangulation can start on the positions while the rows'
-/// strings are made: for CSV input (CsvSiteScan) the strings, then `then(table)`, are made on
-/// another thread when `in_background`; OGR input is read whole at once. table() waits for them
-/// and lists the rejected rows on stderr, as read_site_input does. Errors of the first stage are
-/// thrown by the constructor, those of the second by table().
+/// The sites in two stages, so that the triangulation can start on the positions while the rest
+/// is done: the rows' strings of CSV input (CsvSiteScan; OGR input is read whole at once), then
+/// `then(table)`, on another thread when `in_background`. table() waits for them and lists the
+/// rejected rows on stderr, as read_site_input does. Errors of the first stage are thrown by the
+/// constructor, those of the second by table().
 class StagedSiteInput {
  public:
   StagedSiteInput(SiteInputArgs& args, bool in_background, std::function<void(const SiteTable&)> then = {});
