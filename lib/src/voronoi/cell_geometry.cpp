@@ -5,6 +5,7 @@
 #include <GeographicLib/Math.hpp>
 #include <GeographicLib/PolygonArea.hpp>
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cstdlib>
 #include <new>
@@ -202,7 +203,11 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     if (nbr_base_ == nullptr || p < nbr_base_) nbr_base_ = p;
   }
   points_.resize(threads);
-  split(order.size(), [&](unsigned thread, std::size_t begin, std::size_t end) {
+  // Chunks of cells taken in turn: the work per cell follows the densification, which varies
+  // by region (large ocean cells), so equal slices of the storage order finish far apart.
+  constexpr std::size_t kChunk = 1024;
+  std::atomic<std::size_t> next_chunk{0};
+  split(order.size(), [&](unsigned thread, std::size_t, std::size_t) {
     std::vector<Pt> edge;
     Densifier dens(options_.densify_m, options_.max_step_deg, options_.max_depth, edge);
     std::vector<BoundaryPoint>& points = points_[thread];
@@ -226,40 +231,45 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       segments.clear();
       pending.clear();
     };
-    for (std::size_t j = begin; j < end; ++j) {
-      const SiteId s = order[j];
-      const std::span<const TriId> tris = diagram.cell_vertices(s);
-      const std::span<const SiteId> nbrs = diagram.cell_neighbors(s);
-      const std::size_t d = tris.size();
-      for (std::size_t i = 0; i < d; ++i) {
-        const SiteId w = nbrs[i];
-        const Vertex& va = vertices_[tris[i]];
-        const Vertex& vb = vertices_[tris[i + 1 == d ? 0 : i + 1]];
-        if (w < s || va.rep == vb.rep) continue;  // the other cell's, or collapsed
-        const Pt a{va.v, va.lon, va.lat}, b{vb.v, vb.lon, vb.lat};
-        // Both triangles of the edge contain its two sites: the shorter of their shortest
-        // sides bounds their distance.
-        edge.clear();
-        dens.edge(a, b, diagram.site(s), diagram.site(w), std::min(va.min_side2, vb.min_side2));
-        const std::size_t slot = static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
-        EdgeSlot& e = edge_slots_[slot];
-        e.first = static_cast<std::uint32_t>(points.size());
-        e.count = static_cast<std::uint32_t>(edge.size());
-        e.part = thread + 1;  // 0: not computed (calloc)
-        for (const Pt& q : edge) points.push_back({q.v, q.lon, q.lat});
-        e.crossings = append_segments(a, edge, b, segments);
-        // The other cell's slot of the edge gets the same data (its sum at the flush), so that
-        // each cell reads only its own slots, in storage order; not when the two sites share
-        // more than this edge (tiny diagrams: that cell computes it in place).
-        const std::span<const SiteId> other_nbrs = diagram.cell_neighbors(w);
-        const auto it = std::find(other_nbrs.begin(), other_nbrs.end(), s);
-        std::size_t other = kNoSlot;
-        if (it != other_nbrs.end() && std::find(it + 1, other_nbrs.end(), s) == other_nbrs.end()) {
-          other = static_cast<std::size_t>(other_nbrs.data() - nbr_base_) + static_cast<std::size_t>(it - other_nbrs.begin());
-          edge_slots_[other] = e;
+    for (;;) {
+      const std::size_t begin = kChunk * next_chunk.fetch_add(1, std::memory_order_relaxed);
+      if (begin >= order.size()) break;
+      const std::size_t end = std::min(order.size(), begin + kChunk);
+      for (std::size_t j = begin; j < end; ++j) {
+        const SiteId s = order[j];
+        const std::span<const TriId> tris = diagram.cell_vertices(s);
+        const std::span<const SiteId> nbrs = diagram.cell_neighbors(s);
+        const std::size_t d = tris.size();
+        for (std::size_t i = 0; i < d; ++i) {
+          const SiteId w = nbrs[i];
+          const Vertex& va = vertices_[tris[i]];
+          const Vertex& vb = vertices_[tris[i + 1 == d ? 0 : i + 1]];
+          if (w < s || va.rep == vb.rep) continue;  // the other cell's, or collapsed
+          const Pt a{va.v, va.lon, va.lat}, b{vb.v, vb.lon, vb.lat};
+          // Both triangles of the edge contain its two sites: the shorter of their shortest
+          // sides bounds their distance.
+          edge.clear();
+          dens.edge(a, b, diagram.site(s), diagram.site(w), std::min(va.min_side2, vb.min_side2));
+          const std::size_t slot = static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
+          EdgeSlot& e = edge_slots_[slot];
+          e.first = static_cast<std::uint32_t>(points.size());
+          e.count = static_cast<std::uint32_t>(edge.size());
+          e.part = thread + 1;  // 0: not computed (calloc)
+          for (const Pt& q : edge) points.push_back({q.v, q.lon, q.lat});
+          e.crossings = append_segments(a, edge, b, segments);
+          // The other cell's slot of the edge gets the same data (its sum at the flush), so that
+          // each cell reads only its own slots, in storage order; not when the two sites share
+          // more than this edge (tiny diagrams: that cell computes it in place).
+          const std::span<const SiteId> other_nbrs = diagram.cell_neighbors(w);
+          const auto it = std::find(other_nbrs.begin(), other_nbrs.end(), s);
+          std::size_t other = kNoSlot;
+          if (it != other_nbrs.end() && std::find(it + 1, other_nbrs.end(), s) == other_nbrs.end()) {
+            other = static_cast<std::size_t>(other_nbrs.data() - nbr_base_) + static_cast<std::size_t>(it - other_nbrs.begin());
+            edge_slots_[other] = e;
+          }
+          pending.push_back({slot, other, segments.size()});
+          if (segments.size() >= 4096) flush();
         }
-        pending.push_back({slot, other, segments.size()});
-        if (segments.size() >= 4096) flush();
       }
     }
     flush();
