@@ -321,12 +321,31 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
     std::vector<std::size_t> ends;
     std::vector<std::string_view> json_values;
   };
+  // Input order is not the cells' storage order: their data is scattered, so it is requested in
+  // stages some cells ahead (each stage reads what the one before brought in).
+  auto prefetch_ahead = [&](std::size_t i) {
+    constexpr std::size_t kLists = 12, kVertices = 8, kPoints = 4;
+    if (i + kLists < order.size()) cells.prefetch(order[i + kLists], 0);
+    if (i + kVertices < order.size()) {
+      const SiteId s = order[i + kVertices];
+      cells.prefetch(s, 1);
+      if (encoder)
+        for (const SiteId w : diagram.cell_neighbors(s)) __builtin_prefetch(&site_element[w]);
+    }
+    if (i + kPoints < order.size()) {
+      const SiteId s = order[i + kPoints];
+      cells.prefetch(s, 2);
+      if (encoder)
+        for (const SiteId w : diagram.cell_neighbors(s)) __builtin_prefetch(site_element[w].data());
+    }
+  };
   auto compute = [&](std::size_t b, Slot& slot, Scratch& scratch) {
     const std::size_t begin = b * kBlock, end = std::min(order.size(), begin + kBlock);
     std::string& buffer = scratch.buffer;
     if (encoder) {
       slot.text.clear();
       for (std::size_t i = begin; i < end; ++i) {
+        prefetch_ahead(i);
         make_cell_json(order[i], scratch.polygon, buffer, scratch.ends);
         scratch.json_values.clear();
         for (std::size_t k = 0, from = 0; k < scratch.ends.size(); from = scratch.ends[k++])
@@ -340,8 +359,10 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
                        order.begin() + static_cast<std::ptrdiff_t>(end));
     block.polygons.resize(block.sites.size());
     block.values.resize(block.sites.size());
-    for (std::size_t i = 0; i < block.sites.size(); ++i)
+    for (std::size_t i = 0; i < block.sites.size(); ++i) {
+      prefetch_ahead(begin + i);
       make_cell(block.sites[i], block.polygons[i], block.values[i], buffer);
+    }
   };
   auto work = [&] {
     Scratch scratch;

@@ -586,6 +586,28 @@ TEST(CellGeometry, ThreadsGiveTheSameCells) {
   }
 }
 
+// prefetch() is a hint: any stage, on any id (with or without a cell, past the end), in every
+// kind of diagram, leaves every cell as it was (the sanitizer build checks its reads).
+TEST(CellGeometry, PrefetchChangesNothing) {
+  for (const std::vector<Vec3>& pts :
+       {testing::uniform_on_sphere(3000, 8), std::vector<Vec3>{{0, 0, 1}}, std::vector<Vec3>{{0, 0, 1}, {1, 0, 0}}}) {
+    const VoronoiDiagram vd = diagram_of(pts);
+    const CellGeometry geom(vd), untouched(vd);
+    for (SiteId s = 0; s < vd.site_capacity() + 3; ++s)
+      for (int stage = 0; stage < 3; ++stage) geom.prefetch(s, stage);
+    for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+      double area = 0, expected_area = 0;
+      MultiPolygon out, expected;
+      geom.polygon(s, out, area);
+      untouched.polygon(s, expected, expected_area);
+      ASSERT_EQ(out.size(), expected.size());
+      for (std::size_t k = 0; k < out.size(); ++k) ASSERT_EQ(out[k].exterior, expected[k].exterior);
+      ASSERT_EQ(area, expected_area);
+      ASSERT_GT(area, 0);
+    }
+  }
+}
+
 TEST(CellGeometry, RejectsBadOptions) {
   const VoronoiDiagram vd = diagram_of(testing::cube_corners());
   CellGeometryOptions o;

@@ -276,6 +276,38 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   });
 }
 
+void CellGeometry::prefetch(SiteId s, int stage) const {
+  const VoronoiDiagram& vd = *vd_;
+  if (!edge_slots_ || !vd.has_cell(s)) return;
+  const std::span<const TriId> tris = vd.cell_vertices(s);
+  const std::span<const SiteId> nbrs = vd.cell_neighbors(s);
+  const EdgeSlot* own = edge_slots_.get() + (nbrs.data() - nbr_base_);
+  // Every cache line of [p, p + bytes).
+  auto lines = [](const void* p, std::size_t bytes) {
+    const char* c = static_cast<const char*>(p);
+    for (std::size_t k = 0; k < bytes; k += 64) __builtin_prefetch(c + k);
+    if (bytes > 0) __builtin_prefetch(c + bytes - 1);
+  };
+  switch (stage) {
+    case 0:
+      lines(tris.data(), tris.size_bytes());
+      lines(nbrs.data(), nbrs.size_bytes());
+      lines(own, tris.size() * sizeof(EdgeSlot));
+      break;
+    case 1:
+      for (const TriId t : tris) {
+        lines(&vertices_[t], sizeof(Vertex));
+        lines(&vd.vertex(t), sizeof(Vec3));
+      }
+      break;
+    default:
+      for (std::size_t i = 0; i < tris.size(); ++i)
+        if (own[i].part != 0 && own[i].count != 0)
+          lines(points_[own[i].part - 1].data() + own[i].first, std::min<std::size_t>(own[i].count, 8) * sizeof(BoundaryPoint));
+      break;
+  }
+}
+
 MultiPolygon CellGeometry::polygon(SiteId s, BBox* bbox) const {
   MultiPolygon out;
   polygon(s, out, bbox);

@@ -102,6 +102,13 @@ class CellGeometry {
   /// tiny cells. Thread-safe; the result does not depend on threads.
   void polygon(SiteId s, MultiPolygon& out, double& area_m2, BBox* bbox = nullptr) const;
 
+  /// A memory hint for callers that build many cells in an order other than storage_order()
+  /// (input order, say): the cells' data is then scattered and polygon() waits on memory. Call
+  /// prefetch(s, 0) some cells before polygon(s) (the cell's lists and edge slots), prefetch(s,
+  /// 1) a few cells later (its vertices, here and in the diagram, which cell_area_sr() reads),
+  /// then prefetch(s, 2) (its densified points). Changes no result; thread-safe.
+  void prefetch(SiteId s, int stage) const;
+
   const VoronoiDiagram& diagram() const { return *vd_; }
   const CellGeometryOptions& options() const { return options_; }
 
