@@ -149,6 +149,8 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   };
   split(order.size(), [&](unsigned thread, std::size_t begin, std::size_t end) {
     for (std::size_t j = begin; j < end; ++j) {
+      if (j + 8 < end)  // the vertices are scattered: requested some cells ahead
+        for (const TriId t : diagram.cell_vertices(order[j + 8])) __builtin_prefetch(&diagram.vertex(t));
       const SiteId s = order[j];
       const std::span<const TriId> tris = diagram.cell_vertices(s);
       const std::span<const SiteId> nbrs = diagram.cell_neighbors(s);
@@ -218,6 +220,26 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       std::size_t slot, other, end;  // the edge's two slots, the end of its segments
     };
     std::vector<Pending> pending;
+    // Each edge reads its end vertices and the other cell's lists and slots, scattered: requested
+    // in two stages some cells ahead (the cell's own lists follow the storage order).
+    auto prefetch_edges = [&](std::size_t j) {
+      constexpr std::size_t kWhere = 16, kLists = 8;
+      if (j + kWhere < order.size()) {
+        const SiteId s = order[j + kWhere];
+        for (const SiteId w : diagram.cell_neighbors(s))
+          if (w > s) diagram.prefetch(w, 0);
+      }
+      if (j + kLists < order.size()) {
+        const SiteId s = order[j + kLists];
+        for (const TriId t : diagram.cell_vertices(s)) __builtin_prefetch(&vertices_[t].rep);
+        for (const SiteId w : diagram.cell_neighbors(s))
+          if (w > s) {
+            diagram.prefetch(w, 1);
+            const std::span<const SiteId> other = diagram.cell_neighbors(w);
+            __builtin_prefetch(edge_slots_.get() + (other.data() - nbr_base_));
+          }
+      }
+    };
     auto flush = [&] {
       s12.resize(segments.size());
       geodesic_s12(segments, s12);
@@ -236,6 +258,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       if (begin >= order.size()) break;
       const std::size_t end = std::min(order.size(), begin + kChunk);
       for (std::size_t j = begin; j < end; ++j) {
+        prefetch_edges(j);
         const SiteId s = order[j];
         const std::span<const TriId> tris = diagram.cell_vertices(s);
         const std::span<const SiteId> nbrs = diagram.cell_neighbors(s);

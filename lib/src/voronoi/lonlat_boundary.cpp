@@ -166,8 +166,6 @@ void append_piece(MultiPolygon& out, std::size_t& used, const std::vector<RP>& p
 
 }  // namespace
 
-Vec3 normalized(const Vec3& v) { return (1 / std::sqrt(norm2(v))) * v; }
-
 Pt make_pt(const Vec3& raw) {
   const Vec3 v = snap(raw);
   const LatLon ll = SiteEncoder::to_lat_lon(v);
@@ -198,8 +196,12 @@ void Densifier::edge(const Pt& a, const Pt& b, const Vec3& left, const Vec3& rig
   if (!is_pole(a.lat) && !is_pole(b.lat)) {
     // An arc passing within kSnapRad of a pole gets the pole as a vertex, so that the
     // longitude jump of about 180 degrees is decided by the pole rule, not by rounding.
-    const Vec3 n = dot(a.v, b.v) > -0.5 ? normalized(cross(a.v, b.v)) : axis();
-    if (std::fabs(n.z) <= kSnapRad) {
+    // Most arcs are nowhere near a pole: ruled out without the square root (the margin keeps
+    // every arc the exact test below could accept).
+    const Vec3 c = cross(a.v, b.v);
+    const bool far = dot(a.v, b.v) > -0.5 && c.z * c.z > 4 * kSnapRad * kSnapRad * norm2(c);
+    const Vec3 n = far ? Vec3{} : dot(a.v, b.v) > -0.5 ? normalized(c) : axis();
+    if (!far && std::fabs(n.z) <= kSnapRad) {
       for (const double pz : {1.0, -1.0}) {
         // Closest point of the arc's great circle to the pole (0, 0, pz).
         const Vec3 q = normalized({-pz * n.z * n.x, -pz * n.z * n.y, pz * (1 - n.z * n.z)});

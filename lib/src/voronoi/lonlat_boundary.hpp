@@ -5,6 +5,7 @@
 // +-180 and the closure of a ring around a pole.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "geovor/core/types.hpp"
@@ -17,7 +18,7 @@ namespace geovor::lonlat {
 inline constexpr double kSnapRad = 0x1p-36;
 
 inline bool is_pole(double lat) { return lat == 90 || lat == -90; }
-Vec3 normalized(const Vec3& v);
+inline Vec3 normalized(const Vec3& v) { return (1 / std::sqrt(norm2(v))) * v; }
 
 /// A boundary point on the sphere and in geodetic lon/lat (degrees), snapped.
 struct Pt {

@@ -170,6 +170,22 @@ std::span<const SiteId> VoronoiDiagram::cell_neighbors(SiteId s) const {
   return {cell_nbrs_.data() + cells_[s].begin, cell_nbrs_.data() + cells_[s].end};
 }
 
+void VoronoiDiagram::prefetch(SiteId s, int stage) const {
+  if (kind_ != Kind::Cells || s >= cells_.size()) return;
+  if (stage == 0) {
+    __builtin_prefetch(&live_[s]);
+    __builtin_prefetch(&cells_[s]);
+    return;
+  }
+  const Range r = cells_[s];
+  if (r.end <= r.begin) return;
+  // The lists' first and last lines (a cell has about six entries: one or two lines each).
+  __builtin_prefetch(&cell_nbrs_[r.begin]);
+  __builtin_prefetch(&cell_nbrs_[r.end - 1]);
+  __builtin_prefetch(&cell_tris_[r.begin]);
+  __builtin_prefetch(&cell_tris_[r.end - 1]);
+}
+
 Vec3 VoronoiDiagram::hemisphere_normal(SiteId s) const {
   GEOVOR_ASSERT(kind_ == Kind::Hemispheres && has_cell(s));
   const SiteId other = s == pair_[0] ? pair_[1] : pair_[0];

@@ -92,6 +92,10 @@ class VoronoiDiagram {
   /// the triangulation's triangle array, which is spatially coherent. Visiting cells in this
   /// order is several times faster than by id when ids are in random spatial order.
   std::span<const SiteId> storage_order() const { return order_; }
+  /// A memory hint for visits to cells in scattered order: prefetch(s, 0) brings in where the
+  /// lists of cell s are, prefetch(s, 1), some work later, the lists themselves. Changes nothing;
+  /// any id is accepted.
+  void prefetch(SiteId s, int stage) const;
   /// Bytes held by the arrays (capacity).
   std::size_t memory_bytes() const;
   ///@}
