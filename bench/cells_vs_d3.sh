@@ -4,7 +4,10 @@
 # d3-geo-voronoi's polygons() (npm) on the same points, then the validity of each output with
 # GDAL/GEOS: invalid polygons, and the planar lon/lat area sum, which is 64800 square degrees
 # for a correct RFC 7946 tiling.
-# Usage: [GEOVOR=binary] bench/cells_vs_d3.sh [CSV]   (default: the cities; work files in build/bench-d3/)
+# Each command runs RUNS times (default 3) after the input was read once (so that no run pays
+# for a page cache the system has since evicted); the median wall time is compared, and the
+# fastest and slowest runs are shown.
+# Usage: [GEOVOR=binary] [RUNS=n] bench/cells_vs_d3.sh [CSV]   (default: the cities; work files in build/bench-d3/)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 work=$root/build/bench-d3
@@ -26,16 +29,26 @@ if [[ ! -d $work/node/node_modules/d3-geo-voronoi ]]; then
 fi
 cp "$root/bench/d3/polygons.mjs" "$work/node/"
 
-# run NAME COMMAND...: wall seconds and peak RSS (MB) of the whole process.
-declare -A wall rss
+runs=${RUNS:-3}
+cat "$input" >/dev/null
+# run NAME COMMAND...: RUNS times; the median, fastest and slowest wall seconds, and the largest
+# peak RSS (MB), of the whole process.
+declare -A wall fastest slowest rss
 run() {
-  local name=$1
+  local name=$1 walls=() peak=0 i w m
   shift
-  /usr/bin/time -f "%e %M" -o "$work/$name.time" "$@" 2>"$work/$name.err" >/dev/null ||
-    { echo "$name failed:"; cat "$work/$name.err"; return 1; }
-  read -r w m <"$work/$name.time"
-  wall[$name]=$w
-  rss[$name]=$((m / 1024))
+  for ((i = 0; i < runs; ++i)); do
+    /usr/bin/time -f "%e %M" -o "$work/$name.time" "$@" 2>"$work/$name.err" >/dev/null ||
+      { echo "$name failed:"; cat "$work/$name.err"; return 1; }
+    read -r w m <"$work/$name.time"
+    walls+=("$w")
+    ((m > peak)) && peak=$m
+  done
+  mapfile -t walls < <(printf '%s\n' "${walls[@]}" | sort -g)
+  wall[$name]=${walls[$((runs / 2))]}
+  fastest[$name]=${walls[0]}
+  slowest[$name]=${walls[$((runs - 1))]}
+  rss[$name]=$((peak / 1024))
 }
 run geovor_geojson "$geovor" cells "$input" -o "$work/geovor.geojson" --overwrite -q
 run geovor_gpkg "$geovor" cells "$input" -o "$work/geovor.gpkg" --overwrite -q
@@ -56,10 +69,13 @@ d3_layer=$(ogrinfo -ro -q "$work/d3.geojson" | sed -n 's/^1: \([^ ]*\).*/\1/p')
 read -r d_invalid d_area < <(check "$work/d3.geojson" "$d3_layer" GEOMETRY)
 n=$(($(wc -l <"$input") - 1))
 
-echo "cells of $n points ($(basename "$input")), whole process, on $(nproc) cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | xargs))"
-printf '%-22s %9s %9s %9s %14s\n' run wall_s peak_MB invalid planar_deg2
-printf '%-22s %9s %9s %9s %14s\n' "geovor -> GeoJSON" "${wall[geovor_geojson]}" "${rss[geovor_geojson]}" "$g_invalid" "$g_area"
-printf '%-22s %9s %9s %9s %14s\n' "geovor -> GeoPackage" "${wall[geovor_gpkg]}" "${rss[geovor_gpkg]}" "$p_invalid" "$p_area"
-printf '%-22s %9s %9s %9s %14s\n' "d3-geo-voronoi" "${wall[d3]}" "${rss[d3]}" "$d_invalid" "$d_area"
-echo "speedup (d3 / geovor GeoJSON): $(echo "${wall[d3]} / ${wall[geovor_geojson]}" | bc -l | xargs printf '%.1f')x"
+echo "cells of $n points ($(basename "$input")), whole process, median of $runs runs, on $(nproc) cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | xargs))"
+printf '%-22s %9s %13s %9s %9s %14s\n' run wall_s fastest-slowest peak_MB invalid planar_deg2
+line() { printf '%-22s %9s %13s %9s %9s %14s\n' "$1" "${wall[$2]}" "${fastest[$2]}-${slowest[$2]}" "${rss[$2]}" "$3" "$4"; }
+line "geovor -> GeoJSON" geovor_geojson "$g_invalid" "$g_area"
+line "geovor -> GeoPackage" geovor_gpkg "$p_invalid" "$p_area"
+line "d3-geo-voronoi" d3 "$d_invalid" "$d_area"
+ratio() { echo "$1 / $2" | bc -l | xargs printf '%.1f'; }
+echo "speedup (d3 / geovor GeoJSON): $(ratio "${wall[d3]}" "${wall[geovor_geojson]}")x on the medians;" \
+  "$(ratio "${fastest[d3]}" "${slowest[geovor_geojson]}")x for d3's fastest run against geovor's slowest"
 echo "a correct tiling of the sphere in lon/lat has a planar area sum of 64800 square degrees"
