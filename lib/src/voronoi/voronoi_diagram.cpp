@@ -61,15 +61,45 @@ VoronoiDiagram::VoronoiDiagram(const SphericalDelaunay& dt, unsigned threads) { 
 
 void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
   const std::size_t cap = dt.site_capacity();
+  num_cells_ = dt.num_sites();
+  const std::size_t nt = num_cells_ >= 3 ? dt.num_triangles() : 0;
+  const std::span<const SiteId> tri_sites = dt.triangles();
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(1, nt / 32768)));
+  // The circumcentres, of triangles [begin, end).
+  auto centres = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t) {
+      // Rotated to start at the smallest id, so that a vertex's bits do not depend on how the
+      // triangulation stores its triangles (Lloyd's iterations give the same result whether
+      // the triangulation is rebuilt or updated).
+      const SiteId* v = &tri_sites[3 * t];
+      const int k = v[0] < v[1] ? (v[0] < v[2] ? 0 : 2) : (v[1] < v[2] ? 1 : 2);
+      vertices_[t] = circumcenter(dt.site(v[k]), dt.site(v[(k + 1) % 3]), dt.site(v[(k + 2) % 3]));
+    }
+  };
+  vertices_.clear();
+  // With several threads, one computes (and first touches) every vertex while this one does
+  // the sequential scans below; it only writes vertices_, which nothing else reads before join.
+  std::thread centre_thread;
+  if (threads > 1)
+    centre_thread = std::thread([&] {
+      vertices_.resize(nt);
+      centres(0, nt);
+    });
+  struct Joiner {
+    std::thread& t;
+    ~Joiner() {
+      if (t.joinable()) t.join();
+    }
+  } joiner{centre_thread};
+
   sites_.assign(dt.sites().begin(), dt.sites().end());
   live_.assign(cap, 0);
   cells_.assign(cap, Range{});
   order_.clear();
-  vertices_.clear();
   cell_tris_.clear();
   cell_nbrs_.clear();
   pair_[0] = pair_[1] = kNoIndex;
-  num_cells_ = dt.num_sites();
   std::size_t found = 0;
   for (SiteId s = 0; s < cap; ++s) {
     if (dt.is_live(s)) {
@@ -90,30 +120,11 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
   }
   kind_ = Kind::Cells;
   pair_[0] = pair_[1] = kNoIndex;
-
-  const std::size_t nt = dt.num_triangles();
   GEOVOR_ASSERT(nt == 2 * num_cells_ - 4);
-  const std::span<const SiteId> tri_sites = dt.triangles();
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(1, nt / 32768)));
-  // Runs work(begin, end) over [0, n) split into `threads` slices.
-  auto split = [threads](std::size_t n, const auto& work) {
-    std::vector<std::thread> pool;
-    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work, n * i / threads, n * (i + 1) / threads);
-    work(std::size_t{0}, n / threads);
-    for (std::thread& th : pool) th.join();
-  };
-  vertices_.resize(nt);
-  split(nt, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t t = begin; t < end; ++t) {
-      // Rotated to start at the smallest id, so that a vertex's bits do not depend on how the
-      // triangulation stores its triangles (Lloyd's iterations give the same result whether
-      // the triangulation is rebuilt or updated).
-      const SiteId* v = &tri_sites[3 * t];
-      const int k = v[0] < v[1] ? (v[0] < v[2] ? 0 : 2) : (v[1] < v[2] ? 1 : 2);
-      vertices_[t] = circumcenter(dt.site(v[k]), dt.site(v[(k + 1) % 3]), dt.site(v[(k + 2) % 3]));
-    }
-  });
+  if (threads == 1) {
+    vertices_.resize(nt);
+    centres(0, nt);
+  }
 
   // Degrees and the storage order, by one sequential scan of the triangles (which the
   // triangulation keeps in a spatially coherent order); then each star is walked once, counter-
@@ -133,7 +144,10 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
   GEOVOR_ASSERT(k == 3 * nt);
   cell_tris_.resize(3 * nt);
   cell_nbrs_.resize(3 * nt);
-  split(order_.size(), [&](std::size_t begin, std::size_t end) {
+  // The stars, in `threads` slices of the storage order (the centres joined first: they share
+  // the cores).
+  if (centre_thread.joinable()) centre_thread.join();
+  auto stars = [&](std::size_t begin, std::size_t end) {
     for (std::size_t j = begin; j < end; ++j) {
       const SiteId s = order_[j];
       // Start at the edge to the smallest neighbour: the cell's lists (and the polygons and sums
@@ -155,7 +169,12 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
       } while (e != e0);
       GEOVOR_ASSERT(i == cells_[s].end);  // the star is one cycle through every triangle of s
     }
-  });
+  };
+  std::vector<std::thread> pool;
+  const std::size_t n = order_.size();
+  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(stars, n * i / threads, n * (i + 1) / threads);
+  stars(0, n / threads);
+  for (std::thread& th : pool) th.join();
 }
 
 std::span<const TriId> VoronoiDiagram::cell_vertices(SiteId s) const {
