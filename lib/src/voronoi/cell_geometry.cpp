@@ -181,7 +181,8 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   for (TriId t = 0; t < nv; ++t) rep[t] = find(t);
 
   // The representatives' lon/lat (the costly part), then their copies.
-  vertices_.resize(nv);
+  vertices_.reset(static_cast<Vertex*>(std::calloc(std::max<std::size_t>(nv, 1), sizeof(Vertex))));
+  if (!vertices_) throw std::bad_alloc();
   split(nv, [&](unsigned, std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
       if (rep[t] != t) continue;
@@ -200,10 +201,8 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   num_edge_slots_ = 3 * nv;
   edge_slots_.reset(static_cast<EdgeSlot*>(std::calloc(num_edge_slots_, sizeof(EdgeSlot))));
   if (!edge_slots_) throw std::bad_alloc();
-  for (const SiteId s : order) {
-    const SiteId* p = diagram.cell_neighbors(s).data();
-    if (nbr_base_ == nullptr || p < nbr_base_) nbr_base_ = p;
-  }
+  nbr_base_ = diagram.cell_neighbors(order.front()).data();  // the lists are in storage order
+  GEOVOR_ASSERT(diagram.cell_neighbors(order.back()).data() > nbr_base_);
   points_.resize(threads);
   // Chunks of cells taken in turn: the work per cell follows the densification, which varies
   // by region (large ocean cells), so equal slices of the storage order finish far apart.

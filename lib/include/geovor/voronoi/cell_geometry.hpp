@@ -115,6 +115,10 @@ class CellGeometry {
  private:
   const VoronoiDiagram* vd_;
   CellGeometryOptions options_;
+  // Arrays from calloc: fresh zero pages, first touched by the threads that fill them.
+  struct Free {
+    void operator()(void* p) const { std::free(p); }
+  };
   // Per Voronoi vertex, in 48 bytes: the snapped position and longitude/latitude (degrees) of
   // its representative (collapsed edges), that representative, and the squared chord of the
   // shortest side of its triangle (a lower bound of the distance between the sites of an edge).
@@ -124,7 +128,7 @@ class CellGeometry {
     TriId rep;
     float min_side2;
   };
-  std::vector<Vertex> vertices_;
+  std::unique_ptr<Vertex[], Free> vertices_;
   // Per Voronoi edge and each of its two cells, in that cell's slot (slot = index in the
   // diagram's neighbour lists), computed at construction in the direction of the canonical cell
   // (the smaller site id): its densified points strictly between its end vertices
@@ -137,10 +141,7 @@ class CellGeometry {
     std::int32_t crossings;
     std::uint32_t part;
   };
-  struct Free {
-    void operator()(void* p) const { std::free(p); }
-  };
-  std::unique_ptr<EdgeSlot[], Free> edge_slots_;  // zero pages from calloc, written by the threads
+  std::unique_ptr<EdgeSlot[], Free> edge_slots_;
   std::size_t num_edge_slots_ = 0;
   const SiteId* nbr_base_ = nullptr;  // cell_neighbors() of the first cell in storage
   struct BoundaryPoint {
