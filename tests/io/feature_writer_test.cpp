@@ -1046,6 +1046,42 @@ TEST(BBox, Rules) {
   ASSERT_TRUE(r);
   EXPECT_NEAR(r->west, -100, 1e-9);
   EXPECT_NEAR(r->east, 100, 1e-9);
+  // A staircase of overlapping boxes, each reaching a little farther east than the union so
+  // far, ending just after a compaction (65,537 pending): the east edge is the last box's.
+  BBoxUnion stairs;
+  for (int i = 0; i < 65540; ++i) stairs.add({-170 + i * 0.001, 0, -170 + i * 0.001 + 0.0015, 1});
+  r = stairs.result();
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->west, -170);
+  EXPECT_EQ(r->east, -170 + 65539 * 0.001 + 0.0015);
+  // Random boxes (some across the antimeridian, one whole-circle late), enough to compact
+  // several times, against geojson_bbox() of all of them at once as the parts of one geometry;
+  // also the results along the way.
+  std::mt19937_64 rng(77);
+  for (const double span : {0.5, 20.0, 300.0}) {
+    BBoxUnion incremental;
+    MultiLineString parts;
+    std::uniform_real_distribution<double> lon(-180, 180), width(0, span);
+    for (int i = 0; i < 150000; ++i) {
+      double west = lon(rng), east = west + width(rng);
+      if (i == 140000) west = -180, east = 180;
+      if (east > 180) east -= 360;  // crosses the antimeridian
+      incremental.add({west, 0, east, 1});
+      if (west <= east) {
+        parts.push_back({{west, 0}, {east, 1}});
+      } else {
+        parts.push_back({{west, 0}, {180, 1}});
+        parts.push_back({{-180, 0}, {east, 1}});
+      }
+      if (i < 50 || i == 1000 || i == 70000 || i == 139999 || i == 149999) {
+        const auto got = incremental.result();
+        const auto want = geojson_bbox(parts);
+        ASSERT_TRUE(got && want);
+        ASSERT_EQ(got->west, want->west) << "span " << span << " box " << i;
+        ASSERT_EQ(got->east, want->east) << "span " << span << " box " << i;
+      }
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -1015,28 +1015,39 @@ void BBoxUnion::add(const BBox& box) {
     north_ = std::max(north_, box.north);
   }
   if (box.west <= box.east) {
-    intervals_.push_back({box.west, box.east});
+    add_interval(box.west, box.east);
   } else {  // crosses the antimeridian
-    intervals_.push_back({box.west, 180.0});
-    intervals_.push_back({-180.0, box.east});
+    add_interval(box.west, 180.0);
+    add_interval(-180.0, box.east);
   }
+}
+
+void BBoxUnion::add_interval(double west, double east) {
+  // Inside a merged interval: the last one starting at or before `west`.
+  const auto after = std::upper_bound(merged_.begin(), merged_.end(), west,
+                                      [](double w, const Interval& i) { return w < i.west; });
+  if (after != merged_.begin() && east <= std::prev(after)->east) return;
+  intervals_.push_back({west, east});
   if (intervals_.size() > 65536) compact();
 }
 
 void BBoxUnion::compact() const {
+  if (intervals_.empty()) return;
   std::vector<Arc> arcs;
-  arcs.reserve(intervals_.size());
+  arcs.reserve(merged_.size() + intervals_.size());
+  for (const Interval& i : merged_) arcs.push_back({i.west, i.east});
   for (const Interval& i : intervals_) arcs.push_back({i.west, i.east});
   merge_arcs(arcs);
   intervals_.clear();
-  for (const Arc& a : arcs) intervals_.push_back({a.west, a.east});
+  merged_.clear();
+  for (const Arc& a : arcs) merged_.push_back({a.west, a.east});
 }
 
 std::optional<BBox> BBoxUnion::result() const {
   if (empty_) return std::nullopt;
   compact();
   std::vector<Arc> arcs;
-  for (const Interval& i : intervals_) arcs.push_back({i.west, i.east});
+  for (const Interval& i : merged_) arcs.push_back({i.west, i.east});
   BBox box{0, south_, 0, north_};
   smallest_arc(arcs, box.west, box.east);
   return box;

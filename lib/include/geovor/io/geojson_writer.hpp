@@ -65,7 +65,8 @@ std::optional<BBox> geojson_bbox(const Geometry& geometry);
 
 /// The union of RFC 7946 bboxes (a FeatureCollection's bbox): the smallest longitude arc
 /// containing every box, with the same rules as geojson_bbox(). Memory stays bounded: the
-/// intervals are merged whenever more than 65,536 are pending.
+/// intervals are merged whenever more than 65,536 are pending. A box inside the intervals merged
+/// so far costs one binary search (a tiling's boxes soon all are).
 class BBoxUnion {
  public:
   void add(const BBox& box);
@@ -76,8 +77,10 @@ class BBoxUnion {
   struct Interval {
     double west, east;  // west <= east
   };
+  void add_interval(double west, double east);
   void compact() const;
-  mutable std::vector<Interval> intervals_;
+  mutable std::vector<Interval> merged_;     // sorted by west, disjoint
+  mutable std::vector<Interval> intervals_;  // pending
   double south_ = 0, north_ = 0;
   bool empty_ = true;
 };
