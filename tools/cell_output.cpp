@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <condition_variable>
 #include <exception>
+#include <future>
 #include <mutex>
 #include <memory>
 #include <span>
@@ -134,31 +135,6 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
                         const IdTexts* id_texts) {
   const unsigned threads = args.threads > 0 ? static_cast<unsigned>(args.threads)
                                             : std::max(1u, std::thread::hardware_concurrency());
-  const VoronoiDiagram diagram(dt, threads);
-  CellGeometryOptions geometry_options;
-  geometry_options.densify_m = args.densify_m;
-  geometry_options.threads = threads;
-  const CellGeometry cells(diagram, geometry_options);
-  // The rows of each site (as rows_of_sites() orders them: the row it was built from, then the
-  // merged ones), flat: site s has row_list[row_begin[s] .. row_begin[s + 1]).
-  const std::size_t num_sites = dt.site_capacity();
-  std::vector<std::uint32_t> row_begin(num_sites + 1, 0), row_list;
-  {
-    std::vector<char> merged(report.site_of_input.size(), 0);
-    for (const Merge& m : report.merges) merged[m.input] = 1;
-    for (const std::uint32_t site : report.site_of_input)
-      if (site < num_sites) ++row_begin[site + 1];
-    for (std::size_t s = 0; s < num_sites; ++s) row_begin[s + 1] += row_begin[s];
-    row_list.resize(row_begin[num_sites]);
-    std::vector<std::uint32_t> fill(row_begin.begin(), row_begin.end() - 1);
-    for (const bool merged_pass : {false, true})
-      for (std::uint32_t i = 0; i < report.site_of_input.size(); ++i)
-        if (report.site_of_input[i] < num_sites && (merged[i] != 0) == merged_pass)
-          row_list[fill[report.site_of_input[i]]++] = i;
-  }
-  auto rows_of = [&](SiteId s) {
-    return std::span<const std::uint32_t>(row_list.data() + row_begin[s], row_list.data() + row_begin[s + 1]);
-  };
   // Schema: our fields, then every input column (renamed src_<name> if it clashes with ours).
   const std::vector<std::string> ours = {"site_index", "site_id", "ids",        "n_rows",
                                          "area_m2",    "area_sr", "n_vertices", "neighbors"};
@@ -179,33 +155,65 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   const auto writer = open_feature_writer(args.output, GeometryType::MultiPolygon, schema, writer_options);
   const FeatureEncoder* encoder = writer->encoder();
 
-  // Each site's id (its first row's) as text, made once: the neighbour lists name every site
-  // about six times. Without an encoder: as a JSON string, an element of the lists. With one
-  // (GeoJSON): as the encoder writes the id (site_id, the feature id), and as a list element
-  // escaped inside the list's JSON string.
-  // Without an encoder: each site's id as a JSON string, an element of the lists (site s:
-  // id_json.text[s]). With one: each row's id as written and as a list element (id_texts).
+  // What needs only the table and the triangulation is made on another thread while the
+  // diagram and the cells' geometry are built (it fills their sequential stretches):
+  // - the rows of each site (as rows_of_sites() orders them: the row it was built from, then
+  //   the merged ones), flat: site s has row_list[row_begin[s] .. row_begin[s + 1]);
+  // - each site's id (its first row's) as text, made once: the neighbour lists name every site
+  //   about six times. Without an encoder: as a JSON string, an element of the lists (site s:
+  //   id_json.text[s]). With one (GeoJSON): as the encoder writes the id (site_id, the feature
+  //   id), and as a list element escaped inside the list's JSON string (id_texts, by row; then
+  //   site_text and site_element, by site, so that a cell reaches its neighbours' text in one
+  //   step);
+  // - the sites with a cell, in id order.
+  const std::size_t num_sites = dt.site_capacity();
+  std::vector<std::uint32_t> row_begin(num_sites + 1, 0), row_list;
   IdTexts id_json, made;
-  if (!encoder) {
-    id_json = make_texts(num_sites, threads, [&](std::string& out, std::size_t s) {
-      if (row_begin[s] < row_begin[s + 1]) append_json(out, table.sites[row_list[row_begin[s]]].id);
-      return out.size();
-    });
-  } else if (id_texts == nullptr || id_texts->text.size() != table.sites.size()) {
-    made = make_id_texts(table, threads);
-    id_texts = &made;
-  }
-  // By site (its first row's), so that a cell reaches its neighbours' text in one step.
   std::vector<std::string_view> site_text, site_element;
-  if (encoder) {
-    site_text.resize(num_sites);
-    site_element.resize(num_sites);
-    for (std::size_t s = 0; s < num_sites; ++s)
-      if (row_begin[s] < row_begin[s + 1]) {
-        site_text[s] = id_texts->text[row_list[row_begin[s]]];
-        site_element[s] = id_texts->element[row_list[row_begin[s]]];
+  std::vector<SiteId> order;
+  auto prepare = [&] {
+    std::vector<char> merged(report.site_of_input.size(), 0);
+    for (const Merge& m : report.merges) merged[m.input] = 1;
+    for (const std::uint32_t site : report.site_of_input)
+      if (site < num_sites) ++row_begin[site + 1];
+    for (std::size_t s = 0; s < num_sites; ++s) row_begin[s + 1] += row_begin[s];
+    row_list.resize(row_begin[num_sites]);
+    std::vector<std::uint32_t> fill(row_begin.begin(), row_begin.end() - 1);
+    for (const bool merged_pass : {false, true})
+      for (std::uint32_t i = 0; i < report.site_of_input.size(); ++i)
+        if (report.site_of_input[i] < num_sites && (merged[i] != 0) == merged_pass)
+          row_list[fill[report.site_of_input[i]]++] = i;
+    if (!encoder) {
+      id_json = make_texts(num_sites, 1, [&](std::string& out, std::size_t s) {
+        if (row_begin[s] < row_begin[s + 1]) append_json(out, table.sites[row_list[row_begin[s]]].id);
+        return out.size();
+      });
+    } else {
+      if (id_texts == nullptr || id_texts->text.size() != table.sites.size()) {
+        made = make_id_texts(table, 1);
+        id_texts = &made;
       }
-  }
+      site_text.resize(num_sites);
+      site_element.resize(num_sites);
+      for (std::size_t s = 0; s < num_sites; ++s)
+        if (row_begin[s] < row_begin[s + 1]) {
+          site_text[s] = id_texts->text[row_list[row_begin[s]]];
+          site_element[s] = id_texts->element[row_list[row_begin[s]]];
+        }
+    }
+    for (SiteId s = 0; s < num_sites; ++s)
+      if (dt.is_live(s)) order.push_back(s);  // VoronoiDiagram::has_cell
+  };
+  std::future<void> prepared = std::async(threads > 1 ? std::launch::async : std::launch::deferred, prepare);
+  const VoronoiDiagram diagram(dt, threads);
+  CellGeometryOptions geometry_options;
+  geometry_options.densify_m = args.densify_m;
+  geometry_options.threads = threads;
+  const CellGeometry cells(diagram, geometry_options);
+  prepared.get();
+  auto rows_of = [&](SiteId s) {
+    return std::span<const std::uint32_t>(row_list.data() + row_begin[s], row_list.data() + row_begin[s + 1]);
+  };
   auto id_text = [&](SiteId s) { return site_text[s]; };
   auto id_element = [&](SiteId s) { return site_element[s]; };
   auto append_id = [&](std::string& out, SiteId s) { out += id_json.text[s]; };
@@ -291,9 +299,6 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
       done();
     }
   };
-  std::vector<SiteId> order;
-  for (SiteId s = 0; s < dt.site_capacity(); ++s)
-    if (diagram.has_cell(s)) order.push_back(s);
 
   // A pipeline: worker threads take blocks of consecutive cells (in site order) and compute
   // them, and encode them too when the format has an encoder (GeoJSON), while this thread
