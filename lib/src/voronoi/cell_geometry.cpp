@@ -1,6 +1,5 @@
 #include "geovor/voronoi/cell_geometry.hpp"
 
-#include <GeographicLib/Accumulator.hpp>
 #include <GeographicLib/Geodesic.hpp>
 #include <GeographicLib/Math.hpp>
 #include <GeographicLib/PolygonArea.hpp>
@@ -17,6 +16,7 @@
 #include <thread>
 
 #include "geovor/core/assert.hpp"
+#include "geovor/core/compensated_sum.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/geo/geodesic_area.hpp"
 #include "geovor/geo/site_encoder.hpp"
@@ -60,7 +60,7 @@ int transit(double lon1, double lon2) {
 
 // PolygonArea::Compute(reverse = false, sign = true) from the ring's S12 sum and crossings, then
 // ellipsoid_area_m2's rule for rings larger than half the ellipsoid.
-double reduced_area(GeographicLib::Accumulator<> sum, int crossings, double planar_deg2) {
+double reduced_area(CompensatedSum sum, int crossings, double planar_deg2) {
   const double whole = GeographicLib::Geodesic::WGS84().EllipsoidArea();
   sum.remainder(whole);
   if (crossings & 1) sum += (sum < 0 ? 1 : -1) * whole / 2;
@@ -91,11 +91,12 @@ int append_segments(const Pt& a, const Interior& interior, const Pt& b, std::vec
   return crossings;
 }
 
-// The sum of S12 over segments, in order (GeographicLib's Accumulator, as PolygonArea sums).
+// The sum of S12 over segments, in order (GeographicLib's Accumulator arithmetic, as PolygonArea
+// sums).
 double sum_s12(std::span<const double> s12) {
   if (s12.empty()) return 0;
   if (s12.size() == 1) return s12[0];  // the Accumulator's value for one term
-  GeographicLib::Accumulator<> acc;
+  CompensatedSum acc;
   for (const double x : s12) acc += x;
   return acc();
 }
@@ -390,7 +391,7 @@ void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m
     const std::span<const TriId> tris = vd.cell_vertices(s);
     const std::span<const SiteId> nbrs = vd.cell_neighbors(s);
     const std::size_t d = tris.size();
-    GeographicLib::Accumulator<> area_sum;
+    CompensatedSum area_sum;
     int area_crossings = 0;
     std::vector<GeodesicEdge>& segments = scratch<GeodesicEdge>();
     std::vector<double>& s12 = scratch<double>();
