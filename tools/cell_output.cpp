@@ -330,19 +330,25 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
     std::vector<std::string_view> json_values;
   };
   // Input order is not the cells' storage order: their data is scattered, so it is requested in
-  // stages some cells ahead (each stage reads what the one before brought in).
+  // stages some cells ahead (each stage reads what the one before brought in), with the site's
+  // row and its fields' text.
   auto prefetch_ahead = [&](std::size_t i) {
     constexpr std::size_t kLists = 12, kVertices = 8, kPoints = 4;
     if (i + kLists < order.size()) cells.prefetch(order[i + kLists], 0);
     if (i + kVertices < order.size()) {
       const SiteId s = order[i + kVertices];
       cells.prefetch(s, 1);
+      const InputSite* first = &table.sites[row_list[row_begin[s]]];
+      __builtin_prefetch(first);
+      __builtin_prefetch(reinterpret_cast<const char*>(first + 1) - 1);
       if (encoder)
         for (const SiteId w : diagram.cell_neighbors(s)) __builtin_prefetch(&site_element[w]);
     }
     if (i + kPoints < order.size()) {
       const SiteId s = order[i + kPoints];
       cells.prefetch(s, 2);
+      const std::vector<std::string>& fields = table.sites[row_list[row_begin[s]]].fields;
+      for (const std::string& f : fields) __builtin_prefetch(f.data());
       if (encoder)
         for (const SiteId w : diagram.cell_neighbors(s)) __builtin_prefetch(site_element[w].data());
     }
