@@ -1046,14 +1046,18 @@ TEST(BBox, Rules) {
   ASSERT_TRUE(r);
   EXPECT_NEAR(r->west, -100, 1e-9);
   EXPECT_NEAR(r->east, 100, 1e-9);
-  // A staircase of overlapping boxes, each reaching a little farther east than the union so
-  // far, ending just after a compaction (65,537 pending): the east edge is the last box's.
-  BBoxUnion stairs;
-  for (int i = 0; i < 65540; ++i) stairs.add({-170 + i * 0.001, 0, -170 + i * 0.001 + 0.0015, 1});
-  r = stairs.result();
-  ASSERT_TRUE(r);
-  EXPECT_EQ(r->west, -170);
-  EXPECT_EQ(r->east, -170 + 65539 * 0.001 + 0.0015);
+  // Staircases of overlapping boxes, each reaching a little farther east than the union so
+  // far, of every length around the compactions (after 4,097 pending, then every 4,097): the
+  // east edge is the last box's.
+  for (const int from : {4090, 8185, 65530})
+    for (int length = from; length < from + 16; ++length) {
+      BBoxUnion stairs;
+      for (int i = 0; i < length; ++i) stairs.add({-170 + i * 0.001, 0, -170 + i * 0.001 + 0.0015, 1});
+      r = stairs.result();
+      ASSERT_TRUE(r);
+      EXPECT_EQ(r->west, -170);
+      EXPECT_EQ(r->east, -170 + (length - 1) * 0.001 + 0.0015) << length;
+    }
   // Random boxes (some across the antimeridian, one whole-circle late), enough to compact
   // several times, against geojson_bbox() of all of them at once as the parts of one geometry;
   // also the results along the way.

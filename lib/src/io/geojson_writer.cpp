@@ -1028,7 +1028,9 @@ void BBoxUnion::add_interval(double west, double east) {
                                       [](double w, const Interval& i) { return w < i.west; });
   if (after != merged_.begin() && east <= std::prev(after)->east) return;
   intervals_.push_back({west, east});
-  if (intervals_.size() > 65536) compact();
+  // Merged early (a tiling's boxes then soon fall inside), and at least as often as the merged
+  // intervals' count allows for O(n log n) in all.
+  if (intervals_.size() > std::max<std::size_t>(4096, merged_.size())) compact();
 }
 
 void BBoxUnion::compact() const {

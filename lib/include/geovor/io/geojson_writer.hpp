@@ -64,9 +64,9 @@ std::unique_ptr<FeatureWriter> open_geojson_writer(const std::string& path, GeoJ
 std::optional<BBox> geojson_bbox(const Geometry& geometry);
 
 /// The union of RFC 7946 bboxes (a FeatureCollection's bbox): the smallest longitude arc
-/// containing every box, with the same rules as geojson_bbox(). Memory stays bounded: the
-/// intervals are merged whenever more than 65,536 are pending. A box inside the intervals merged
-/// so far costs one binary search (a tiling's boxes soon all are).
+/// containing every box, with the same rules as geojson_bbox(). The pending intervals are merged
+/// whenever they outnumber both 4,096 and the intervals merged so far (O(n log n) in all), and a
+/// box inside the merged intervals costs one binary search (a tiling's boxes soon all are).
 class BBoxUnion {
  public:
   void add(const BBox& box);
