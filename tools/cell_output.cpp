@@ -305,10 +305,10 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   // writes the finished blocks in order. At most `window` blocks are in flight, in reused
   // slots: enough that the workers go on while a direct write blocks the writer (2-5 ms per
   // 4 MiB); with 2 threads, 6 slots left the workers waiting 30-70 ms on the cities, 12 slots
-  // 4-10 ms.
+  // 4-10 ms. Past 32 slots, 2 per thread as before (memory: a slot holds a block's cells).
   constexpr std::size_t kBlock = 1024;
   const std::size_t num_blocks = (order.size() + kBlock - 1) / kBlock;
-  const std::size_t window = 4 * static_cast<std::size_t>(threads) + 4;
+  const std::size_t window = std::max<std::size_t>(2 * std::size_t{threads} + 2, std::min<std::size_t>(4 * std::size_t{threads} + 4, 32));
   struct Slot {
     CellBlock cells;        // without an encoder: the block's polygons and values
     EncodedFeatures text;   // with an encoder: the block's features as text

@@ -359,9 +359,15 @@ TEST(VoronoiDiagram, ArcMidpointHandles180DegreeArcs) {
 // Built on several threads, the same diagram: vertices, cell lists and neighbours, bit for bit.
 TEST(VoronoiDiagram, ThreadsGiveTheSameDiagram) {
   const SphericalDelaunay dt = SphericalDelaunay::build(testing::uniform_on_sphere(100000, 31));
-  const VoronoiDiagram one(dt), three(dt, 3);
+  const VoronoiDiagram one(dt), two(dt, 2), three(dt, 3);
   ASSERT_EQ(one.num_vertices(), three.num_vertices());
+  ASSERT_EQ(one.num_vertices(), two.num_vertices());
   for (TriId t = 0; t < one.num_vertices(); ++t) ASSERT_EQ(one.vertex(t), three.vertex(t)) << t;
+  for (TriId t = 0; t < one.num_vertices(); ++t) ASSERT_EQ(one.vertex(t), two.vertex(t)) << t;
+  for (SiteId s = 0; s < one.site_capacity(); ++s) {
+    const auto a = one.cell_neighbors(s), b = two.cell_neighbors(s);
+    ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << s;
+  }
   for (SiteId s = 0; s < one.site_capacity(); ++s) {
     const auto a = one.cell_vertices(s), b = three.cell_vertices(s);
     ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << s;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <thread>
 #include <vector>
 #include <numbers>
@@ -78,20 +79,28 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
     }
   };
   vertices_.clear();
-  // With several threads, one computes (and first touches) every vertex while this one does
-  // the sequential scans below; it only writes vertices_, which nothing else reads before join.
-  std::thread centre_thread;
-  if (threads > 1)
-    centre_thread = std::thread([&] {
-      vertices_.resize(nt);
-      centres(0, nt);
+  // With several threads, the others compute the vertices while this one does the sequential
+  // scans below; they only write vertices_, which nothing else reads before they are joined.
+  // With two, the other one also sizes vertices_, so that its pages are first touched there.
+  std::vector<std::thread> centre_threads;
+  std::vector<std::exception_ptr> centre_errors(threads);
+  if (threads > 2) vertices_.resize(nt);
+  for (unsigned i = 1; i < threads; ++i)
+    centre_threads.emplace_back([&, i] {
+      try {
+        if (threads == 2) vertices_.resize(nt);
+        centres(nt * (i - 1) / (threads - 1), nt * i / (threads - 1));
+      } catch (...) {
+        centre_errors[i] = std::current_exception();  // rethrown after the join
+      }
     });
   struct Joiner {
-    std::thread& t;
+    std::vector<std::thread>& threads;
     ~Joiner() {
-      if (t.joinable()) t.join();
+      for (std::thread& t : threads)
+        if (t.joinable()) t.join();
     }
-  } joiner{centre_thread};
+  } joiner{centre_threads};
 
   sites_.assign(dt.sites().begin(), dt.sites().end());
   live_.assign(cap, 0);
@@ -146,7 +155,9 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
   cell_nbrs_.resize(3 * nt);
   // The stars, in `threads` slices of the storage order (the centres joined first: they share
   // the cores).
-  if (centre_thread.joinable()) centre_thread.join();
+  for (std::thread& t : centre_threads) t.join();
+  for (const std::exception_ptr& e : centre_errors)
+    if (e) std::rethrow_exception(e);
   auto stars = [&](std::size_t begin, std::size_t end) {
     for (std::size_t j = begin; j < end; ++j) {
       const SiteId s = order_[j];

@@ -6,10 +6,14 @@
 ///
 /// Error: the value is within about one ulp of the exact sum of the terms plus one ulp of the
 /// smaller word per addition (see GeographicLib's Accumulator.hpp). Needs IEEE double arithmetic
-/// without contraction into fused multiply-adds (the library builds with -ffp-contract=off).
+/// evaluated as written: -ffast-math (-fassociative-math) would fold the error terms to zero.
 #pragma once
 
 #include <cmath>
+
+#ifdef __FAST_MATH__
+#error "compensated_sum.hpp needs IEEE arithmetic as written: do not build it with -ffast-math"
+#endif
 
 namespace geovor {
 
@@ -30,6 +34,7 @@ class CompensatedSum {
     t_ *= n;
     return *this;
   }
+  CompensatedSum& operator*=(double) = delete;  // not exact in two words (Accumulator uses fma)
   /// Reduces the sum to [-y/2, y/2] (std::remainder), then renormalizes.
   CompensatedSum& remainder(double y) {
     s_ = std::remainder(s_, y);
