@@ -313,8 +313,7 @@ void CellGeometry::prefetch(SiteId s, int stage) const {
   };
   switch (stage) {
     case 0:
-      lines(tris.data(), tris.size_bytes());
-      lines(nbrs.data(), nbrs.size_bytes());
+      vd.prefetch(s, 1);  // the cell's lists
       lines(own, tris.size() * sizeof(EdgeSlot));
       break;
     case 1:

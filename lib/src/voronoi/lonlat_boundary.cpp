@@ -199,8 +199,9 @@ void Densifier::edge(const Pt& a, const Pt& b, const Vec3& left, const Vec3& rig
     // Most arcs are nowhere near a pole: ruled out without the square root (the margin keeps
     // every arc the exact test below could accept).
     const Vec3 c = cross(a.v, b.v);
-    const bool far = dot(a.v, b.v) > -0.5 && c.z * c.z > 4 * kSnapRad * kSnapRad * norm2(c);
-    const Vec3 n = far ? Vec3{} : dot(a.v, b.v) > -0.5 ? normalized(c) : axis();
+    const bool short_arc = dot(a.v, b.v) > -0.5;
+    const bool far = short_arc && c.z * c.z > 4 * kSnapRad * kSnapRad * norm2(c);
+    const Vec3 n = far ? Vec3{} : short_arc ? normalized(c) : axis();
     if (!far && std::fabs(n.z) <= kSnapRad) {
       for (const double pz : {1.0, -1.0}) {
         // Closest point of the arc's great circle to the pole (0, 0, pz).
