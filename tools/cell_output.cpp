@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "geovor/core/assert.hpp"
 #include "geovor/io/feature_writer.hpp"
 #include "geovor/io/geojson_writer.hpp"
 #include "geovor/voronoi/cell_geometry.hpp"
@@ -132,7 +133,7 @@ IdTexts make_id_texts(const SiteTable& table, unsigned threads) {
 
 std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
                         const SphericalDelaunay& dt, const std::function<void()>& before_finish,
-                        const IdTexts* id_texts) {
+                        const IdTexts* id_texts, std::vector<UnwrittenCell>* unwritten) {
   const unsigned threads = args.threads > 0 ? static_cast<unsigned>(args.threads)
                                             : std::max(1u, std::thread::hardware_concurrency());
   // Schema: our fields, then every input column (renamed src_<name> if it clashes with ours).
@@ -209,6 +210,7 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   CellGeometryOptions geometry_options;
   geometry_options.densify_m = args.densify_m;
   geometry_options.threads = threads;
+  geometry_options.precision = encoder ? args.precision : kFullPrecision;
   const CellGeometry cells(diagram, geometry_options);
   prepared.get();
   auto rows_of = [&](SiteId s) {
@@ -218,10 +220,25 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   auto id_element = [&](SiteId s) { return site_element[s]; };
   auto append_id = [&](std::string& out, SiteId s) { out += id_json.text[s]; };
 
+  // Cells that could not be written valid, found by the workers.
+  std::mutex unwritten_mutex;
+  std::vector<UnwrittenCell> unwritten_cells;
+  // The cell of s at the output's precision, its area, and the checks of what is written.
+  auto cell_geometry = [&](SiteId s, MultiPolygon& polygon) {
+    double area_m2 = 0;
+    const CellStatus status = cells.polygon(s, polygon, area_m2);
+    if (status != CellStatus::Written) {
+      std::lock_guard lock(unwritten_mutex);
+      unwritten_cells.push_back({s, status});
+    } else {
+      GEOVOR_ASSERT(cell_areas_agree(area_m2, diagram.cell_area_sr(s), polygon, geometry_options.densify_m,
+                                     geometry_options.precision));
+    }
+    return area_m2;
+  };
   // One cell's geometry and properties (thread-safe: only reads shared state).
   auto make_cell = [&](SiteId s, MultiPolygon& polygon, std::vector<FieldValue>& values, std::string& buffer) {
-    double area_m2 = 0;
-    cells.polygon(s, polygon, area_m2);
+    const double area_m2 = cell_geometry(s, polygon);
     const std::span<const std::uint32_t> site_rows = rows_of(s);
     const InputSite& first = table.sites[site_rows.front()];
     const auto neighbours = diagram.cell_neighbors(s);
@@ -254,8 +271,7 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   // ends[i]), for the encoder.
   const std::size_t id_column = table.id_column >= 0 ? static_cast<std::size_t>(table.id_column) : schema.size();
   auto make_cell_json = [&](SiteId s, MultiPolygon& polygon, std::string& text, std::vector<std::size_t>& ends) {
-    double area_m2 = 0;
-    cells.polygon(s, polygon, area_m2);
+    const double area_m2 = cell_geometry(s, polygon);
     const std::span<const std::uint32_t> site_rows = rows_of(s);
     const InputSite& first = table.sites[site_rows.front()];
     const auto neighbours = diagram.cell_neighbors(s);
@@ -446,6 +462,24 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
     }
     changed.notify_all();
   }
+  std::sort(unwritten_cells.begin(), unwritten_cells.end(),
+            [](const UnwrittenCell& a, const UnwrittenCell& b) { return a.site < b.site; });
+  if (!args.quiet && !unwritten_cells.empty()) {
+    std::fprintf(stderr, "%zu cell(s) written with an empty geometry: at %s they %s:\n", unwritten_cells.size(),
+                 geometry_options.precision >= 0 ? ("--precision " + std::to_string(geometry_options.precision)).c_str()
+                                                 : "full precision",
+                 "collapse or would not be valid polygons (raise --precision)");
+    std::size_t shown = 0;
+    for (const UnwrittenCell& c : unwritten_cells) {
+      if (++shown > 20) {
+        std::fprintf(stderr, "  ... (%zu more; --report lists them all)\n", unwritten_cells.size() - 20);
+        break;
+      }
+      std::fprintf(stderr, "  site %u (id %s): %s\n", c.site, table.sites[row_list[row_begin[c.site]]].id.c_str(),
+                   to_string(c.status));
+    }
+  }
+  if (unwritten) *unwritten = unwritten_cells;
   if (before_finish) before_finish();
   writer->finish();
   progress.finish();

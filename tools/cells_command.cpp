@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <future>
 #include <memory>
@@ -25,7 +26,8 @@ struct CellsArgs {
 };
 
 // Every input row and what became of it, for --report.
-void write_report(OutputFile& out, const SiteTable& table, const BuildReport& report) {
+void write_report(OutputFile& out, const SiteTable& table, const BuildReport& report,
+                  const std::vector<UnwrittenCell>& unwritten, int precision) {
   std::FILE* f = out.get();
   std::fprintf(f, "row,line,id,status,site_index,detail\n");
   auto quoted = [](const std::string& s) {
@@ -35,11 +37,18 @@ void write_report(OutputFile& out, const SiteTable& table, const BuildReport& re
   };
   std::vector<char> merged(table.sites.size(), 0);
   for (const Merge& m : report.merges) merged[m.input] = 1;
+  const std::string where = precision >= 0 ? "at --precision " + std::to_string(precision) : "at full precision";
   for (std::size_t i = 0; i < table.sites.size(); ++i) {
     const InputSite& row = table.sites[i];
-    std::fprintf(f, "%llu,%llu,%s,%s,%u,\n", static_cast<unsigned long long>(row.row),
+    const SiteId site = report.site_of_input[i];
+    const auto it = std::lower_bound(unwritten.begin(), unwritten.end(), site,
+                                     [](const UnwrittenCell& c, SiteId s) { return c.site < s; });
+    std::string detail;
+    if (it != unwritten.end() && it->site == site)
+      detail = quoted("cell " + std::string(to_string(it->status)) + " " + where + ": empty geometry");
+    std::fprintf(f, "%llu,%llu,%s,%s,%u,%s\n", static_cast<unsigned long long>(row.row),
                  static_cast<unsigned long long>(row.line), quoted(row.id).c_str(), merged[i] ? "merged" : "site",
-                 report.site_of_input[i]);
+                 site, detail.c_str());
   }
   for (const RejectedRow& r : table.rejected)
     std::fprintf(f, "%llu,%llu,,rejected,,%s\n", static_cast<unsigned long long>(r.row),
@@ -72,9 +81,11 @@ int run(CellsArgs& args) {
   if (removed.valid()) removed.get();
   const SiteTable& table = input.table();
   if (!args.out.quiet) report_merges(table, report);  // merged rows stay in the cells' ids and the report
+  std::vector<UnwrittenCell> unwritten;
+  const int precision = writes_geojson(args.out) ? args.out.precision : kFullPrecision;
   const std::size_t written = write_cells(
-      args.out, table, report, dt, [&] { if (report_file) write_report(*report_file, table, report); },
-      &ids);
+      args.out, table, report, dt,
+      [&] { if (report_file) write_report(*report_file, table, report, unwritten, precision); }, &ids, &unwritten);
   if (report_file) report_file->commit();
   if (!args.out.quiet)
     std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s\n",

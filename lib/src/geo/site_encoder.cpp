@@ -17,10 +17,23 @@ double positive_zero(double v) { return v == 0 ? 0.0 : v; }
 }  // namespace
 
 Vec3 SiteEncoder::from_lat_lon(double lat_deg, double lon_deg) {
-  double x = 0, y = 0, z = 0;
-  GeographicLib::Geocentric::WGS84().Forward(lat_deg, lon_deg, 0, x, y, z);
-  const double n = std::sqrt(x * x + y * y + z * z);
-  const Vec3 u{positive_zero(x / n), positive_zero(y / n), positive_zero(z / n)};
+  using GeographicLib::Math;
+  // The ECEF direction (cos lat cos lon, cos lat sin lon, (1 - e^2) sin lat) scaled by a length
+  // that depends on the latitude alone, so that z depends on the latitude alone: sites sharing a
+  // latitude are exactly coplanar (z = const) and their common Voronoi vertex is exactly a pole.
+  // Dividing by the rounded length of (x, y, z) instead made z vary by ulps with the longitude,
+  // which moved such a vertex up to metres off the pole (issue 14).
+  static const double one_minus_e2 = [] {
+    const double f1 = 1 - GeographicLib::Geocentric::WGS84().Flattening();
+    return f1 * f1;
+  }();
+  double sin_lat = 0, cos_lat = 0, sin_lon = 0, cos_lon = 0;
+  Math::sincosd(lat_deg, sin_lat, cos_lat);
+  Math::sincosd(lon_deg, sin_lon, cos_lon);
+  const double zs = one_minus_e2 * sin_lat;
+  const double n = std::sqrt(cos_lat * cos_lat + zs * zs);
+  const double c = cos_lat / n;
+  const Vec3 u{positive_zero(c * cos_lon), positive_zero(c * sin_lon), positive_zero(zs / n)};
   // Predicates treat sites as exactly on the sphere; a few ulps of slack is all they tolerate.
   GEOVOR_ASSERT(std::fabs(u.x * u.x + u.y * u.y + u.z * u.z - 1) <= 0x1p-49);
   return u;

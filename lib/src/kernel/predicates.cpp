@@ -61,6 +61,10 @@ Sign orient(const Vec3& p, const Vec3& q, const Vec3& r) noexcept {
 }
 
 namespace detail {
+Sign orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) noexcept {
+  return to_sign(CGAL::orientation(Epick::Point_2(ax, ay), Epick::Point_2(bx, by), Epick::Point_2(cx, cy)));
+}
+
 Sign in_sphere_exact(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
   ++g_stats.in_sphere_exact;
   return to_sign(CGAL::orientation(P3(p), P3(q), P3(r), P3(s)));

@@ -20,6 +20,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/geo/geodesic_area.hpp"
 #include "geovor/geo/site_encoder.hpp"
+#include "geovor/voronoi/polygon_validity.hpp"
 #include "lonlat_boundary.hpp"
 
 namespace geovor {
@@ -187,7 +188,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   split(nv, [&](unsigned, std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
       if (rep[t] != t) continue;
-      const Pt p = make_pt(diagram.vertex(static_cast<TriId>(t)));
+      const Pt p = make_pt(diagram.vertex(static_cast<TriId>(t)), options_.precision);
       vertices_[t] = {p.v, p.lon, p.lat, static_cast<TriId>(t), min_side2[t]};
     }
   });
@@ -211,7 +212,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   std::atomic<std::size_t> next_chunk{0};
   split(order.size(), [&](unsigned thread, std::size_t, std::size_t) {
     std::vector<Pt> edge;
-    Densifier dens(options_.densify_m, options_.max_step_deg, options_.max_depth, edge);
+    Densifier dens(options_.densify_m, options_.max_step_deg, options_.max_depth, edge, options_.precision);
     std::vector<BoundaryPoint>& points = points_[thread];
     std::vector<GeodesicEdge> segments;
     std::vector<double> s12;
@@ -338,17 +339,67 @@ MultiPolygon CellGeometry::polygon(SiteId s, BBox* bbox) const {
 
 void CellGeometry::polygon(SiteId s, MultiPolygon& out, BBox* bbox) const { build(s, out, bbox, nullptr); }
 
-void CellGeometry::polygon(SiteId s, MultiPolygon& out, double& area_m2, BBox* bbox) const {
-  build(s, out, bbox, &area_m2);
+CellStatus CellGeometry::polygon(SiteId s, MultiPolygon& out, double& area_m2, BBox* bbox) const {
+  return build(s, out, bbox, &area_m2);
 }
 
-void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const {
+const char* to_string(CellStatus status) {
+  switch (status) {
+    case CellStatus::Written:
+      return "written";
+    case CellStatus::Collapsed:
+      return "collapsed";
+    case CellStatus::Unwritable:
+      return "unwritable";
+  }
+  return "?";
+}
+
+CellStatus CellGeometry::finish(MultiPolygon& out, BBox* bbox) const {
+  // Fast path: one ring, star-shaped about its mean (the typical cell), is valid as it stands.
+  if (out.size() == 1 && out[0].holes.empty() && is_star_shaped_ccw(out[0].exterior)) return CellStatus::Written;
+  if (out.empty()) return CellStatus::Collapsed;
+  bool cleaned = false;
+  for (Polygon& poly : out) {
+    const std::size_t before = poly.exterior.size();
+    remove_spikes(poly.exterior);
+    cleaned |= poly.exterior.size() != before;
+  }
+  if (cleaned) {
+    std::erase_if(out, [](const Polygon& poly) { return poly.exterior.size() < 4; });
+    if (out.empty()) {
+      if (bbox) *bbox = BBox{};
+      return CellStatus::Collapsed;
+    }
+  }
+  if (!polygon_problem(out).empty()) {
+    out.clear();
+    if (bbox) *bbox = BBox{};
+    return CellStatus::Unwritable;
+  }
+  if (cleaned && bbox) {
+    // The removed spikes may have held an extreme: the box of what is left (the rules of
+    // loop_to_polygons: polar or cut boxes keep their longitudes, a ring cannot lose a pole).
+    BBox b = *bbox;
+    b.south = 90, b.north = -90;
+    for (const Polygon& poly : out)
+      for (const LonLat& p : poly.exterior) b.south = std::min(b.south, p.lat_deg), b.north = std::max(b.north, p.lat_deg);
+    if (out.size() == 1 && !(b.west == -180 && b.east == 180)) {
+      b.west = 180, b.east = -180;
+      for (const LonLat& p : out[0].exterior) b.west = std::min(b.west, p.lon_deg), b.east = std::max(b.east, p.lon_deg);
+    }
+    *bbox = b;
+  }
+  return CellStatus::Written;
+}
+
+CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const {
   const VoronoiDiagram& vd = *vd_;
   if (area_m2) *area_m2 = 0;
   if (bbox) *bbox = BBox{};
   if (!vd.has_cell(s)) {
     out.clear();
-    return;
+    return CellStatus::Collapsed;
   }
   if (vd.kind() == VoronoiDiagram::Kind::WholeSphere) {
     out.resize(1);
@@ -356,13 +407,13 @@ void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m
     out[0].exterior.assign({{-180, -90}, {180, -90}, {180, 90}, {-180, 90}, {-180, -90}});
     if (bbox) *bbox = {-180, -90, 180, 90};
     if (area_m2) *area_m2 = ellipsoid_area_m2(out);
-    return;
+    return CellStatus::Written;
   }
 
   std::vector<Pt>& loop = scratch<Pt, 0>();
   std::vector<Pt>& edge = scratch<Pt, 1>();
   loop.clear();
-  Densifier dens(options_.densify_m, options_.max_step_deg, options_.max_depth, edge);
+  Densifier dens(options_.densify_m, options_.max_step_deg, options_.max_depth, edge, options_.precision);
 
   if (vd.kind() == VoronoiDiagram::Kind::Hemispheres) {
     // The bisector circle as four quarter arcs, computed for the smaller site id and reversed
@@ -379,7 +430,7 @@ void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m
     const Vec3& left = vd.site(lo);
     const Vec3& right = vd.site(std::max(s, other));
     for (int i = 0; i < 4; ++i) {
-      const Pt a = make_pt(q[i]), b = make_pt(q[(i + 1) % 4]);
+      const Pt a = make_pt(q[i], options_.precision), b = make_pt(q[(i + 1) % 4], options_.precision);
       loop.push_back(a);
       edge.clear();
       dens.edge(a, b, left, right, norm2(left - right));
@@ -437,8 +488,9 @@ void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m
       area_sum += s < w ? sum : -sum;
       area_crossings += s < w ? crossings : -crossings;
     }
-    lonlat::loop_to_polygons(loop, out, bbox);
-    if (area_m2) {
+    lonlat::loop_to_polygons(loop, out, bbox, options_.precision);
+    const CellStatus status = finish(out, bbox);
+    if (area_m2 && status == CellStatus::Written) {
       // The edges' sums are the ring's when the ring is the loop itself (same positions, same
       // order): not cut, no pole. Otherwise GeographicLib on the written rings.
       bool same = out.size() == 1 && out[0].holes.empty() && out[0].exterior.size() == loop.size() + 1;
@@ -447,16 +499,37 @@ void CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m
       *area_m2 = same ? reduced_area(area_sum, area_crossings, planar_area_deg2(out[0].exterior))
                       : ellipsoid_area_m2(out);
     }
-    return;
+    return status;
   }
 
-  lonlat::loop_to_polygons(loop, out, bbox);
-  if (area_m2) *area_m2 = ellipsoid_area_m2(out);
+  lonlat::loop_to_polygons(loop, out, bbox, options_.precision);
+  const CellStatus status = finish(out, bbox);
+  if (area_m2 && status == CellStatus::Written) *area_m2 = ellipsoid_area_m2(out);
+  return status;
 }
 
 MultiPolygon cell_polygon(const VoronoiDiagram& diagram, SiteId s,
                           const CellGeometryOptions& options, BBox* bbox) {
   return CellGeometry(diagram, options).polygon(s, bbox);
+}
+
+bool cell_areas_agree(double area_m2, double area_sr, const MultiPolygon& written, double densify_m,
+                      int precision) {
+  // The authalic radius of WGS84: the sphere with the ellipsoid's area.
+  static const double authalic2 = GeographicLib::Geodesic::WGS84().EllipsoidArea() / (4 * std::numbers::pi);
+  const double sphere_m2 = area_sr * authalic2;
+  const double diff = std::fabs(area_m2 - sphere_m2);
+  if (diff <= 0.005 * sphere_m2) return true;
+  // Slack along the boundary: the perimeter of what is written (metres, on the sphere; a
+  // longitude step counts as a latitude step, an overestimate).
+  constexpr double kMetresPerDeg = SiteEncoder::kEarthRadiusM * std::numbers::pi / 180;
+  double perimeter_m = 0;
+  for (const Polygon& poly : written)
+    for (std::size_t i = 0; i + 1 < poly.exterior.size(); ++i)
+      perimeter_m += kMetresPerDeg * std::hypot(poly.exterior[i + 1].lon_deg - poly.exterior[i].lon_deg,
+                                                poly.exterior[i + 1].lat_deg - poly.exterior[i].lat_deg);
+  const double step_m = precision >= 0 ? kMetresPerDeg * std::pow(10.0, -precision) : 0;
+  return diff <= 0.005 * sphere_m2 + (500 + densify_m + step_m) * perimeter_m;
 }
 
 double ellipsoid_area_m2(const MultiPolygon& polygons) {

@@ -87,10 +87,10 @@ int next_sheet(const RP& p, const RP& q) {
 // Intersection of the segment p -> q with the antimeridian, as the ring position (-180, lat)
 // in sheet k. The latitude is that of the great-circle arc between the two sphere points, the
 // same bits whichever way the segment runs (|q.y| p + |p.y| q is symmetric and has y = 0).
-RP crossing(const RP& p, const RP& q, int k) {
+RP crossing(const RP& p, const RP& q, int k, int precision) {
   if (is_pole(p.lat) && is_pole(q.lat)) return {p.v, -180, p.lat, k};
   const Vec3 c = std::fabs(q.v.y) * p.v + std::fabs(p.v.y) * q.v;
-  return {c, -180, SiteEncoder::to_lat_lon(c).lat_deg, k};
+  return {c, -180, snap_to_decimals(SiteEncoder::to_lat_lon(c).lat_deg, precision), k};
 }
 
 // Sides of p (-1, 0 on the line, 1) for the strip [-180, 180] of sheet j: >= 0 east of its west
@@ -108,7 +108,7 @@ int side_of_east_edge(const RP& p, int j) {
 // boundary is the antimeridian in sheet `line`. The ring crosses it at most twice (cells are
 // convex on the sphere), so the result is one ring.
 void clip_half(const std::vector<RP>& in, std::vector<RP>& out, int (*side)(const RP&, int), int j,
-               int line) {
+               int line, int precision) {
   out.clear();
   const std::size_t n = in.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -116,10 +116,10 @@ void clip_half(const std::vector<RP>& in, std::vector<RP>& out, int (*side)(cons
     const RP& q = in[i];
     const int sp = side(p, j), sq = side(q, j);
     if (sq >= 0) {
-      if (sp < 0 && sq > 0) out.push_back(crossing(p, q, line));
+      if (sp < 0 && sq > 0) out.push_back(crossing(p, q, line, precision));
       out.push_back(q);
     } else if (sp > 0) {
-      out.push_back(crossing(p, q, line));
+      out.push_back(crossing(p, q, line, precision));
     }
   }
 }
@@ -166,10 +166,13 @@ void append_piece(MultiPolygon& out, std::size_t& used, const std::vector<RP>& p
 
 }  // namespace
 
-Pt make_pt(const Vec3& raw) {
+Pt make_pt(const Vec3& raw, int precision) {
   const Vec3 v = snap(raw);
   const LatLon ll = SiteEncoder::to_lat_lon(v);
-  return {v, ll.lon_deg, ll.lat_deg};
+  if (precision < 0) return {v, ll.lon_deg, ll.lat_deg};
+  double lon = snap_to_decimals(ll.lon_deg, precision);
+  if (lon == 180) lon = -180;  // the antimeridian's canonical longitude, as to_lat_lon gives it
+  return {v, lon, snap_to_decimals(ll.lat_deg, precision)};
 }
 
 void check_densify_options(double densify_m, double max_step_deg, int max_depth) {
@@ -180,11 +183,13 @@ void check_densify_options(double densify_m, double max_step_deg, int max_depth)
   if (max_depth < 1 || max_depth > 40) throw Error(ErrorCode::InvalidArgument, "max_depth must be in [1, 40]");
 }
 
-Densifier::Densifier(double densify_m, double max_step_deg, int max_depth, std::vector<Pt>& out)
+Densifier::Densifier(double densify_m, double max_step_deg, int max_depth, std::vector<Pt>& out,
+                     int precision)
     : out_(out),
       tol2_(std::pow(densify_m / SiteEncoder::kEarthRadiusM, 2)),
       cos_step_(std::cos(max_step_deg * kDeg)),
-      max_depth_(max_depth) {}
+      max_depth_(max_depth),
+      precision_(precision) {}
 
 void Densifier::edge(const Pt& a, const Pt& b, const Vec3& left, const Vec3& right, double site_chord2) {
   left_ = &left;
@@ -207,7 +212,7 @@ void Densifier::edge(const Pt& a, const Pt& b, const Vec3& left, const Vec3& rig
         // Closest point of the arc's great circle to the pole (0, 0, pz).
         const Vec3 q = normalized({-pz * n.z * n.x, -pz * n.z * n.y, pz * (1 - n.z * n.z)});
         if (dot(cross(a.v, q), n) >= 0 && dot(cross(q, b.v), n) >= 0) {
-          const Pt p = make_pt({0, 0, pz});
+          const Pt p = make_pt({0, 0, pz}, precision_);
           split(a, p, 1);
           out_.push_back(p);
           split(p, b, 1);
@@ -248,13 +253,13 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
       if (norm2(m - lonlat_midpoint(a, b)) <= edge_tol2_) return;
     }
   }
-  const Pt mp = make_pt(m);
+  const Pt mp = make_pt(m, precision_);
   split(a, mp, depth + 1);
   out_.push_back(mp);
   split(mp, b, depth + 1);
 }
 
-void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox) {
+void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int precision) {
   std::size_t used = 0;
   if (bbox) *bbox = BBox{};
   Scratch& sc = scratch();
@@ -311,8 +316,8 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox) {
     } else {
       // Cut at the antimeridian: clip to the strip [-180, 180] of every sheet touched.
       for (int j = kmin; j <= kmax; ++j) {
-        clip_half(ring, sc.tmp, side_of_west_edge, j, j);
-        clip_half(sc.tmp, piece, side_of_east_edge, j, j + 1);
+        clip_half(ring, sc.tmp, side_of_west_edge, j, j, precision);
+        clip_half(sc.tmp, piece, side_of_east_edge, j, j + 1, precision);
         if (piece.size() >= 3) append_piece(out, used, piece, j);
       }
     }
@@ -336,7 +341,7 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox) {
     if (side(at(i)) == 0) {
       for (std::size_t j = i; j <= i + m; ++j) piece.push_back(at(j));
     } else {
-      const RP x = crossing(at(i - 1), at(i), line);
+      const RP x = crossing(at(i - 1), at(i), line, precision);
       piece.push_back(x);
       for (std::size_t j = i; j < i + m; ++j) piece.push_back(at(j));
       RP x2 = x;
@@ -382,7 +387,7 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox) {
   }
 }
 
-void path_to_lines(const std::vector<Pt>& path, MultiLineString& out) {
+void path_to_lines(const std::vector<Pt>& path, MultiLineString& out, int precision) {
   out.clear();
   LineString part;
   auto flush = [&] {
@@ -434,7 +439,7 @@ void path_to_lines(const std::vector<Pt>& path, MultiLineString& out) {
         lat = a.lat;  // the previous position is on the antimeridian itself
       } else {
         const Vec3 c = std::fabs(p.v.y) * a.v + std::fabs(a.v.y) * p.v;
-        lat = SiteEncoder::to_lat_lon(c).lat_deg;
+        lat = snap_to_decimals(SiteEncoder::to_lat_lon(c).lat_deg, precision);
         part.push_back({beyond_east ? 180.0 : -180.0, lat});
       }
       flush();

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "geovor/core/coordinate_grid.hpp"
 #include "geovor/core/types.hpp"
 #include "geovor/io/geometry.hpp"
 
@@ -25,7 +26,11 @@ struct Pt {
   Vec3 v;
   double lon, lat;
 };
-Pt make_pt(const Vec3& raw);
+/// The point of direction `raw`: v snapped to a pole or the antimeridian (kSnapRad), lon/lat as
+/// written with `precision` decimals (snap_to_decimals; kFullPrecision: as computed), with the
+/// antimeridian at lon -180 and a latitude of +-90 meaning the pole. v is not rounded: arcs
+/// between points follow the sphere, positions are what the file holds.
+Pt make_pt(const Vec3& raw, int precision = kFullPrecision);
 
 /// Checks the Densifier's options. @exception Error(InvalidArgument) naming the one out of range:
 /// densify_m not a positive number, max_step_deg outside (0, 180], max_depth outside [1, 40].
@@ -37,7 +42,9 @@ class Densifier {
   /// densify_m: largest distance (metres on the sphere of radius kEarthRadiusM) between a
   /// straight lon/lat segment's midpoint and the arc; arcs longer than max_step_deg are always
   /// split; at most max_depth levels. Points are appended to `out`.
-  Densifier(double densify_m, double max_step_deg, int max_depth, std::vector<Pt>& out);
+  /// Positions are written with `precision` decimals (make_pt).
+  Densifier(double densify_m, double max_step_deg, int max_depth, std::vector<Pt>& out,
+            int precision = kFullPrecision);
 
   /// Appends the points strictly between a and b of the arc a -> b, which turns positively about
   /// the axis normalize(left - right). The axis is only used for arcs longer than 120 degrees,
@@ -53,6 +60,7 @@ class Densifier {
   std::vector<Pt>& out_;
   double tol2_, cos_step_;
   int max_depth_;
+  int precision_;
   const Vec3* left_ = nullptr;
   const Vec3* right_ = nullptr;
   bool have_axis_ = false;
@@ -64,12 +72,14 @@ class Densifier {
 /// sphere that lies on its left (counter-clockwise seen from outside) and is convex, or holds
 /// exactly one pole, as a MultiPolygon: cut at the antimeridian, closed through (+-180, +-90)
 /// around a pole, rings counter-clockwise and closed by an exact copy. `loop` is modified
-/// (consecutive duplicates dropped). An empty result means a degenerate loop.
-void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox = nullptr);
+/// (consecutive duplicates dropped). An empty result means a degenerate loop. The points' lon/lat
+/// must already be written with `precision` decimals; the antimeridian crossings are too.
+void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox = nullptr,
+                      int precision = kFullPrecision);
 
 /// An open path (densified) as lines: cut at the antimeridian (both parts end on it at the same
 /// latitude, at +180 and -180) and at a pole it passes through; parts of fewer than two distinct
-/// positions are dropped.
-void path_to_lines(const std::vector<Pt>& path, MultiLineString& out);
+/// positions are dropped. Crossing latitudes are written with `precision` decimals.
+void path_to_lines(const std::vector<Pt>& path, MultiLineString& out, int precision = kFullPrecision);
 
 }  // namespace geovor::lonlat

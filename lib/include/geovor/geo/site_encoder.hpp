@@ -36,7 +36,9 @@ class SiteEncoder {
   /// \param[in] lat_deg geodetic latitude (degrees), already passed through normalize_lat_lon.
   /// \param[in] lon_deg longitude (degrees), already passed through normalize_lat_lon.
   /// \return the geocentric direction of (lat, lon, height 0): |u|^2 within 2^-49 of 1, and no
-  ///   component is -0.0, so equal points give bit-identical vectors.
+  ///   component is -0.0, so equal points give bit-identical vectors. u.z depends on lat_deg
+  ///   alone (the direction is scaled by a length computed from the latitude), so sites sharing
+  ///   a latitude are exactly coplanar and their Voronoi vertices are exactly the poles.
   static Vec3 from_lat_lon(double lat_deg, double lon_deg);
 
   /// Geodetic coordinates of an ECEF position (GeographicLib::Geocentric::Reverse).

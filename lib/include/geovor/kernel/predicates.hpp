@@ -52,6 +52,24 @@ Sign perturbed_in_sphere(const Vec3& p, std::uint32_t ip, const Vec3& q, std::ui
 /// order of the triangulation (the hull's normal fan); for unit vectors, the angular order.
 Sign compare_dot(const Vec3& x, const Vec3& a, const Vec3& b) noexcept;
 
+namespace detail {
+Sign orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) noexcept;
+}  // namespace detail
+
+/// Planar orientation of (a, b, c), points of the plane given as (x, y) doubles (lon/lat degrees
+/// of written geometry): Positive when c lies to the left of the line from a to b, i.e. a, b, c
+/// turn counter-clockwise; Zero when collinear (or two are equal). Exact: Shewchuk's orient2d
+/// bound (ccwerrboundA, the differences' rounding included) with a margin for underflow, inline;
+/// then CGAL's exact Orientation_2.
+inline Sign orient2d(double ax, double ay, double bx, double by, double cx, double cy) noexcept {
+  const double l = (ax - cx) * (by - cy), r = (ay - cy) * (bx - cx);
+  const double det = l - r;
+  const double bound = (3.0 + 16.0 * 0x1p-53) * 0x1p-53 * (__builtin_fabs(l) + __builtin_fabs(r)) + 0x1p-1000;
+  if (det > bound) return Sign::Positive;
+  if (-det > bound) return Sign::Negative;
+  return detail::orient2d_exact(ax, ay, bx, by, cx, cy);
+}
+
 /// Counters of how often each stage of the cascade decided (geogram's predicate stats). The
 /// in-sphere filter inlined into the triangulation is not counted, only its exact and perturbed
 /// stages.

@@ -42,6 +42,7 @@
 #include <memory>
 #include <vector>
 
+#include "geovor/core/coordinate_grid.hpp"
 #include "geovor/core/types.hpp"
 #include "geovor/io/geometry.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
@@ -67,7 +68,23 @@ struct CellGeometryOptions {
   /// DEFAULT: 1.
   /// The result does not depend on it.
   unsigned threads = 1;
+  /// Decimals of the written coordinates (0..17), or kFullPrecision for formats that store
+  /// doubles. Every position is computed as a reader of the file gets it back
+  /// (snap_to_decimals), so that the polygons are checked, and area_m2 measured, as written.
+  /// DEFAULT: kFullPrecision.
+  int precision = kFullPrecision;
 };
+
+/// What became of a cell when built at its precision (see CellGeometry::polygon).
+enum class CellStatus : std::uint8_t {
+  Written,     ///< a valid MultiPolygon
+  Collapsed,   ///< no area is left at this precision (every edge collapsed): empty geometry
+  Unwritable,  ///< rounding to this precision folds the cell (its written rings would cross
+               ///< themselves or each other): empty geometry, never an invalid one
+};
+
+/// "written", "collapsed" or "unwritable".
+const char* to_string(CellStatus status);
 
 /// Builds the lon/lat polygons of the cells of one VoronoiDiagram. Construction precomputes, for
 /// every Voronoi vertex, its collapsed representative, its snapped position and its lon/lat, and
@@ -93,14 +110,19 @@ class CellGeometry {
   MultiPolygon polygon(SiteId s, BBox* bbox = nullptr) const;
   /// Same, reusing the storage of `out` (no allocation once its capacity suffices).
   void polygon(SiteId s, MultiPolygon& out, BBox* bbox = nullptr) const;
-  /// Same, with the cell's area on the WGS84 ellipsoid, ellipsoid_area_m2(out), computed
+  /// Same, with the cell's area on the WGS84 ellipsoid, ellipsoid_area_m2(out) (0 when the
+  /// status is not Written, as `out` is then empty): the area of the rings as written, computed
   /// faster: the geodesic area terms S12 (geodesic_s12(), which reproduces GeographicLib's
   /// Geodesic::GenInverse) of each densified Voronoi edge are summed once, at construction, in
   /// its canonical direction, and shared by its two cells (negated for the second); cells cut
   /// at the antimeridian or holding a pole use ellipsoid_area_m2(out) itself. The two agree
   /// within rounding: 1e-9 relative, or 4 ulps of the ellipsoid's area (0.25 m^2) for
   /// tiny cells. Thread-safe; the result does not depend on threads.
-  void polygon(SiteId s, MultiPolygon& out, double& area_m2, BBox* bbox = nullptr) const;
+  /// Positions are written with options().precision decimals; a spike left by an edge that
+  /// collapsed is removed (the same on both sides of the edge); the result is then checked
+  /// exactly (polygon_problem() in polygon_validity.hpp). Returns the cell's status: when it is
+  /// not Written, `out` is empty and the caller reports the cell.
+  CellStatus polygon(SiteId s, MultiPolygon& out, double& area_m2, BBox* bbox = nullptr) const;
 
   /// A memory hint for callers that build many cells in an order other than storage_order()
   /// (input order, say): the cells' data is then scattered and polygon() waits on memory. Call
@@ -149,7 +171,9 @@ class CellGeometry {
     double lon, lat;
   };
   std::vector<std::vector<BoundaryPoint>> points_;  // one part per construction thread
-  void build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
+  CellStatus build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
+  // Cleans and checks `out` as built; empties it unless valid.
+  CellStatus finish(MultiPolygon& out, BBox* bbox) const;
 };
 
 /// One cell, building a CellGeometry first (O(size of the diagram)): for one-off use only; use
@@ -166,6 +190,14 @@ MultiPolygon cell_polygon(const VoronoiDiagram& diagram, SiteId s,
 /// taken as the area on its left, in [0, area of the ellipsoid); the one ring whose planar area
 /// is 64800 square degrees (the whole lon/lat rectangle) counts as the whole ellipsoid.
 double ellipsoid_area_m2(const MultiPolygon& polygons);
+
+/// A cheap invariant of a written cell (a violation is a bug): its area on the ellipsoid, area_m2,
+/// agrees with its area on the unit sphere, area_sr, scaled by the authalic radius, within the
+/// ellipsoid's flattening (0.5 %) plus what the written boundary may differ from the cell's by
+/// (densification, rounding to `precision` decimals, ellipsoidal against great-circle edges:
+/// 500 m + densify_m + a decimal step, times the perimeter of `written`).
+bool cell_areas_agree(double area_m2, double area_sr, const MultiPolygon& written, double densify_m,
+                      int precision);
 
 /// Signed planar area of a closed ring in (lon, lat) (square degrees), positive when
 /// counter-clockwise.

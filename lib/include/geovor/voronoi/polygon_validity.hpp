@@ -1,0 +1,35 @@
+/// \file polygon_validity.hpp
+/// \brief Exact validity of written lon/lat polygons (OGC simple features, as GEOS checks it),
+/// and the cleanup of rings whose rounding collapsed an edge.
+///
+/// Every decision is an exact planar orientation (kernel::orient2d) on the doubles as written, so
+/// "valid" here means valid for any reader of the file, at the precision written.
+#pragma once
+
+#include <string>
+
+#include "geovor/io/geometry.hpp"
+
+namespace geovor {
+
+/// Why `polygons` is not a valid MultiPolygon, or "" if it is: every ring closed with at least
+/// four positions, no repeated position but the closing one, no two segments of any rings
+/// touching or crossing except consecutive segments of one ring at their common end, exterior
+/// rings counter-clockwise (positive planar area), no holes, and no part inside another.
+/// O(n log n + k) for n segments (a sweep over their x extents; k candidate pairs).
+std::string polygon_problem(const MultiPolygon& polygons);
+
+/// A fast sufficient test of validity for one closed ring: every segment turns strictly
+/// counter-clockwise about the mean of the ring's positions, exactly once around. True proves
+/// the ring simple and counter-clockwise (it is star-shaped about that point); false proves
+/// nothing (polygon_problem() decides). O(n).
+bool is_star_shaped_ccw(const Ring& ring);
+
+/// Removes what rounding to a grid leaves of a collapsed edge from a closed ring: consecutive
+/// repeated positions and spikes (a, b, a -> a), cyclically, until none is left. Both cells of a
+/// collapsed edge see the same positions, so the cleanup is the same on both sides. The ring is
+/// closed again by a copy of its first position; it may end with fewer than 4 positions
+/// (the ring collapsed).
+void remove_spikes(Ring& ring);
+
+}  // namespace geovor

@@ -1,0 +1,164 @@
+#include "geovor/voronoi/polygon_validity.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "geovor/kernel/predicates.hpp"
+
+namespace geovor {
+namespace {
+
+int orient(const LonLat& a, const LonLat& b, const LonLat& c) {
+  return static_cast<int>(kernel::orient2d(a.lon_deg, a.lat_deg, b.lon_deg, b.lat_deg, c.lon_deg, c.lat_deg));
+}
+
+// c lies on the closed segment [a, b], given orient(a, b, c) == 0.
+bool on_segment(const LonLat& a, const LonLat& b, const LonLat& c) {
+  return std::min(a.lon_deg, b.lon_deg) <= c.lon_deg && c.lon_deg <= std::max(a.lon_deg, b.lon_deg) &&
+         std::min(a.lat_deg, b.lat_deg) <= c.lat_deg && c.lat_deg <= std::max(a.lat_deg, b.lat_deg);
+}
+
+// The closed segments [a, b] and [c, d] share a point.
+bool segments_meet(const LonLat& a, const LonLat& b, const LonLat& c, const LonLat& d) {
+  const int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
+  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+  return (o1 == 0 && on_segment(a, b, c)) || (o2 == 0 && on_segment(a, b, d)) ||
+         (o3 == 0 && on_segment(c, d, a)) || (o4 == 0 && on_segment(c, d, b));
+}
+
+double planar_area2(const Ring& r) {
+  double twice = 0;
+  for (std::size_t i = 0; i + 1 < r.size(); ++i)
+    twice += (r[i].lon_deg - r[0].lon_deg) * (r[i + 1].lat_deg - r[0].lat_deg) -
+             (r[i + 1].lon_deg - r[0].lon_deg) * (r[i].lat_deg - r[0].lat_deg);
+  return twice;
+}
+
+// p strictly inside the closed ring r (p on no segment of r), by exact crossing parity.
+bool inside(const Ring& r, const LonLat& p) {
+  bool in = false;
+  for (std::size_t i = 0; i + 1 < r.size(); ++i) {
+    const LonLat &a = r[i], &b = r[i + 1];
+    const bool a_below = a.lat_deg <= p.lat_deg, b_below = b.lat_deg <= p.lat_deg;
+    if (a_below == b_below) continue;
+    // The segment crosses the horizontal line through p: is the crossing right of p?
+    const int o = orient(a, b, p);
+    if (b_below ? o < 0 : o > 0) in = !in;
+  }
+  return in;
+}
+
+}  // namespace
+
+std::string polygon_problem(const MultiPolygon& polygons) {
+  struct Seg {
+    double xmin, xmax, ymin, ymax;
+    std::uint32_t ring, index, ring_size;  // index of the segment in its ring, segments in it
+  };
+  std::vector<const Ring*> rings;
+  for (const Polygon& poly : polygons) {
+    if (!poly.holes.empty()) return "a polygon has holes";
+    rings.push_back(&poly.exterior);
+  }
+  std::vector<Seg> segs;
+  for (std::uint32_t k = 0; k < rings.size(); ++k) {
+    const Ring& r = *rings[k];
+    if (r.size() < 4) return "a ring has fewer than 4 positions";
+    if (!(r.front() == r.back())) return "a ring is not closed";
+    for (const LonLat& p : r)
+      if (!std::isfinite(p.lon_deg) || !std::isfinite(p.lat_deg)) return "a coordinate is not finite";
+    if (!(planar_area2(r) > 0)) return "a ring is not counter-clockwise or has no area";
+    const std::uint32_t n = static_cast<std::uint32_t>(r.size() - 1);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const LonLat &a = r[i], &b = r[i + 1];
+      if (a == b) return "a ring repeats a position";
+      segs.push_back({std::min(a.lon_deg, b.lon_deg), std::max(a.lon_deg, b.lon_deg),
+                      std::min(a.lat_deg, b.lat_deg), std::max(a.lat_deg, b.lat_deg), k, i, n});
+    }
+  }
+  std::sort(segs.begin(), segs.end(), [](const Seg& a, const Seg& b) { return a.xmin < b.xmin; });
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    const Seg& s = segs[i];
+    const Ring& rs = *rings[s.ring];
+    const LonLat &a = rs[s.index], &b = rs[s.index + 1];
+    for (std::size_t j = i + 1; j < segs.size() && segs[j].xmin <= s.xmax; ++j) {
+      const Seg& t = segs[j];
+      if (t.ymin > s.ymax || t.ymax < s.ymin) continue;
+      const Ring& rt = *rings[t.ring];
+      const LonLat &c = rt[t.index], &d = rt[t.index + 1];
+      if (s.ring == t.ring) {
+        const std::uint32_t n = s.ring_size;
+        const bool s_then_t = (s.index + 1) % n == t.index;
+        if (s_then_t || (t.index + 1) % n == s.index) {
+          // Consecutive segments p -> q -> r share q; collinear, r must not turn back towards p.
+          const LonLat& p = s_then_t ? a : c;
+          const LonLat& q = s_then_t ? b : d;
+          const LonLat& r = s_then_t ? d : b;
+          auto side = [](double u, double v) { return (u > v) - (u < v); };
+          if (orient(p, q, r) == 0 &&
+              ((side(p.lon_deg, q.lon_deg) != 0 && side(p.lon_deg, q.lon_deg) == side(r.lon_deg, q.lon_deg)) ||
+               (side(p.lat_deg, q.lat_deg) != 0 && side(p.lat_deg, q.lat_deg) == side(r.lat_deg, q.lat_deg))))
+            return "a ring folds back on itself (spike)";
+          continue;
+        }
+      }
+      if (segments_meet(a, b, c, d))
+        return s.ring == t.ring ? "a ring intersects itself" : "two parts touch or cross";
+    }
+  }
+  // No two rings meet: parts must not lie inside one another.
+  for (std::size_t k = 0; k < rings.size(); ++k)
+    for (std::size_t l = 0; l < rings.size(); ++l)
+      if (k != l && inside(*rings[l], (*rings[k])[0])) return "a part lies inside another";
+  return {};
+}
+
+bool is_star_shaped_ccw(const Ring& ring) {
+  const std::size_t n = ring.size() < 4 ? 0 : ring.size() - 1;
+  if (n < 3) return false;
+  double cx = 0, cy = 0;
+  for (std::size_t i = 0; i < n; ++i) cx += ring[i].lon_deg, cy += ring[i].lat_deg;
+  cx /= static_cast<double>(n), cy /= static_cast<double>(n);
+  int turns = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const LonLat &a = ring[i], &b = ring[i + 1];
+    if (kernel::orient2d(cx, cy, a.lon_deg, a.lat_deg, b.lon_deg, b.lat_deg) != Sign::Positive) return false;
+    // Counter-clockwise about c, crossing the ray from c towards +x upwards (the half-open rule).
+    turns += a.lat_deg < cy && b.lat_deg >= cy;
+  }
+  return turns == 1;
+}
+
+void remove_spikes(Ring& ring) {
+  if (ring.empty()) return;
+  if (ring.size() > 1 && ring.back() == ring.front()) ring.pop_back();
+  // A stack pass: drop repeats and a -> b -> a; the cyclic ends are then trimmed pairwise.
+  std::vector<LonLat> out;
+  out.reserve(ring.size());
+  for (const LonLat& p : ring) {
+    if (!out.empty() && out.back() == p) continue;
+    if (out.size() >= 2 && out[out.size() - 2] == p) {
+      out.pop_back();
+      continue;
+    }
+    out.push_back(p);
+  }
+  std::size_t begin = 0, end = out.size();
+  for (bool changed = true; changed && end - begin >= 2;) {
+    changed = false;
+    if (out[end - 1] == out[begin]) {
+      --end, changed = true;
+    } else if (end - begin >= 3 && out[end - 2] == out[begin]) {
+      end -= 2, changed = true;  // ... x, y | x ...: the spike y at the seam
+    } else if (end - begin >= 3 && out[end - 1] == out[begin + 1]) {
+      ++begin, --end, changed = true;  // ... y | x, y ...
+    }
+  }
+  ring.assign(out.begin() + static_cast<std::ptrdiff_t>(begin), out.begin() + static_cast<std::ptrdiff_t>(end));
+  if (!ring.empty()) ring.push_back(ring.front());
+}
+
+}  // namespace geovor

@@ -1,0 +1,64 @@
+/// \file coordinate_grid_test.cpp
+/// \brief snap_to_decimals against what a reader really gets: strtod of the text printf writes.
+#include "geovor/core/coordinate_grid.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+
+#include "geovor/io/geojson_writer.hpp"
+
+namespace geovor {
+namespace {
+
+// The double read back from `value` written with `precision` decimals by printf (correctly
+// rounded by glibc), then parsed by strtod (correctly rounded).
+double printed(double value, int precision) {
+  char text[512];
+  std::snprintf(text, sizeof text, "%.*f", precision, value);
+  return std::strtod(text, nullptr);
+}
+
+// The double read back from what the GeoJSON writer writes.
+double written(double value, int precision) {
+  char text[kMaxCoordinateChars + 1] = {};
+  *format_coordinate(text, value, precision) = '\0';
+  return std::strtod(text, nullptr);
+}
+
+TEST(CoordinateGrid, IsWhatAReaderGetsBackAndIdempotent) {
+  std::mt19937_64 rng(14);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::uniform_int_distribution<int> exponent(-30, 0);
+  for (int i = 0; i < 200000; ++i) {
+    const int p = i % 18;
+    // Coordinates of every magnitude up to 180, halves of the grid (ties), grid points.
+    double x = 180 * unit(rng) * std::pow(2.0, exponent(rng) * (i % 3 == 0));
+    if (i % 7 == 0) x = (std::round(x * std::pow(10.0, p)) + 0.5) / std::pow(10.0, p);
+    if (i % 11 == 0) x = std::round(x * std::pow(10.0, p)) / std::pow(10.0, p);
+    const double r = snap_to_decimals(x, p);
+    ASSERT_EQ(r, printed(x, p) == 0 ? 0.0 : printed(x, p)) << x << " at " << p;
+    ASSERT_EQ(r, written(x, p) == 0 ? 0.0 : written(x, p)) << x << " at " << p;
+    ASSERT_EQ(snap_to_decimals(r, p), r) << x << " at " << p;
+    ASSERT_EQ(written(r, p), r) << x << " at " << p;
+    ASSERT_FALSE(std::signbit(r) && r == 0);
+  }
+}
+
+TEST(CoordinateGrid, EdgesAndFullPrecision) {
+  EXPECT_EQ(snap_to_decimals(180, 7), 180);
+  EXPECT_EQ(snap_to_decimals(-90, 3), -90);
+  EXPECT_EQ(snap_to_decimals(179.99999996, 7), 180);
+  EXPECT_EQ(snap_to_decimals(-0.00000004, 7), 0);
+  EXPECT_FALSE(std::signbit(snap_to_decimals(-0.00000004, 7)));
+  EXPECT_EQ(snap_to_decimals(0.1 + 0.2, kFullPrecision), 0.1 + 0.2);
+  EXPECT_EQ(snap_to_decimals(12.25, 1), 12.2);  // ties to even
+  EXPECT_EQ(snap_to_decimals(12.35, 1), printed(12.35, 1));
+  EXPECT_TRUE(std::isnan(snap_to_decimals(NAN, 7)));
+}
+
+}  // namespace
+}  // namespace geovor
