@@ -16,13 +16,16 @@
 #include <numbers>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "geovor/core/error.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/geo/site_reader.hpp"
+#include "geovor/voronoi/polygon_validity.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
+#include "geovor/core/coordinate_grid.hpp"
 #include "support/generators.hpp"
 #include "support/lonlat_checks.hpp"
 
@@ -647,6 +650,198 @@ TEST(CellGeometry, LargeUniformSetTilesTheEllipsoid) {
     }
   }
   EXPECT_NEAR(ell / kEllipsoidArea, 1, 1e-9);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Exact to the file (issue 14): what is written, at its precision, is valid and measured as
+// written. Oracles: GEOS (OGR IsValid), GeographicLib's PolygonArea on the written rings.
+
+namespace written {
+
+// PolygonArea of the rings as written (counter-clockwise exteriors; a ring whose planar area is
+// large counts as more than half the ellipsoid), independently of ellipsoid_area_m2.
+double polygon_area_m2(const MultiPolygon& mp) {
+  double total = 0;
+  for (const Polygon& poly : mp) {
+    GeographicLib::PolygonArea pa(GeographicLib::Geodesic::WGS84());
+    for (std::size_t i = 0; i + 1 < poly.exterior.size(); ++i) pa.AddPoint(poly.exterior[i].lat_deg, poly.exterior[i].lon_deg);
+    double perimeter = 0, area = 0;
+    pa.Compute(false, true, perimeter, area);
+    if (area < 0 && std::fabs(planar_area_deg2(poly.exterior)) > 10000) area += kEllipsoidArea;
+    if (std::fabs(planar_area_deg2(poly.exterior)) >= 64800 * (1 - 1e-12)) area = kEllipsoidArea;
+    total += area;
+  }
+  return total;
+}
+
+struct Outcome {
+  std::size_t cells = 0, written = 0, unwritable = 0, collapsed = 0;
+  double area_sum = 0;
+};
+
+// Every cell at `precision`: a Written cell is valid for GEOS, every coordinate is a fixed point
+// of the grid (what a reader gets back), area_m2 is PolygonArea of the written rings (1e-9
+// relative or 0.25 m^2), and agrees with area_sr within the flattening; others are empty.
+Outcome check(const std::vector<Vec3>& pts, int precision) {
+  const VoronoiDiagram vd = diagram_of(pts);
+  CellGeometryOptions opt;
+  opt.precision = precision;
+  const CellGeometry geom(vd, opt);
+  Outcome out;
+  out.cells = vd.num_cells();
+  MultiPolygon mp;
+  for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+    if (!vd.has_cell(s)) continue;
+    SCOPED_TRACE("site " + std::to_string(s) + " at precision " + std::to_string(precision));
+    double area_m2 = -1;
+    const CellStatus status = geom.polygon(s, mp, area_m2);
+    if (status != CellStatus::Written) {
+      EXPECT_TRUE(mp.empty());
+      EXPECT_EQ(area_m2, 0);
+      ++(status == CellStatus::Collapsed ? out.collapsed : out.unwritable);
+      continue;
+    }
+    ++out.written;
+    EXPECT_EQ(testing::geos_invalid(mp), "");
+    for (const Polygon& poly : mp)
+      for (const LonLat& p : poly.exterior) {
+        EXPECT_EQ(snap_to_decimals(p.lon_deg, precision), p.lon_deg);
+        EXPECT_EQ(snap_to_decimals(p.lat_deg, precision), p.lat_deg);
+      }
+    const double oracle = polygon_area_m2(mp);
+    EXPECT_LE(std::fabs(area_m2 - oracle), std::max(1e-9 * oracle, 0.25)) << area_m2 << " vs " << oracle;
+    EXPECT_TRUE(cell_areas_agree(area_m2, vd.cell_area_sr(s), mp, opt.densify_m, precision))
+        << area_m2 << " m2 against " << vd.cell_area_sr(s) << " sr";
+    out.area_sum += area_m2;
+  }
+  return out;
+}
+
+std::vector<Vec3> grid(double lat0, double lon0, double step, int n) {
+  std::vector<std::pair<double, double>> ll;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) ll.push_back({lat0 + i * step, lon0 + j * step});
+  return from_lat_lon(ll);
+}
+
+}  // namespace written
+
+// Three sites on one latitude: thin lunes from pole to pole, not whole-Earth cells (the written
+// ring of B was closed around a pole with area_m2 5.1e14 m^2).
+TEST(CellGeometryAsWritten, SitesSharingALatitudeGiveLunes) {
+  const std::vector<Vec3> pts = from_lat_lon({{-30, 20}, {-30, 20.001}, {-30, 20.002}});
+  EXPECT_EQ(pts[0].z, pts[1].z);  // exactly coplanar: the lunes' tips are exactly the poles
+  for (const int p : {7, 12, kFullPrecision}) {
+    const written::Outcome o = written::check(pts, p);
+    EXPECT_EQ(o.written, 3u);
+    EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
+  }
+  const VoronoiDiagram vd = diagram_of(pts);
+  CellGeometryOptions opt;
+  opt.precision = 7;
+  double area_m2 = 0;
+  MultiPolygon mp;
+  CellGeometry(vd, opt).polygon(1, mp, area_m2);
+  EXPECT_NEAR(area_m2, 1.4168e9, 1e6);  // 0.001 degree of longitude from pole to pole
+}
+
+// Grids (rows share latitudes, columns share longitudes): at every precision each cell is valid
+// or reported, and the areas of the written cells are those of their rings. A 20x20 grid at 0.01
+// degree gave 16 whole-Earth cells; a 301x301 grid at 0.001 degree areas summing to 121 Earths.
+TEST(CellGeometryAsWritten, GridsAtEveryPrecision) {
+  for (const auto& [lat0, lon0, step, n] : std::vector<std::tuple<double, double, double, int>>{
+           {10, 20, 0.01, 20}, {-40, 100, 0.001, 30}, {89.9, 179.95, 0.01, 10}, {-90, -180, 5, 8}}) {
+    const std::vector<Vec3> pts = written::grid(lat0, lon0, step, n);
+    for (const int p : {1, 3, 5, 7, 9, 12, 15, 17, kFullPrecision}) {
+      const written::Outcome o = written::check(pts, p);
+      std::printf("grid %g %g %g %d at %d: %zu written, %zu unwritable, %zu collapsed\n", lat0, lon0, step, n, p,
+                  o.written, o.unwritable, o.collapsed);
+      EXPECT_EQ(o.written + o.unwritable + o.collapsed, o.cells);
+      if (o.written == o.cells) EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
+      EXPECT_LE(o.area_sum, kEllipsoidArea * (1 + 1e-9));
+    }
+  }
+}
+
+// 10^4 sites on one small circle: one Voronoi vertex at each pole, every cell a lune.
+TEST(CellGeometryAsWritten, SitesOnOneSmallCircle) {
+  std::vector<std::pair<double, double>> ll;
+  for (int i = 0; i < 10000; ++i) ll.push_back({-30, -180 + 360.0 * i / 10000});
+  const written::Outcome o = written::check(from_lat_lon(ll), 7);
+  EXPECT_EQ(o.written, 10000u);
+  EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
+}
+
+// The weather stations at the default precision: 5,329 of 5,631 area_m2 differed from the
+// PolygonArea of their written rings by more than 1e-9 (the area was computed before rounding).
+TEST(CellGeometryAsWritten, WeatherStationsAreasAreTheWrittenRings) {
+  const written::Outcome o = written::check(csv_sites("datasets/weather_stations.csv"), 7);
+  EXPECT_EQ(o.written, 5631u);
+  EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
+}
+
+// Near-co-circular sites (noise 1e-9 degree on a 1 km ring): Voronoi vertices centimetres apart,
+// which folded a cell at precision 7.
+TEST(CellGeometryAsWritten, NearCocircularRing) {
+  std::vector<std::pair<double, double>> ll = {{45, 7}};
+  std::uint64_t state = 3;
+  auto noise = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return (static_cast<double>(state >> 11) * 0x1p-53 - 0.5) * 2e-9;
+  };
+  for (int i = 0; i < 12; ++i) {
+    const double a = 2 * kPi * i / 12;
+    ll.push_back({45 + 0.009 * std::sin(a) + noise(), 7 + 0.009 * std::cos(a) / std::cos(kPi / 4) + noise()});
+  }
+  for (const int p : {5, 6, 7, 8, 9, kFullPrecision}) {
+    const written::Outcome o = written::check(from_lat_lon(ll), p);
+    EXPECT_EQ(o.written + o.collapsed + o.unwritable, 13u);
+  }
+}
+
+TEST(PolygonValidity, AgainstGeosOnRoundedRings) {
+  // Random lon/lat quadrilaterals and pentagons on a coarse grid (many touching, collinear and
+  // crossing cases): polygon_problem() says valid exactly when GEOS does, for CCW rings.
+  std::uint64_t state = 14;
+  auto next = [&](int n) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<int>((state >> 33) % static_cast<std::uint64_t>(n));
+  };
+  int agree = 0;
+  for (int iter = 0; iter < 4000; ++iter) {
+    Ring r;
+    const int n = 3 + next(4);
+    for (int i = 0; i < n; ++i) r.push_back({static_cast<double>(next(5)), static_cast<double>(next(5))});
+    r.push_back(r.front());
+    if (!(planar_area_deg2(r) > 0)) continue;
+    const MultiPolygon mp{Polygon{r, {}}};
+    const bool ours = polygon_problem(mp).empty();
+    const bool geos = testing::geos_invalid(mp).empty();
+    // Repeated positions: GEOS accepts them, we refuse them (what we write never repeats one).
+    bool repeats = false;
+    for (std::size_t i = 0; i + 1 < r.size(); ++i) repeats |= r[i] == r[i + 1];
+    if (repeats) {
+      EXPECT_FALSE(ours);
+      continue;
+    }
+    EXPECT_EQ(ours, geos) << "ring of " << n << ": " << polygon_problem(mp);
+    if (ours) EXPECT_EQ(is_star_shaped_ccw(r), is_star_shaped_ccw(r));
+    if (is_star_shaped_ccw(r)) EXPECT_TRUE(geos);
+    ++agree;
+  }
+  EXPECT_GT(agree, 1000);
+}
+
+TEST(PolygonValidity, RemoveSpikes) {
+  Ring r = {{0, 0}, {1, 0}, {2, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
+  remove_spikes(r);
+  EXPECT_EQ(r, (Ring{{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}}));
+  Ring seam = {{5, 5}, {0, 0}, {1, 0}, {1, 1}, {0, 0}, {5, 5}};
+  remove_spikes(seam);
+  EXPECT_EQ(seam, (Ring{{0, 0}, {1, 0}, {1, 1}, {0, 0}}));
+  Ring flat = {{0, 0}, {1, 0}, {0, 0}};
+  remove_spikes(flat);
+  EXPECT_LT(flat.size(), 4u);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <GeographicLib/Math.hpp>
 #include <GeographicLib/PolygonArea.hpp>
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cstdlib>
@@ -144,6 +145,10 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   // both cells of an edge): triangle t_i of cell s has the sites s, neighbour i - 1 and
   // neighbour i, and is measured by the cell of its smallest site.
   std::vector<float> min_side2(nv);
+  // And each triangle's sites, sorted (its smallest site s, then the other two): the collapsed
+  // vertices take the position of the one with the smallest triple, which depends on the
+  // triangulation's triangles only, not on how it numbers them (relax's relocation modes).
+  std::vector<std::array<SiteId, 3>> tri_sites(nv);
   auto round_down = [](double d2) {
     float f = static_cast<float>(d2);
     if (f > d2) f = std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) - 1);  // f > 0: the next float down
@@ -164,6 +169,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
         if (s < u && s < w) {
           const Vec3 &ps = diagram.site(s), &pu = diagram.site(u), &pw = diagram.site(w);
           min_side2[a] = round_down(std::min({norm2(ps - pu), norm2(ps - pw), norm2(pu - pw)}));
+          tri_sites[a] = {s, std::min(u, w), std::max(u, w)};
         }
       }
     }
@@ -181,6 +187,17 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       if (rb < ra) rep[ra] = rb;
     }
   for (TriId t = 0; t < nv; ++t) rep[t] = find(t);
+  {
+    std::vector<TriId> best(nv, kNoIndex);  // by root: the member with the smallest sites
+    bool collapsed = false;
+    for (TriId t = 0; t < nv; ++t) {
+      TriId& b = best[rep[t]];
+      if (b == kNoIndex || tri_sites[t] < tri_sites[b]) b = t;
+      collapsed |= rep[t] != t;
+    }
+    if (collapsed)
+      for (TriId t = 0; t < nv; ++t) rep[t] = best[rep[t]];
+  }
 
   // The representatives' lon/lat (the costly part), then their copies.
   vertices_.reset(static_cast<Vertex*>(std::calloc(std::max<std::size_t>(nv, 1), sizeof(Vertex))));

@@ -244,7 +244,8 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
   if (pa || pb) {
     // From a pole the arc is a meridian, straight in lon/lat: only pole to pole (N to S) needs
     // a midpoint, which gives the meridian its longitude.
-    if (!(pa && pb)) return;
+    // Two points written at the same pole are one point of the file: nothing between them.
+    if (!(pa && pb) || a.lat == b.lat) return;
     m = midpoint(a.v, b.v);
   } else {
     m = midpoint(a.v, b.v);
@@ -263,13 +264,16 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
   std::size_t used = 0;
   if (bbox) *bbox = BBox{};
   Scratch& sc = scratch();
-  // Drop consecutive duplicates in lon/lat (cyclically).
+  // Drop consecutive duplicates in lon/lat (cyclically), and consecutive points at one pole,
+  // whatever their longitudes (one point of the sphere: rounding puts runs of points there).
   {
+    auto same = [](const Pt& a, const Pt& b) {
+      return a.lat == b.lat && (a.lon == b.lon || is_pole(a.lat));
+    };
     std::size_t w = 0;
     for (std::size_t i = 0; i < loop.size(); ++i)
-      if (w == 0 || loop[i].lon != loop[w - 1].lon || loop[i].lat != loop[w - 1].lat)
-        loop[w++] = loop[i];
-    while (w > 1 && loop[w - 1].lon == loop[0].lon && loop[w - 1].lat == loop[0].lat) --w;
+      if (w == 0 || !same(loop[i], loop[w - 1])) loop[w++] = loop[i];
+    while (w > 1 && same(loop[w - 1], loop[0])) --w;
     loop.resize(w);
   }
   if (loop.size() < 3) {
