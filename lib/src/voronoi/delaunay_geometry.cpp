@@ -61,7 +61,16 @@ DelaunayGeometry::DelaunayGeometry(const SphericalDelaunay& dt, const DelaunayGe
       case Sign::Zero: kinds_[t] = FaceKind::GreatCircle; break;
       case Sign::Negative: kinds_[t] = FaceKind::Ghost; break;
     }
+    has_proper_ = has_proper_ || kinds_[t] == FaceKind::Proper;
   }
+}
+
+bool DelaunayGeometry::is_hull_edge(HalfedgeId e) const {
+  return is_outer(e / 3) != is_outer(dt_->halfedges()[e] / 3);
+}
+
+bool DelaunayGeometry::is_outer_edge(HalfedgeId e) const {
+  return is_outer(e / 3) && is_outer(dt_->halfedges()[e] / 3);
 }
 
 namespace {

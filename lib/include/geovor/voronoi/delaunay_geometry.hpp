@@ -14,12 +14,20 @@
 /// Face kinds, decided exactly by orient(a, b, c) = orientation_3(O, a, b, c):
 ///  - Proper (> 0): a spherical triangle smaller than a hemisphere, bounded by minor arcs.
 ///  - GreatCircle (= 0): its three sites lie on one great circle; the face is the hemisphere on
-///    the left of that circle (only when every site lies on one great circle, or for three sites).
+///    the left of that circle (when every site lies on one great circle, or when three or more
+///    sites on one great circle bound the hull of sites that all lie on one side of it).
 ///  - Ghost (< 0): its circumcircle is larger than a hemisphere (all sites lie in one open
 ///    hemisphere; CGAL's "ghost faces"). The face of the hull is then the outside of its three
 ///    sites' triangle; what is written is that small triangle itself (the region a GIS can
 ///    draw), which overlaps the Proper triangles: the Proper triangles alone tile the spherical
 ///    convex hull of the sites.
+///
+/// The faces outside the triangulation of the sites' convex hull ("outer" faces) are the Ghost
+/// faces and, when some face is Proper, the GreatCircle faces too (three or more sites on one
+/// great circle bounding a hull whose other sites are on one side of it: a flat face of the 3D
+/// hull, through the centre). The other faces (the Proper ones, or every face when all sites lie
+/// on one great circle) tile the hull, or the sphere. A hull edge has exactly one outer face; an
+/// outer edge has two (it is a diagonal of the hull's outside, not an edge of its triangulation).
 #pragma once
 
 #include <cstdint>
@@ -66,6 +74,21 @@ class DelaunayGeometry {
   /// construction.
   FaceKind kind(TriId t) const { return kinds_[t]; }
 
+  /// Whether triangle t lies outside the triangulation of the sites' convex hull (see the file
+  /// comment): a Ghost face, or a GreatCircle face while some face is Proper.
+  bool is_outer(TriId t) const {
+    return kinds_[t] == FaceKind::Ghost || (kinds_[t] == FaceKind::GreatCircle && has_proper_);
+  }
+
+  /// Whether the edge of half-edge e is an edge of the boundary of the sites' convex hull:
+  /// exactly one of its two faces is outer. None when the sites lie in no closed hemisphere, or
+  /// all on one great circle.
+  bool is_hull_edge(HalfedgeId e) const;
+
+  /// Whether both faces of the edge of half-edge e are outer: the edge is not an edge of the
+  /// triangulation of the sites' convex hull.
+  bool is_outer_edge(HalfedgeId e) const;
+
   /// The polygon written for triangle t (see the file comment), reusing `out`'s storage.
   void triangle_polygon(TriId t, MultiPolygon& out) const;
 
@@ -98,6 +121,7 @@ class DelaunayGeometry {
   };
   std::vector<SitePt> sites_;  // snapped position and lon/lat (degrees) of every site
   std::vector<FaceKind> kinds_;  // by triangle
+  bool has_proper_ = false;       // some triangle is Proper
 };
 
 }  // namespace geovor
