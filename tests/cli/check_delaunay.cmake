@@ -1,6 +1,6 @@
 # Runs `geovor delaunay INPUT -o TRIANGLES --edges EDGES --overwrite -q [ARGS]` and checks both
 # files with GDAL's ogrinfo, an independent reader: the feature counts, no geometry invalid for
-# GEOS, the ellipsoidal areas of the non-ghost triangles summing to AREA_KM2 (default: the WGS84
+# GEOS and none empty, the ellipsoidal areas of the non-ghost triangles summing to AREA_KM2 (default: the WGS84
 # ellipsoid's 510065621724088.5 m^2; "skip" for no check), every edge length positive, and, with
 # HULL, the number of edges with hull = 1 (and that none of them has ghost = 1).
 #
@@ -30,6 +30,7 @@ endif()
 include(${CMAKE_CURRENT_LIST_DIR}/ogr_sql.cmake)
 ogr_sql(${TRIANGLES} "SELECT COUNT(*) AS v FROM \"${TLAYER}\"" ntri)
 ogr_sql(${TRIANGLES} "SELECT COUNT(*) AS v FROM \"${TLAYER}\" WHERE NOT ST_IsValid(${GEOM})" invalid)
+ogr_sql(${TRIANGLES} "SELECT COUNT(*) AS v FROM \"${TLAYER}\" WHERE ${GEOM} IS NULL OR ST_IsEmpty(${GEOM})" empty)
 ogr_sql(${TRIANGLES} "SELECT COUNT(*) AS v FROM \"${TLAYER}\" WHERE ghost = 1" ghosts)
 ogr_sql(${TRIANGLES} "SELECT CAST(ROUND(SUM(area_m2) / 1e6) AS INTEGER) AS v FROM \"${TLAYER}\" WHERE ghost = 0" area_km2)
 ogr_sql(${EDGES} "SELECT COUNT(*) AS v FROM \"${ELAYER}\"" nedges)
@@ -50,6 +51,9 @@ if(NOT ntri EQUAL NTRI)
 endif()
 if(NOT invalid EQUAL 0)
   list(APPEND failures "${invalid} triangles invalid for GEOS")
+endif()
+if(NOT empty EQUAL 0)
+  list(APPEND failures "${empty} triangles empty")
 endif()
 if(NOT ghosts EQUAL GHOSTS)
   list(APPEND failures "${ghosts} ghost faces, expected ${GHOSTS}")

@@ -55,6 +55,11 @@ geovor_cli_delaunay(hull_crossing_no_ghosts ${fixtures}/hull_crossing.csv geojso
 geovor_cli_delaunay(hull_on_great_circle ${fixtures}/hull_on_great_circle.csv geojson 6 9 3 AREA_KM2 skip HULL 5)
 geovor_cli_delaunay(hull_on_great_circle_no_ghosts ${fixtures}/hull_on_great_circle.csv geojson 3 7 0
   AREA_KM2 skip HULL 5 ARGS --no-ghosts)
+# Issue 14: thin triangles (sites 0.001 degrees apart on latitudes 60 and -30, two sites 0.44 and
+# 0.89 m from the north pole) are written non-empty and valid in doubles and with 17 decimals
+# (their sides bulge by 0.4 mm from a lon/lat row: 7 decimals cannot show them).
+geovor_cli_delaunay(thin_triangles ${fixtures}/thin_triangles.csv geojson 22 33 0 ARGS --precision 17)
+geovor_cli_delaunay(thin_triangles_gpkg ${fixtures}/thin_triangles.csv gpkg 22 33 0 GEOM geom)
 # 12 sites on the equator: 20 faces, each a hemisphere (10 ellipsoids in all).
 geovor_cli_delaunay(equator ${fixtures}/equator.csv geojson 20 30 0 AREA_KM2 5100656217)
 

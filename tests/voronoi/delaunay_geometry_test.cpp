@@ -354,6 +354,50 @@ TEST(DelaunayGeometry, HullEdgesWithSitesOnTheHullsGreatCircle) {
   EXPECT_EQ(check_hull_edges(pts, false), 4u);
 }
 
+// Thin triangles (issue 14, bug 5): every triangle of a few nearly collinear sites is a valid,
+// non-empty, counter-clockwise polygon in doubles, of about its spherical area. Each case has a
+// fourth site far away so that the thin triangle is a proper face or a ghost's small triangle.
+TEST(DelaunayGeometry, ThinTrianglesAreNotEmpty) {
+  struct Case {
+    const char* name;
+    std::vector<LonLat> sites;  // lon, lat
+  };
+  const double cm = 1e-2 / 111195.0, m = 1 / 111195.0;  // degrees of latitude
+  std::vector<Case> cases = {
+      {"latitude row -30", {{20, -30}, {20.001, -30}, {20.002, -30}, {20, -29}}},
+      {"latitude row 60", {{20, 60}, {20.001, 60}, {20.002, 60}, {20, 61}}},
+      {"latitude row 60 other side", {{20, 60}, {20.001, 60}, {20.002, 60}, {20, 59}}},
+      {"latitude row 85, 1 m", {{20, 85}, {20 + 1e-4, 85}, {20 + 2e-4, 85}, {20, 84}}},
+      {"row across the antimeridian", {{179.999, 45}, {-180, 45}, {-179.999, 45}, {180, 46}}},
+      {"1 km, middle 1 cm off, lat 45", {{10, 45}, {10.0063, 45 + cm}, {10.0127, 45}, {10, 46}}},
+      {"1 km, middle 1 cm south, lat 45", {{10, 45}, {10.0063, 45 - cm}, {10.0127, 45}, {10, 44}}},
+      {"1 km, middle 1 m off, lat 70", {{10, 70}, {10.013, 70 + m}, {10.026, 70}, {10, 71}}},
+      {"two sites within 1 m of the pole", {{0, 90 - 0.44 * m}, {0, 90 - 0.89 * m}, {90, 89}, {-90, 89}, {180, 89}}},
+      {"two sites near the south pole", {{30, -90 + 0.5 * m}, {-150, -90 + 0.3 * m}, {0, -89}, {120, -89}}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    std::vector<Vec3> pts;
+    for (const LonLat& p : c.sites) pts.push_back(testing::unit_of(p));
+    const SphericalDelaunay dt = SphericalDelaunay::build(pts);
+    ASSERT_EQ(dt.num_sites(), pts.size());
+    const DelaunayGeometry g(dt);
+    MultiPolygon mp;
+    for (TriId t = 0; t < dt.num_triangles(); ++t) {
+      SCOPED_TRACE("triangle " + std::to_string(t) + " " + to_string(g.kind(t)));
+      if (g.kind(t) == FaceKind::GreatCircle) continue;
+      g.triangle_polygon(t, mp);
+      ASSERT_FALSE(mp.empty());
+      EXPECT_EQ(testing::geos_invalid(mp), "");
+      for (const Polygon& p : mp) EXPECT_GT(planar_area_deg2(p.exterior), 0);
+      // triangle_area_sr loses its digits below about 1e-17 sr (400 m^2) on such slivers.
+      if (g.triangle_area_sr(t) < 1e-17) continue;
+      const double rel = ellipsoid_area_m2(mp) / kEllipsoidArea * 4 * kPi / g.triangle_area_sr(t);
+      EXPECT_NEAR(rel, 1, 0.5);
+    }
+  }
+}
+
 TEST(DelaunayGeometry, CircumradiusIsTheDistanceToTheVoronoiVertex) {
   const SphericalDelaunay dt = SphericalDelaunay::build(testing::in_hemisphere(200, 21));
   const DelaunayGeometry g(dt);
