@@ -70,12 +70,13 @@ int run(DelaunayArgs& args) {
     std::vector<FieldValue> values(schema.size());
     for (TriId t = 0; t < dt.num_triangles(); ++t) {
       const FaceKind kind = geometry.kind(t);
-      if (kind == FaceKind::Ghost && args.no_ghosts) continue;
+      const bool outer = geometry.is_outer(t);
+      if (outer && args.no_ghosts) continue;
       geometry.triangle_polygon(t, polygon);
       const SiteId a = dt.tri_site(t, 0), b = dt.tri_site(t, 1), c = dt.tri_site(t, 2);
       values[0] = static_cast<std::int64_t>(t);
       values[1] = std::string(to_string(kind));
-      values[2] = static_cast<std::int64_t>(kind == FaceKind::Ghost);
+      values[2] = static_cast<std::int64_t>(outer);
       values[3] = static_cast<std::int64_t>(a);
       values[4] = static_cast<std::int64_t>(b);
       values[5] = static_cast<std::int64_t>(c);
@@ -96,7 +97,7 @@ int run(DelaunayArgs& args) {
     const std::vector<Field> schema = {
         {"edge_index", FieldType::Integer}, {"site_a", FieldType::Integer},  {"site_b", FieldType::Integer},
         {"id_a", FieldType::String},        {"id_b", FieldType::String},     {"length_m", FieldType::Real},
-        {"geodesic_m", FieldType::Real},    {"hull", FieldType::Integer}};
+        {"geodesic_m", FieldType::Real},    {"hull", FieldType::Integer},  {"ghost", FieldType::Integer}};
     const auto writer =
         open_feature_writer(args.edges, GeometryType::MultiLineString, schema, writer_options(args, args.edges_format, "edges"));
     const GeographicLib::Geodesic& geod = GeographicLib::Geodesic::WGS84();
@@ -108,7 +109,8 @@ int run(DelaunayArgs& args) {
       if (halfedges[e] < e) continue;  // each edge once, from its first half-edge
       const SiteId a = dt.tri_site(e / 3, static_cast<int>(e % 3));
       const SiteId b = dt.tri_site(e / 3, static_cast<int>((e + 1) % 3));
-      const bool hull = geometry.kind(e / 3) == FaceKind::Ghost || geometry.kind(halfedges[e] / 3) == FaceKind::Ghost;
+      const bool outer = geometry.is_outer_edge(e);
+      if (outer && args.no_ghosts) continue;
       geometry.edge_line(e, line);
       const LatLon la = SiteEncoder::to_lat_lon(dt.site(a)), lb = SiteEncoder::to_lat_lon(dt.site(b));
       double geodesic_m = 0;
@@ -120,7 +122,8 @@ int run(DelaunayArgs& args) {
       values[4] = site_id(b);
       values[5] = geometry.edge_length_m(e);
       values[6] = geodesic_m;
-      values[7] = static_cast<std::int64_t>(hull);
+      values[7] = static_cast<std::int64_t>(geometry.is_hull_edge(e));
+      values[8] = static_cast<std::int64_t>(outer);
       writer->write(line, values);
       ++edges_written;
       if (edges_written % 4096 == 0) progress.advance(triangles_written + edges_written);
@@ -157,17 +160,20 @@ Command add_delaunay_command(CLI::App& app) {
   cmd->add_option("--precision", args->precision, "Decimals of coordinates in text formats (default 7, about 1 cm)")
       ->check(CLI::Range(1, 17));
   cmd->add_flag("--no-ghosts", args->no_ghosts,
-                "Leave out ghost faces (circumcircle larger than a hemisphere: only when all sites lie in one "
-                "hemisphere); the other triangles tile the sites' convex hull");
+                "Leave out the faces and edges with ghost = 1 (outside the sites' convex hull: only when all sites lie "
+                "in one hemisphere); the other triangles tile the sites' convex hull");
   cmd->add_flag("--overwrite", args->overwrite, "Replace existing output files");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress and no summary on stderr");
   cmd->footer(
       "At least one of -o and --edges. Triangles carry: tri_index, kind (proper, ghost or great_circle),\n"
-      "ghost (1 for a face whose circumcircle is larger than a hemisphere, written as the small triangle of\n"
-      "its sites), site_a/b/c (site indices, counter-clockwise), id_a/b/c, area_m2 (WGS84 ellipsoid, of the\n"
-      "written polygon), area_sr (sphere), circumradius_m. Edges carry: edge_index, site_a, site_b, id_a,\n"
-      "id_b, length_m (great circle on the sphere of radius 6371008.8 m), geodesic_m (WGS84 geodesic\n"
-      "between the two sites), hull (1 for an edge of a ghost face: the sites' convex hull boundary).\n"
+      "ghost (1 for a face outside the triangulation of the sites' convex hull: a ghost face, whose\n"
+      "circumcircle is larger than a hemisphere, written as the small triangle of its sites, or a\n"
+      "great_circle face when other sites are off that circle), site_a/b/c (site indices, counter-clockwise),\n"
+      "id_a/b/c, area_m2 (WGS84 ellipsoid, of the written polygon), area_sr (sphere), circumradius_m.\n"
+      "Edges carry: edge_index, site_a, site_b, id_a, id_b, length_m (great circle on the sphere of radius\n"
+      "6371008.8 m), geodesic_m (WGS84 geodesic between the two sites), hull (1 for an edge of the boundary\n"
+      "of the sites' convex hull: between a face with ghost = 0 and one with ghost = 1), ghost (1 for an\n"
+      "edge between two faces with ghost = 1: not an edge of the hull's triangulation).\n"
       "Examples:\n"
       "  geovor delaunay datasets/weather_stations.csv -o triangles.geojson --edges edges.geojson\n"
       "  geovor delaunay stations.gpkg -o tin.gpkg --edges edges.fgb --no-ghosts");

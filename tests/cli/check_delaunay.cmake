@@ -1,10 +1,11 @@
 # Runs `geovor delaunay INPUT -o TRIANGLES --edges EDGES --overwrite -q [ARGS]` and checks both
 # files with GDAL's ogrinfo, an independent reader: the feature counts, no geometry invalid for
-# GEOS, the ellipsoidal areas of the non-ghost triangles summing to AREA_KM2 (default: the WGS84
-# ellipsoid's 510065621724088.5 m^2; "skip" for no check), and every edge length positive.
+# GEOS and none empty, the ellipsoidal areas of the non-ghost triangles summing to AREA_KM2 (default: the WGS84
+# ellipsoid's 510065621724088.5 m^2; "skip" for no check), every edge length positive, and, with
+# HULL, the number of edges with hull = 1 (and that none of them has ghost = 1).
 #
 #   cmake -DGEOVOR=<exe> -DINPUT=<csv> -DTRIANGLES=<file> -DEDGES=<file> -DNTRI=<n> -DNEDGES=<n>
-#         -DGHOSTS=<n> [-DAREA_KM2=<n>|skip] [-DGEOM=<column>] [-DTLAYER=<name>] [-DELAYER=<name>]
+#         -DGHOSTS=<n> [-DAREA_KM2=<n>|skip] [-DHULL=<n>] [-DGEOM=<column>] [-DTLAYER=<name>] [-DELAYER=<name>]
 #         [-DARGS=<a|b>] (extra arguments, separated by |)
 #         -P check_delaunay.cmake
 cmake_minimum_required(VERSION 3.25)
@@ -29,16 +30,30 @@ endif()
 include(${CMAKE_CURRENT_LIST_DIR}/ogr_sql.cmake)
 ogr_sql(${TRIANGLES} "SELECT COUNT(*) AS v FROM \"${TLAYER}\"" ntri)
 ogr_sql(${TRIANGLES} "SELECT COUNT(*) AS v FROM \"${TLAYER}\" WHERE NOT ST_IsValid(${GEOM})" invalid)
+ogr_sql(${TRIANGLES} "SELECT COUNT(*) AS v FROM \"${TLAYER}\" WHERE ${GEOM} IS NULL OR ST_IsEmpty(${GEOM})" empty)
 ogr_sql(${TRIANGLES} "SELECT COUNT(*) AS v FROM \"${TLAYER}\" WHERE ghost = 1" ghosts)
 ogr_sql(${TRIANGLES} "SELECT CAST(ROUND(SUM(area_m2) / 1e6) AS INTEGER) AS v FROM \"${TLAYER}\" WHERE ghost = 0" area_km2)
 ogr_sql(${EDGES} "SELECT COUNT(*) AS v FROM \"${ELAYER}\"" nedges)
 ogr_sql(${EDGES} "SELECT COUNT(*) AS v FROM \"${ELAYER}\" WHERE NOT ST_IsValid(${GEOM}) OR NOT length_m > 0" bad_edges)
 set(failures)
+if(DEFINED HULL)
+  ogr_sql(${EDGES} "SELECT COUNT(*) AS v FROM \"${ELAYER}\" WHERE hull = 1" hull)
+  ogr_sql(${EDGES} "SELECT COUNT(*) AS v FROM \"${ELAYER}\" WHERE hull = 1 AND ghost = 1" hull_ghosts)
+  if(NOT hull EQUAL HULL)
+    list(APPEND failures "${hull} hull edges, expected ${HULL}")
+  endif()
+  if(NOT hull_ghosts EQUAL 0)
+    list(APPEND failures "${hull_ghosts} hull edges with ghost = 1")
+  endif()
+endif()
 if(NOT ntri EQUAL NTRI)
   list(APPEND failures "${ntri} triangles, expected ${NTRI}")
 endif()
 if(NOT invalid EQUAL 0)
   list(APPEND failures "${invalid} triangles invalid for GEOS")
+endif()
+if(NOT empty EQUAL 0)
+  list(APPEND failures "${empty} triangles empty")
 endif()
 if(NOT ghosts EQUAL GHOSTS)
   list(APPEND failures "${ghosts} ghost faces, expected ${GHOSTS}")

@@ -5,11 +5,11 @@ set(delaunay_out ${CMAKE_CURRENT_BINARY_DIR}/delaunay)
 file(MAKE_DIRECTORY ${delaunay_out})
 
 # geovor_cli_delaunay(name input ext triangles edges ghosts [AREA_KM2 n|skip] [GEOM column]
-#                     [TLAYER l] [ELAYER l] [ARGS ...])
+#                     [TLAYER l] [ELAYER l] [HULL n] [ARGS ...])
 function(geovor_cli_delaunay name input ext ntri nedges ghosts)
-  cmake_parse_arguments(ARG "" "AREA_KM2;GEOM;TLAYER;ELAYER" "ARGS" ${ARGN})
+  cmake_parse_arguments(ARG "" "AREA_KM2;GEOM;TLAYER;ELAYER;HULL" "ARGS" ${ARGN})
   set(defs)
-  foreach(v AREA_KM2 GEOM TLAYER ELAYER)
+  foreach(v AREA_KM2 GEOM TLAYER ELAYER HULL)
     if(ARG_${v})
       list(APPEND defs -D${v}=${ARG_${v}})
     endif()
@@ -38,9 +38,28 @@ geovor_cli_delaunay(antimeridian ${fixtures}/antimeridian.csv geojson 12 18 0 AR
 geovor_cli_delaunay(antimeridian_gpkg ${fixtures}/antimeridian.csv gpkg 12 18 0 GEOM geom)
 geovor_cli_delaunay(poles ${fixtures}/poles.csv geojson 16 24 0)
 geovor_cli_delaunay(cube_corners ${fixtures}/cube_corners.csv geojson 12 18 0)
-geovor_cli_delaunay(three_sites ${fixtures}/three_sites.csv geojson 2 3 1 AREA_KM2 skip)
-geovor_cli_delaunay(hemisphere ${fixtures}/hemisphere.csv geojson 36 54 8 AREA_KM2 skip)
-geovor_cli_delaunay(hemisphere_no_ghosts ${fixtures}/hemisphere.csv geojson 28 54 0 AREA_KM2 skip ARGS --no-ghosts)
+geovor_cli_delaunay(three_sites ${fixtures}/three_sites.csv geojson 2 3 1 AREA_KM2 skip HULL 3)
+geovor_cli_delaunay(hemisphere ${fixtures}/hemisphere.csv geojson 36 54 8 AREA_KM2 skip HULL 10)
+# --no-ghosts also leaves out the 7 edges between two ghost faces (diagonals of the decagon at
+# lat 20 seen from outside).
+geovor_cli_delaunay(hemisphere_no_ghosts ${fixtures}/hemisphere.csv geojson 28 47 0 AREA_KM2 skip HULL 10
+  ARGS --no-ghosts)
+# Issue 14: a hull of 4 sites around a fifth. The two ghost faces share the diagonal b-e, which
+# is neither a hull edge nor written with --no-ghosts.
+geovor_cli_delaunay(hull_crossing ${fixtures}/hull_crossing.csv geojson 6 9 2 AREA_KM2 skip HULL 4)
+geovor_cli_delaunay(hull_crossing_no_ghosts ${fixtures}/hull_crossing.csv geojson 4 8 0 AREA_KM2 skip HULL 4
+  ARGS --no-ghosts)
+# 4 sites on the equator and one north: the two great-circle faces of the equator polygon and one
+# ghost are outside the hull (ghost = 1); the hull is the fan of 3 proper triangles from the north
+# site, bounded by 5 edges.
+geovor_cli_delaunay(hull_on_great_circle ${fixtures}/hull_on_great_circle.csv geojson 6 9 3 AREA_KM2 skip HULL 5)
+geovor_cli_delaunay(hull_on_great_circle_no_ghosts ${fixtures}/hull_on_great_circle.csv geojson 3 7 0
+  AREA_KM2 skip HULL 5 ARGS --no-ghosts)
+# Issue 14: thin triangles (sites 0.001 degrees apart on latitudes 60 and -30, two sites 0.44 and
+# 0.89 m from the north pole) are written non-empty and valid in doubles and with 17 decimals
+# (their sides bulge by 0.4 mm from a lon/lat row: 7 decimals cannot show them).
+geovor_cli_delaunay(thin_triangles ${fixtures}/thin_triangles.csv geojson 22 33 0 ARGS --precision 17)
+geovor_cli_delaunay(thin_triangles_gpkg ${fixtures}/thin_triangles.csv gpkg 22 33 0 GEOM geom)
 # 12 sites on the equator: 20 faces, each a hemisphere (10 ellipsoids in all).
 geovor_cli_delaunay(equator ${fixtures}/equator.csv geojson 20 30 0 AREA_KM2 5100656217)
 

@@ -12,6 +12,8 @@
 #include <map>
 #include <numbers>
 #include <random>
+#include <set>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -236,6 +238,164 @@ TEST(DelaunayGeometry, GreatCircleFacesAreHemispheres) {
   EXPECT_EQ(north + south, static_cast<double>(dt.num_triangles()));
   EXPECT_GT(north, 0);
   EXPECT_GT(south, 0);
+}
+
+// Oracle of the hull edges, by brute force over the sites and independent of the face kinds:
+// (i, j) is an edge of the boundary of the sites' spherical convex hull iff every other site lies
+// on one closed side of the great circle through i and j, not all on it, and none of those on it
+// lies strictly inside the minor arc i-j (with `strict`, every other site must be strictly on one
+// side: the textbook rule, the same for sites in general position).
+bool oracle_hull_edge(const std::vector<Vec3>& s, std::size_t i, std::size_t j, bool strict) {
+  int pos = 0, neg = 0, on = 0;
+  const Vec3 n = cross(s[i], s[j]);
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    if (k == i || k == j) continue;
+    const Sign o = kernel::orient(s[i], s[j], s[k]);
+    if (o == Sign::Positive) ++pos;
+    if (o == Sign::Negative) ++neg;
+    if (o != Sign::Zero) continue;
+    ++on;
+    if (dot(cross(s[i], s[k]), n) > 0 && dot(cross(s[k], s[j]), n) > 0) return false;  // inside the arc
+  }
+  if (strict && on > 0) return false;
+  return (pos == 0 || neg == 0) && pos + neg > 0;
+}
+
+// The hull edges DelaunayGeometry reports are those of the oracle, as site pairs; the outer
+// edges (both faces outside the hull's triangulation) join two hull vertices, are not hull
+// edges, and triangulate the outside of the hull polygon: h - 3 of them for h hull edges.
+// Returns the number of hull edges.
+std::size_t check_hull_edges(const std::vector<Vec3>& pts, bool strict) {
+  const SphericalDelaunay dt = SphericalDelaunay::build(pts);
+  EXPECT_EQ(dt.num_sites(), pts.size());
+  const DelaunayGeometry g(dt);
+  std::vector<Vec3> s(pts.size());
+  for (SiteId k = 0; k < pts.size(); ++k) s[k] = dt.site(k);
+  std::set<std::pair<SiteId, SiteId>> expected, got;
+  std::vector<bool> on_hull(s.size(), false);
+  for (std::size_t i = 0; i < s.size(); ++i)
+    for (std::size_t j = i + 1; j < s.size(); ++j)
+      if (oracle_hull_edge(s, i, j, strict)) {
+        expected.insert({static_cast<SiteId>(i), static_cast<SiteId>(j)});
+        on_hull[i] = on_hull[j] = true;
+      }
+  std::size_t outer = 0;
+  for (HalfedgeId e = 0; e < dt.halfedges().size(); ++e) {
+    const HalfedgeId twin = dt.halfedges()[e];
+    const SiteId a = dt.tri_site(e / 3, static_cast<int>(e % 3)), b = dt.tri_site(e / 3, static_cast<int>((e + 1) % 3));
+    EXPECT_EQ(g.is_hull_edge(e), g.is_hull_edge(twin));
+    EXPECT_EQ(g.is_outer_edge(e), g.is_outer_edge(twin));
+    if (twin < e) continue;
+    if (g.is_hull_edge(e)) got.insert({std::min(a, b), std::max(a, b)});
+    if (g.is_outer_edge(e)) {
+      ++outer;
+      EXPECT_FALSE(g.is_hull_edge(e));
+      EXPECT_TRUE(on_hull[a] && on_hull[b]) << "outer edge " << a << "-" << b << " off the hull";
+      EXPECT_FALSE(expected.count({std::min(a, b), std::max(a, b)}));
+    }
+  }
+  EXPECT_EQ(got, expected);
+  EXPECT_EQ(outer, expected.empty() ? 0 : expected.size() - 3);
+  return expected.size();
+}
+
+Vec3 unit_lat_lon(double lat, double lon) { return testing::unit_of({lon, lat}); }
+
+TEST(DelaunayGeometry, HullEdgesAreThoseOfTheConvexHull) {
+  // The sites of issue 14: b-e crosses a-c; the hull is e, a, b, d (c inside), and b-e, between
+  // two ghost faces, is no hull edge.
+  const std::vector<Vec3> five = {unit_lat_lon(0, 10), unit_lat_lon(10, 10), unit_lat_lon(5, 3),
+                                  unit_lat_lon(5, -2), unit_lat_lon(0, 0)};
+  EXPECT_EQ(check_hull_edges(five, true), 4u);
+  // Sites in one open hemisphere, in general position.
+  for (std::uint64_t seed : {3, 4, 5}) {
+    SCOPED_TRACE(seed);
+    for (std::size_t n : {4u, 5u, 8u, 30u, 300u}) EXPECT_GT(check_hull_edges(testing::in_hemisphere(n, seed), true), 2u);
+  }
+  EXPECT_EQ(check_hull_edges(csv_sites("datasets/fixtures/hemisphere.csv"), true), 10u);
+  // Three sites: the three edges, between the proper face and the ghost.
+  EXPECT_EQ(check_hull_edges(csv_sites("datasets/fixtures/three_sites.csv"), true), 3u);
+  // Sites in no hemisphere: no hull edge.
+  EXPECT_EQ(check_hull_edges(testing::uniform_on_sphere(200, 7), true), 0u);
+  EXPECT_EQ(check_hull_edges(csv_sites("datasets/fixtures/cube_corners.csv"), true), 0u);
+  // All sites on one great circle: great-circle faces only, no hull.
+  EXPECT_EQ(check_hull_edges(csv_sites("datasets/fixtures/equator.csv"), false), 0u);
+  std::vector<Vec3> arc;  // on 60 degrees of the equator: in one open hemisphere too
+  for (int k = 0; k <= 6; ++k) arc.push_back(unit_lat_lon(0, 10 * k));
+  EXPECT_EQ(check_hull_edges(arc, false), 0u);
+}
+
+TEST(DelaunayGeometry, HullEdgesWithSitesOnTheHullsGreatCircle) {
+  // Four sites on the equator and one north of it: the equator polygon is a flat face of the
+  // 3D hull (great-circle faces), outside the hull's triangulation (the fan from the north site).
+  std::vector<Vec3> pts = {unit_lat_lon(0, 0), unit_lat_lon(0, 10), unit_lat_lon(0, 20), unit_lat_lon(0, 30),
+                           unit_lat_lon(10, 15)};
+  EXPECT_EQ(check_hull_edges(pts, false), 5u);
+  {
+    const SphericalDelaunay dt = SphericalDelaunay::build(pts);
+    const DelaunayGeometry g(dt);
+    std::size_t outer = 0, great_circle = 0;
+    for (TriId t = 0; t < dt.num_triangles(); ++t) {
+      outer += g.is_outer(t);
+      great_circle += g.kind(t) == FaceKind::GreatCircle;
+      EXPECT_EQ(g.is_outer(t), g.kind(t) != FaceKind::Proper);
+    }
+    EXPECT_EQ(outer, 3u);
+    EXPECT_GT(great_circle, 0u);
+  }
+  // Three on the equator 120 degrees apart and one north: in a closed hemisphere only; the hull
+  // is the northern hemisphere, bounded by the three equator edges.
+  pts = {unit_lat_lon(0, 0), unit_lat_lon(0, 120), unit_lat_lon(0, -120), unit_lat_lon(30, 10)};
+  EXPECT_EQ(check_hull_edges(pts, false), 3u);
+  // The same with more sites north (and one on the equator between two others).
+  pts.push_back(unit_lat_lon(0, 60));
+  pts.push_back(unit_lat_lon(50, 100));
+  pts.push_back(unit_lat_lon(20, -100));
+  EXPECT_EQ(check_hull_edges(pts, false), 4u);
+}
+
+// Thin triangles (issue 14, bug 5): every triangle of a few nearly collinear sites is a valid,
+// non-empty, counter-clockwise polygon in doubles, of about its spherical area. Each case has a
+// fourth site far away so that the thin triangle is a proper face or a ghost's small triangle.
+TEST(DelaunayGeometry, ThinTrianglesAreNotEmpty) {
+  struct Case {
+    const char* name;
+    std::vector<LonLat> sites;  // lon, lat
+  };
+  const double cm = 1e-2 / 111195.0, m = 1 / 111195.0;  // degrees of latitude
+  std::vector<Case> cases = {
+      {"latitude row -30", {{20, -30}, {20.001, -30}, {20.002, -30}, {20, -29}}},
+      {"latitude row 60", {{20, 60}, {20.001, 60}, {20.002, 60}, {20, 61}}},
+      {"latitude row 60 other side", {{20, 60}, {20.001, 60}, {20.002, 60}, {20, 59}}},
+      {"latitude row 85, 1 m", {{20, 85}, {20 + 1e-4, 85}, {20 + 2e-4, 85}, {20, 84}}},
+      {"row across the antimeridian", {{179.999, 45}, {-180, 45}, {-179.999, 45}, {180, 46}}},
+      {"1 km, middle 1 cm off, lat 45", {{10, 45}, {10.0063, 45 + cm}, {10.0127, 45}, {10, 46}}},
+      {"1 km, middle 1 cm south, lat 45", {{10, 45}, {10.0063, 45 - cm}, {10.0127, 45}, {10, 44}}},
+      {"1 km, middle 1 m off, lat 70", {{10, 70}, {10.013, 70 + m}, {10.026, 70}, {10, 71}}},
+      {"two sites within 1 m of the pole", {{0, 90 - 0.44 * m}, {0, 90 - 0.89 * m}, {90, 89}, {-90, 89}, {180, 89}}},
+      {"two sites near the south pole", {{30, -90 + 0.5 * m}, {-150, -90 + 0.3 * m}, {0, -89}, {120, -89}}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    std::vector<Vec3> pts;
+    for (const LonLat& p : c.sites) pts.push_back(testing::unit_of(p));
+    const SphericalDelaunay dt = SphericalDelaunay::build(pts);
+    ASSERT_EQ(dt.num_sites(), pts.size());
+    const DelaunayGeometry g(dt);
+    MultiPolygon mp;
+    for (TriId t = 0; t < dt.num_triangles(); ++t) {
+      SCOPED_TRACE("triangle " + std::to_string(t) + " " + to_string(g.kind(t)));
+      if (g.kind(t) == FaceKind::GreatCircle) continue;
+      g.triangle_polygon(t, mp);
+      ASSERT_FALSE(mp.empty());
+      EXPECT_EQ(testing::geos_invalid(mp), "");
+      for (const Polygon& p : mp) EXPECT_GT(planar_area_deg2(p.exterior), 0);
+      // triangle_area_sr loses its digits below about 1e-17 sr (400 m^2) on such slivers.
+      if (g.triangle_area_sr(t) < 1e-17) continue;
+      const double rel = ellipsoid_area_m2(mp) / kEllipsoidArea * 4 * kPi / g.triangle_area_sr(t);
+      EXPECT_NEAR(rel, 1, 0.5);
+    }
+  }
 }
 
 TEST(DelaunayGeometry, CircumradiusIsTheDistanceToTheVoronoiVertex) {

@@ -61,7 +61,37 @@ DelaunayGeometry::DelaunayGeometry(const SphericalDelaunay& dt, const DelaunayGe
       case Sign::Zero: kinds_[t] = FaceKind::GreatCircle; break;
       case Sign::Negative: kinds_[t] = FaceKind::Ghost; break;
     }
+    has_proper_ = has_proper_ || kinds_[t] == FaceKind::Proper;
   }
+  thickness2_.resize(dt.num_triangles());
+  for (TriId t = 0; t < dt.num_triangles(); ++t) {
+    double h2 = std::numeric_limits<double>::infinity();  // a GreatCircle face is a hemisphere
+    if (kinds_[t] != FaceKind::GreatCircle) {
+      for (int i = 0; i < 3; ++i) {
+        const Vec3 &p = sites_[dt.tri_site(t, i)].v, &q = sites_[dt.tri_site(t, (i + 1) % 3)].v,
+                   &r = sites_[dt.tri_site(t, (i + 2) % 3)].v;
+        // Distance from p to the great circle of q and r: det(p, q, r) / |q x r|, both from the
+        // small differences of the sites (exact for close sites), not from their cross products
+        // (errors of 1e-16, far above the height of a thin triangle).
+        const double d = dot(p, cross(q - p, r - p));
+        h2 = std::min(h2, d * d / norm2(cross(q, r - q)));
+      }
+      h2 = std::max(h2, kMinThickness * kMinThickness);
+    }
+    thickness2_[t] = h2;
+  }
+}
+
+double DelaunayGeometry::edge_bound2(HalfedgeId e) const {
+  return std::min(thickness2_[e / 3], thickness2_[dt_->halfedges()[e] / 3]);
+}
+
+bool DelaunayGeometry::is_hull_edge(HalfedgeId e) const {
+  return is_outer(e / 3) != is_outer(dt_->halfedges()[e] / 3);
+}
+
+bool DelaunayGeometry::is_outer_edge(HalfedgeId e) const {
+  return is_outer(e / 3) && is_outer(dt_->halfedges()[e] / 3);
 }
 
 namespace {
@@ -69,7 +99,10 @@ namespace {
 // The points strictly between sites a and b of the arc a -> b turning positively about the unit
 // axis n, appended to `out`: cut into pieces of at most 90 degrees by rotation about n (so that
 // arcs of any length, up to a full turn but one point, are handled), each densified.
-void arc_points(const Pt& a, const Pt& b, const Vec3& n, const DelaunayGeometryOptions& o, std::vector<Pt>& out) {
+// `bound2` bounds the densification tolerance to a quarter of its square root (see
+// DelaunayGeometry::thickness2).
+void arc_points(const Pt& a, const Pt& b, const Vec3& n, const DelaunayGeometryOptions& o, double bound2,
+                std::vector<Pt>& out) {
   double theta = std::atan2(dot(cross(a.v, b.v), n), dot(a.v, b.v));
   if (theta <= 0) theta += 2 * kPi;
   const int pieces = std::max(1, static_cast<int>(std::ceil(theta / (kPi / 2))));
@@ -81,7 +114,7 @@ void arc_points(const Pt& a, const Pt& b, const Vec3& n, const DelaunayGeometryO
     const double phi = theta * k / pieces;
     const Pt next = k == pieces ? b : lonlat::make_pt(std::cos(phi) * a.v + std::sin(phi) * quarter);
     // left - right = n: the Densifier's axis for arcs beyond 120 degrees (never reached here).
-    dens.edge(prev, next, n, origin, std::numeric_limits<double>::infinity());
+    dens.edge(prev, next, n, origin, bound2);
     if (k < pieces) out.push_back(next);
     prev = next;
   }
@@ -90,13 +123,14 @@ void arc_points(const Pt& a, const Pt& b, const Vec3& n, const DelaunayGeometryO
 // Appends to `loop` the arc from u to v about axis n (both ends excluded), computed from the
 // smaller site id to the larger so that every user of the edge gets the same bits.
 void append_canonical_arc(const Pt& pu, const Pt& pv, SiteId u, SiteId v, const Vec3& n,
-                          const DelaunayGeometryOptions& o, std::vector<Pt>& loop, std::vector<Pt>& arc) {
+                          const DelaunayGeometryOptions& o, double bound2, std::vector<Pt>& loop,
+                          std::vector<Pt>& arc) {
   arc.clear();
   if (u < v) {
-    arc_points(pu, pv, n, o, arc);
+    arc_points(pu, pv, n, o, bound2, arc);
     loop.insert(loop.end(), arc.begin(), arc.end());
   } else {
-    arc_points(pv, pu, -1.0 * n, o, arc);
+    arc_points(pv, pu, -1.0 * n, o, bound2, arc);
     loop.insert(loop.end(), arc.rbegin(), arc.rend());
   }
 }
@@ -121,7 +155,12 @@ void DelaunayGeometry::triangle_polygon(TriId t, MultiPolygon& out) const {
       const Vec3 c = cross(dt.site(u), dt.site(v));
       if (norm2(c) > 0) n = lonlat::normalized(c);
     }
-    append_canonical_arc(pu, pv, u, v, n, options_, sc.loop, sc.arc);
+    // The half-edge of t from u to v, or from v to u in a Ghost's swapped order.
+    int j = 0;
+    while (j < 2 && !(dt.tri_site(t, j) == u && dt.tri_site(t, (j + 1) % 3) == v) &&
+           !(dt.tri_site(t, j) == v && dt.tri_site(t, (j + 1) % 3) == u))
+      ++j;
+    append_canonical_arc(pu, pv, u, v, n, options_, edge_bound2(3 * t + j), sc.loop, sc.arc);
   }
   lonlat::loop_to_polygons(sc.loop, out);
 }
@@ -147,7 +186,7 @@ void DelaunayGeometry::edge_line(HalfedgeId e, MultiLineString& out) const {
   }
   sc.loop.push_back(u < v ? pu : pv);
   sc.arc.clear();
-  arc_points(u < v ? pu : pv, u < v ? pv : pu, n, options_, sc.arc);
+  arc_points(u < v ? pu : pv, u < v ? pv : pu, n, options_, edge_bound2(e), sc.arc);
   sc.loop.insert(sc.loop.end(), sc.arc.begin(), sc.arc.end());
   sc.loop.push_back(u < v ? pv : pu);
   if (u > v) std::reverse(sc.loop.begin(), sc.loop.end());
