@@ -139,6 +139,16 @@ class GdalWriter final : public FeatureWriter {
     if (auto why = geometry_problem(geometry); !why.empty()) {
       throw Error(ErrorCode::InvalidArgument, path_ + ": " + feature() + ": " + why);
     }
+    if (iequals(driver_, "FlatGeobuf")) {
+      // GDAL's FlatGeobuf writer leaves out a feature with an empty geometry (its spatial index
+      // has no box for it): refused, never dropped.
+      const auto* polygons = std::get_if<MultiPolygon>(&geometry);
+      const auto* lines = std::get_if<MultiLineString>(&geometry);
+      if ((polygons && polygons->empty()) || (lines && lines->empty()))
+        throw Error(ErrorCode::BadData,
+                    path_ + ": " + feature() + " has an empty geometry, which FlatGeobuf cannot hold (GDAL "
+                    "would leave the feature out); write GeoPackage or GeoJSON, or raise --precision");
+    }
     ErrorCapture capture;
     OGRFeature& f = *feature_;
     for (std::size_t i = 0; i < values.size(); ++i) {
