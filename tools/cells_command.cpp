@@ -107,7 +107,7 @@ Command add_cells_command(CLI::App& app) {
   cmd->add_option("--format", args->out.format, "OGR driver name, overriding the extension (GeoJSON, GeoJSONSeq, GPKG, FlatGeobuf, \"ESRI Shapefile\", CSV, ...)");
   cmd->add_option("--densify-m", args->out.densify_m, "Largest distance in metres between a written edge and the true great-circle arc (default 100)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--precision", args->out.precision, "Decimals of coordinates in text formats (default 7, about 1 cm)")
+  cmd->add_option("--precision", args->out.precision, "Decimals of coordinates in GeoJSON (default 7, about 1 cm; binary formats store doubles): the cells are computed, checked valid and measured (area_m2) as written; a cell that collapses or cannot be written valid at this precision gets an empty geometry and is reported")
       ->check(CLI::Range(1, 17));
   cmd->add_option("--report", args->report, "CSV file listing every input row: site, merged (with its site) or rejected (with the reason)");
   cmd->add_flag("--overwrite", args->out.overwrite, "Replace existing output files");
@@ -116,7 +116,8 @@ Command add_cells_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->footer(
       "Each cell carries: site_index, site_id (also the feature id), ids (JSON array of the ids of every\n"
-      "row merged into the site), n_rows, area_m2 (WGS84 ellipsoid), area_sr (sphere), n_vertices,\n"
+      "row merged into the site), n_rows, area_m2 (WGS84 ellipsoid, of the ring as written), area_sr\n"
+      "(sphere, of the exact cell), n_vertices,\n"
       "neighbors (JSON array of the neighbours' ids), then every input column.\n"
       "Examples:\n"
       "  geovor cells datasets/weather_stations.csv -o cells.geojson\n"
