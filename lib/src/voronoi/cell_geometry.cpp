@@ -122,6 +122,17 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   lonlat::check_densify_options(options.densify_m, options.max_step_deg, options.max_depth);
   if (!(options.collapse_m >= 0) || !(options.collapse_m < 0.1))
     throw Error(ErrorCode::InvalidArgument, "collapse_m must be in [0, 0.1) metres");
+  {
+    double zmax = -2, zmin = 2;
+    for (SiteId s = 0; s < diagram.site_capacity(); ++s) {
+      if (!diagram.has_cell(s)) continue;
+      const double z = diagram.site(s).z;
+      if (z > zmax) zmax = z, north_owner_ = s;
+      else if (z == zmax) north_owner_ = kNoIndex;
+      if (z < zmin) zmin = z, south_owner_ = s;
+      else if (z == zmin) south_owner_ = kNoIndex;
+    }
+  }
   if (diagram.kind() != VoronoiDiagram::Kind::Cells) return;
 
   const std::size_t nv = diagram.num_vertices();
@@ -372,10 +383,31 @@ const char* to_string(CellStatus status) {
   return "?";
 }
 
-CellStatus CellGeometry::finish(MultiPolygon& out, BBox* bbox) const {
+CellStatus CellGeometry::finish(SiteId s, int winding, MultiPolygon& out, BBox* bbox) const {
   // Fast path: one ring, star-shaped about its mean (the typical cell), is valid as it stands.
-  if (out.size() == 1 && out[0].holes.empty() && is_star_shaped_ccw(out[0].exterior)) return CellStatus::Written;
+  if (winding == 0 && s != north_owner_ && s != south_owner_ && out.size() == 1 && out[0].holes.empty() &&
+      is_star_shaped_ccw(out[0].exterior))
+    return CellStatus::Written;
   if (out.empty()) return CellStatus::Collapsed;
+  auto unwritable = [&] {
+    out.clear();
+    if (bbox) *bbox = BBox{};
+    return CellStatus::Unwritable;
+  };
+  // The poles, decided exactly: a ring may enclose a pole only if its site owns it; the owner's
+  // ring must enclose it or pass through it (rounding can put the pole on its boundary). A
+  // rounded wedge at a pole turned the wrong way otherwise gives a cell around the whole Earth.
+  bool at_north = false, at_south = false;
+  for (const Polygon& poly : out)
+    for (const LonLat& p : poly.exterior) {
+      at_north |= p.lat_deg == 90;
+      at_south |= p.lat_deg == -90;
+    }
+  if ((winding > 0 && s != north_owner_) || (winding < 0 && s != south_owner_) ||
+      (s == north_owner_ && winding <= 0 && !at_north) || (s == south_owner_ && winding >= 0 && !at_south))
+    return unwritable();
+  for (const Polygon& poly : out)
+    if (std::fabs(planar_area_deg2(poly.exterior)) >= kWholeDeg2 * (1 - 1e-12)) return unwritable();
   bool cleaned = false;
   for (Polygon& poly : out) {
     const std::size_t before = poly.exterior.size();
@@ -389,11 +421,7 @@ CellStatus CellGeometry::finish(MultiPolygon& out, BBox* bbox) const {
       return CellStatus::Collapsed;
     }
   }
-  if (!polygon_problem(out).empty()) {
-    out.clear();
-    if (bbox) *bbox = BBox{};
-    return CellStatus::Unwritable;
-  }
+  if (!polygon_problem(out).empty()) return unwritable();
   if (cleaned && bbox) {
     // The removed spikes may have held an extreme: the box of what is left (the rules of
     // loop_to_polygons: polar or cut boxes keep their longitudes, a ring cannot lose a pole).
@@ -505,8 +533,9 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
       area_sum += s < w ? sum : -sum;
       area_crossings += s < w ? crossings : -crossings;
     }
-    lonlat::loop_to_polygons(loop, out, bbox, options_.precision);
-    const CellStatus status = finish(out, bbox);
+    int winding = 0;
+    lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &winding);
+    const CellStatus status = finish(s, winding, out, bbox);
     if (area_m2 && status == CellStatus::Written) {
       // The edges' sums are the ring's when the ring is the loop itself (same positions, same
       // order): not cut, no pole. Otherwise GeographicLib on the written rings.
@@ -519,8 +548,9 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
     return status;
   }
 
-  lonlat::loop_to_polygons(loop, out, bbox, options_.precision);
-  const CellStatus status = finish(out, bbox);
+  int winding = 0;
+  lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &winding);
+  const CellStatus status = finish(s, winding, out, bbox);
   if (area_m2 && status == CellStatus::Written) *area_m2 = ellipsoid_area_m2(out);
   return status;
 }
@@ -546,7 +576,12 @@ bool cell_areas_agree(double area_m2, double area_sr, const MultiPolygon& writte
       perimeter_m += kMetresPerDeg * std::hypot(poly.exterior[i + 1].lon_deg - poly.exterior[i].lon_deg,
                                                 poly.exterior[i + 1].lat_deg - poly.exterior[i].lat_deg);
   const double step_m = precision >= 0 ? kMetresPerDeg * std::pow(10.0, -precision) : 0;
-  return diff <= 0.005 * sphere_m2 + (500 + densify_m + step_m) * perimeter_m;
+  const double slack = 0.005 * sphere_m2 + (500 + densify_m + step_m) * perimeter_m;
+  // Below a metre's step, a written cell is its cell within the slack. Coarser, parts of a cell
+  // thinner than a step collapse (they are not written), so only a written cell too large is
+  // wrong.
+  if (step_m >= 1 && area_m2 < sphere_m2) return true;
+  return diff <= slack;
 }
 
 double ellipsoid_area_m2(const MultiPolygon& polygons) {

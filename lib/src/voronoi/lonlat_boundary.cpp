@@ -260,7 +260,8 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
   split(mp, b, depth + 1);
 }
 
-void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int precision) {
+void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int precision, int* winding_out) {
+  if (winding_out) *winding_out = 0;
   std::size_t used = 0;
   if (bbox) *bbox = BBox{};
   Scratch& sc = scratch();
@@ -304,6 +305,7 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
 
   std::vector<RP>& piece = sc.piece;
   bool polar = winding != 0;
+  if (winding_out) *winding_out = winding;
   if (winding == 0) {
     // Sheets every point can be written in: [k - 1, k] on the antimeridian, else {k}.
     int common_lo = std::numeric_limits<int>::min(), common_hi = std::numeric_limits<int>::max();

@@ -74,8 +74,10 @@ class Densifier {
 /// around a pole, rings counter-clockwise and closed by an exact copy. `loop` is modified
 /// (consecutive duplicates dropped). An empty result means a degenerate loop. The points' lon/lat
 /// must already be written with `precision` decimals; the antimeridian crossings are too.
+/// `winding`, if given, is set to +1 when the ring encloses the north pole, -1 the south pole,
+/// 0 when it encloses neither (a pole on the ring is not enclosed).
 void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox = nullptr,
-                      int precision = kFullPrecision);
+                      int precision = kFullPrecision, int* winding = nullptr);
 
 /// An open path (densified) as lines: cut at the antimeridian (both parts end on it at the same
 /// latitude, at +180 and -180) and at a pole it passes through; parts of fewer than two distinct

@@ -172,8 +172,13 @@ class CellGeometry {
   };
   std::vector<std::vector<BoundaryPoint>> points_;  // one part per construction thread
   CellStatus build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
-  // Cleans and checks `out` as built; empties it unless valid.
-  CellStatus finish(MultiPolygon& out, BBox* bbox) const;
+  // Cleans and checks `out` as built for site s, whose ring encloses the pole `winding` says
+  // (loop_to_polygons); empties it unless valid.
+  CellStatus finish(SiteId s, int winding, MultiPolygon& out, BBox* bbox) const;
+  // The site whose cell holds each pole in its interior (the site of largest, smallest z:
+  // the hull's extreme point in that direction, an exact comparison), or kNoIndex when two
+  // sites tie (the pole is on the boundary of their cells).
+  SiteId north_owner_ = kNoIndex, south_owner_ = kNoIndex;
 };
 
 /// One cell, building a CellGeometry first (O(size of the diagram)): for one-off use only; use
@@ -195,7 +200,9 @@ double ellipsoid_area_m2(const MultiPolygon& polygons);
 /// agrees with its area on the unit sphere, area_sr, scaled by the authalic radius, within the
 /// ellipsoid's flattening (0.5 %) plus what the written boundary may differ from the cell's by
 /// (densification, rounding to `precision` decimals, ellipsoidal against great-circle edges:
-/// 500 m + densify_m + a decimal step, times the perimeter of `written`).
+/// 500 m + densify_m + a decimal step, times the perimeter of `written`). At a precision coarser
+/// than a metre, parts of a cell thinner than a step collapse, so only a written area too large
+/// is checked there.
 bool cell_areas_agree(double area_m2, double area_sr, const MultiPolygon& written, double densify_m,
                       int precision);
 
