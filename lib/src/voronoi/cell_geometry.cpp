@@ -534,7 +534,8 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
       area_crossings += s < w ? crossings : -crossings;
     }
     int winding = 0;
-    lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &winding);
+    lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &winding,
+                             {north_owner_ == kNoIndex ? 0 : s == north_owner_, south_owner_ == kNoIndex ? 0 : s == south_owner_});
     const CellStatus status = finish(s, winding, out, bbox);
     if (area_m2 && status == CellStatus::Written) {
       // The edges' sums are the ring's when the ring is the loop itself (same positions, same
@@ -549,7 +550,8 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
   }
 
   int winding = 0;
-  lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &winding);
+  lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &winding,
+                           {north_owner_ == kNoIndex ? 0 : s == north_owner_, south_owner_ == kNoIndex ? 0 : s == south_owner_});
   const CellStatus status = finish(s, winding, out, bbox);
   if (area_m2 && status == CellStatus::Written) *area_m2 = ellipsoid_area_m2(out);
   return status;

@@ -198,7 +198,7 @@ void Densifier::edge(const Pt& a, const Pt& b, const Vec3& left, const Vec3& rig
   // Both sites, at half their distance from the arc, stay inside their written cells.
   edge_tol2_ = std::min(tol2_, site_chord2 / 16);
   if (a.v == b.v) return;
-  if (!is_pole(a.lat) && !is_pole(b.lat)) {
+  if (!at_pole(a.v) && !at_pole(b.v)) {
     // An arc passing within kSnapRad of a pole gets the pole as a vertex, so that the
     // longitude jump of about 180 degrees is decided by the pole rule, not by rounding.
     // Most arcs are nowhere near a pole: ruled out without the square root (the margin keeps
@@ -239,13 +239,17 @@ Vec3 Densifier::midpoint(const Vec3& a, const Vec3& b) {
 
 void Densifier::split(const Pt& a, const Pt& b, int depth) {
   if (depth >= max_depth_ || a.v == b.v) return;
-  const bool pa = is_pole(a.lat), pb = is_pole(b.lat);
+  // On the sphere: a point merely written at a pole (within a decimal step of it) is not one,
+  // and an arc from it is no meridian.
+  const bool pa = at_pole(a.v), pb = at_pole(b.v);
   Vec3 m;
   if (pa || pb) {
-    // From a pole the arc is a meridian, straight in lon/lat: only pole to pole (N to S) needs
-    // a midpoint, which gives the meridian its longitude.
-    // Two points written at the same pole are one point of the file: nothing between them.
-    if (!(pa && pb) || a.lat == b.lat) return;
+    // From a pole the arc is a meridian, straight in lon/lat. Pole to pole (N to S) needs a
+    // midpoint, which gives the meridian its longitude; so does an arc from a pole to a point
+    // near the other pole (longer than 120 degrees), whose own longitude is ill-conditioned:
+    // the arc's axis gives the midpoint.
+    if (pa && pb && a.v.z == b.v.z) return;
+    if (!(pa && pb) && dot(a.v, b.v) > -0.5) return;
     m = midpoint(a.v, b.v);
   } else {
     m = midpoint(a.v, b.v);
@@ -260,7 +264,8 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
   split(mp, b, depth + 1);
 }
 
-void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int precision, int* winding_out) {
+void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int precision, int* winding_out,
+                      PoleOwner pole_owner) {
   if (winding_out) *winding_out = 0;
   std::size_t used = 0;
   if (bbox) *bbox = BBox{};
@@ -294,7 +299,15 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
     }
     const double in = loop[i == 0 ? n - 1 : i - 1].lon, outl = loop[i + 1 == n ? 0 : i + 1].lon;
     ring.push_back({p.v, in, p.lat, 0});
-    if (outl != in) ring.push_back({p.v, outl, p.lat, 0});
+    // The ring runs west along the north pole's line (east along the south's) from the incoming
+    // meridian to the outgoing one: that span is the region's angle at the pole. When the caller
+    // knows whether the region holds the pole, a span on the wrong side of 180 degrees is
+    // rounding (a boundary passing within a decimal step of the pole, drawn at it): the ring then
+    // only touches the pole.
+    const double span = std::fmod((p.lat > 0 ? in - outl : outl - in) + 720.0, 360.0);
+    const int owns = p.lat > 0 ? pole_owner.north : pole_owner.south;
+    const bool wrong_side = (owns == 0 && span > 180) || (owns == 1 && span < 180);
+    if (outl != in && !wrong_side) ring.push_back({p.v, outl, p.lat, 0});
   }
 
   // Unwrap: sheets along the ring, and the winding (in turns) after closing it.

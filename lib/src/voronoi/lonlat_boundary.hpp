@@ -19,6 +19,8 @@ namespace geovor::lonlat {
 inline constexpr double kSnapRad = 0x1p-36;
 
 inline bool is_pole(double lat) { return lat == 90 || lat == -90; }
+/// A point of the sphere exactly at a pole (snapped there: see make_pt).
+inline bool at_pole(const Vec3& v) { return v.x == 0 && v.y == 0; }
 inline Vec3 normalized(const Vec3& v) { return (1 / std::sqrt(norm2(v))) * v; }
 
 /// A boundary point on the sphere and in geodetic lon/lat (degrees), snapped.
@@ -76,8 +78,14 @@ class Densifier {
 /// must already be written with `precision` decimals; the antimeridian crossings are too.
 /// `winding`, if given, is set to +1 when the ring encloses the north pole, -1 the south pole,
 /// 0 when it encloses neither (a pole on the ring is not enclosed).
+/// `pole_owner` says, when known, whether the region holds each pole in its interior (1), not
+/// (0), or unknown (-1): the angle of the region at a point of the loop drawn at a pole is then
+/// taken on the right side of 180 degrees, else the ring only touches the pole there.
+struct PoleOwner {
+  int north = -1, south = -1;
+};
 void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox = nullptr,
-                      int precision = kFullPrecision, int* winding = nullptr);
+                      int precision = kFullPrecision, int* winding = nullptr, PoleOwner pole_owner = {});
 
 /// An open path (densified) as lines: cut at the antimeridian (both parts end on it at the same
 /// latitude, at +180 and -180) and at a pole it passes through; parts of fewer than two distinct
