@@ -464,7 +464,8 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
   }
   std::sort(unwritten_cells.begin(), unwritten_cells.end(),
             [](const UnwrittenCell& a, const UnwrittenCell& b) { return a.site < b.site; });
-  if (!args.quiet && !unwritten_cells.empty()) {
+  // Listed even with --quiet, as rejected rows are: a cell without geometry must not pass unseen.
+  if (!unwritten_cells.empty()) {
     std::fprintf(stderr, "%zu cell(s) written with an empty geometry: at %s they %s:\n", unwritten_cells.size(),
                  geometry_options.precision >= 0 ? ("--precision " + std::to_string(geometry_options.precision)).c_str()
                                                  : "full precision",

@@ -111,7 +111,7 @@ Command add_cells_command(CLI::App& app) {
       ->check(CLI::Range(1, 17));
   cmd->add_option("--report", args->report, "CSV file listing every input row: site, merged (with its site) or rejected (with the reason)");
   cmd->add_flag("--overwrite", args->out.overwrite, "Replace existing output files");
-  cmd->add_flag("-q,--quiet", args->out.quiet, "No progress, no summary and no list of merged rows on stderr (they stay in the cells' ids and --report); rejected rows are still listed");
+  cmd->add_flag("-q,--quiet", args->out.quiet, "No progress, no summary and no list of merged rows on stderr (they stay in the cells' ids and --report); rejected rows and cells written with an empty geometry are still listed");
   cmd->add_option("--threads", args->out.threads, "Threads converting the coordinates and computing and formatting the cells (default: one per core); the output is the same")
       ->check(CLI::NonNegativeNumber);
   cmd->footer(

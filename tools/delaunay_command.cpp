@@ -52,6 +52,13 @@ int run(DelaunayArgs& args) {
   auto site_id = [&](SiteId s) -> const std::string& { return table.sites[rows[s].front()].id; };
   DelaunayGeometryOptions geometry_options;
   geometry_options.densify_m = args.densify_m;
+  // Positions as the text outputs (GeoJSON) write them; the binary formats store doubles, and
+  // a binary output beside a text one gets the rounded positions (as doubles) too.
+  const bool text = (!args.triangles.empty() && !output_needs_gdal(args.triangles, args.format)) ||
+                    (!args.edges.empty() && !output_needs_gdal(args.edges, args.edges_format));
+  geometry_options.precision = text ? args.precision : kFullPrecision;
+  std::vector<std::pair<TriId, WrittenStatus>> unwritten;
+  std::size_t collapsed_edges = 0;
   const DelaunayGeometry geometry(dt, geometry_options);
   std::size_t triangles_written = 0, edges_written = 0;
   const std::size_t total = (args.triangles.empty() ? 0 : dt.num_triangles()) +
@@ -72,7 +79,8 @@ int run(DelaunayArgs& args) {
       const FaceKind kind = geometry.kind(t);
       const bool outer = geometry.is_outer(t);
       if (outer && args.no_ghosts) continue;
-      geometry.triangle_polygon(t, polygon);
+      const WrittenStatus status = geometry.triangle_polygon(t, polygon);
+      if (status != WrittenStatus::Written) unwritten.push_back({t, status});
       const SiteId a = dt.tri_site(t, 0), b = dt.tri_site(t, 1), c = dt.tri_site(t, 2);
       values[0] = static_cast<std::int64_t>(t);
       values[1] = std::string(to_string(kind));
@@ -112,6 +120,7 @@ int run(DelaunayArgs& args) {
       const bool outer = geometry.is_outer_edge(e);
       if (outer && args.no_ghosts) continue;
       geometry.edge_line(e, line);
+      collapsed_edges += line.empty();
       const LatLon la = SiteEncoder::to_lat_lon(dt.site(a)), lb = SiteEncoder::to_lat_lon(dt.site(b));
       double geodesic_m = 0;
       geod.Inverse(la.lat_deg, la.lon_deg, lb.lat_deg, lb.lon_deg, geodesic_m);
@@ -131,6 +140,20 @@ int run(DelaunayArgs& args) {
     writer->finish();
   }
   progress.finish();
+  const std::string where =
+      geometry_options.precision >= 0 ? "--precision " + std::to_string(geometry_options.precision) : "full precision";
+  if (!unwritten.empty()) {
+    // Listed even with --quiet, as rejected rows are: a feature without geometry must not pass unseen.
+    std::fprintf(stderr, "%zu triangle(s) written with an empty geometry: at %s they collapse or would not be valid polygons (raise --precision):\n",
+                 unwritten.size(), where.c_str());
+    for (std::size_t i = 0; i < unwritten.size() && i < 20; ++i)
+      std::fprintf(stderr, "  triangle %u (sites %u, %u, %u): %s\n", unwritten[i].first, dt.tri_site(unwritten[i].first, 0),
+                   dt.tri_site(unwritten[i].first, 1), dt.tri_site(unwritten[i].first, 2), to_string(unwritten[i].second));
+    if (unwritten.size() > 20) std::fprintf(stderr, "  ... (%zu more)\n", unwritten.size() - 20);
+  }
+  if (collapsed_edges > 0)
+    std::fprintf(stderr, "%zu edge(s) written with an empty geometry: their ends are one position at %s\n", collapsed_edges,
+                 where.c_str());
   if (!args.quiet) {
     std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; triangles %zu (ghost %zu)",
                  table.source.c_str(), static_cast<unsigned long long>(table.rows_read), dt.num_sites(),

@@ -371,18 +371,6 @@ CellStatus CellGeometry::polygon(SiteId s, MultiPolygon& out, double& area_m2, B
   return build(s, out, bbox, &area_m2);
 }
 
-const char* to_string(CellStatus status) {
-  switch (status) {
-    case CellStatus::Written:
-      return "written";
-    case CellStatus::Collapsed:
-      return "collapsed";
-    case CellStatus::Unwritable:
-      return "unwritable";
-  }
-  return "?";
-}
-
 CellStatus CellGeometry::finish(SiteId s, int winding, MultiPolygon& out, BBox* bbox) const {
   // Fast path: one ring, star-shaped about its mean (the typical cell), is valid as it stands.
   if (winding == 0 && s != north_owner_ && s != south_owner_ && out.size() == 1 && out[0].holes.empty() &&
@@ -409,19 +397,11 @@ CellStatus CellGeometry::finish(SiteId s, int winding, MultiPolygon& out, BBox* 
   for (const Polygon& poly : out)
     if (std::fabs(planar_area_deg2(poly.exterior)) >= kWholeDeg2 * (1 - 1e-12)) return unwritable();
   bool cleaned = false;
-  for (Polygon& poly : out) {
-    const std::size_t before = poly.exterior.size();
-    remove_spikes(poly.exterior);
-    cleaned |= poly.exterior.size() != before;
+  const CellStatus status = certify_written(out, &cleaned);
+  if (status != CellStatus::Written) {
+    if (bbox) *bbox = BBox{};
+    return status;
   }
-  if (cleaned) {
-    std::erase_if(out, [](const Polygon& poly) { return poly.exterior.size() < 4; });
-    if (out.empty()) {
-      if (bbox) *bbox = BBox{};
-      return CellStatus::Collapsed;
-    }
-  }
-  if (!polygon_problem(out).empty()) return unwritable();
   if (cleaned && bbox) {
     // The removed spikes may have held an extreme: the box of what is left (the rules of
     // loop_to_polygons: polar or cut boxes keep their longitudes, a ring cannot lose a pole).

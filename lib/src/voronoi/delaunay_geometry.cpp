@@ -51,7 +51,7 @@ DelaunayGeometry::DelaunayGeometry(const SphericalDelaunay& dt, const DelaunayGe
     if (!dt.is_live(s)) continue;
     Vec3 v = dt.site(s);
     if (v.x * v.x + v.y * v.y <= pole_snap * pole_snap) v = {0, 0, v.z > 0 ? 1.0 : -1.0};
-    const Pt p = lonlat::make_pt(v);
+    const Pt p = lonlat::make_pt(v, options.precision);
     sites_[s] = {p.v, p.lon, p.lat};
   }
   kinds_.resize(dt.num_triangles());
@@ -107,12 +107,12 @@ void arc_points(const Pt& a, const Pt& b, const Vec3& n, const DelaunayGeometryO
   if (theta <= 0) theta += 2 * kPi;
   const int pieces = std::max(1, static_cast<int>(std::ceil(theta / (kPi / 2))));
   const Vec3 quarter = cross(n, a.v);  // a turned by 90 degrees about n
-  lonlat::Densifier dens(o.densify_m, o.max_step_deg, o.max_depth, out);
+  lonlat::Densifier dens(o.densify_m, o.max_step_deg, o.max_depth, out, o.precision);
   const Vec3 origin{0, 0, 0};
   Pt prev = a;
   for (int k = 1; k <= pieces; ++k) {
     const double phi = theta * k / pieces;
-    const Pt next = k == pieces ? b : lonlat::make_pt(std::cos(phi) * a.v + std::sin(phi) * quarter);
+    const Pt next = k == pieces ? b : lonlat::make_pt(std::cos(phi) * a.v + std::sin(phi) * quarter, o.precision);
     // left - right = n: the Densifier's axis for arcs beyond 120 degrees (never reached here).
     dens.edge(prev, next, n, origin, bound2);
     if (k < pieces) out.push_back(next);
@@ -137,7 +137,7 @@ void append_canonical_arc(const Pt& pu, const Pt& pv, SiteId u, SiteId v, const 
 
 }  // namespace
 
-void DelaunayGeometry::triangle_polygon(TriId t, MultiPolygon& out) const {
+WrittenStatus DelaunayGeometry::triangle_polygon(TriId t, MultiPolygon& out) const {
   const SphericalDelaunay& dt = *dt_;
   Scratch& sc = scratch();
   sc.loop.clear();
@@ -162,7 +162,8 @@ void DelaunayGeometry::triangle_polygon(TriId t, MultiPolygon& out) const {
       ++j;
     append_canonical_arc(pu, pv, u, v, n, options_, edge_bound2(3 * t + j), sc.loop, sc.arc);
   }
-  lonlat::loop_to_polygons(sc.loop, out);
+  lonlat::loop_to_polygons(sc.loop, out, nullptr, options_.precision);
+  return certify_written(out);
 }
 
 void DelaunayGeometry::edge_line(HalfedgeId e, MultiLineString& out) const {
@@ -190,7 +191,7 @@ void DelaunayGeometry::edge_line(HalfedgeId e, MultiLineString& out) const {
   sc.loop.insert(sc.loop.end(), sc.arc.begin(), sc.arc.end());
   sc.loop.push_back(u < v ? pv : pu);
   if (u > v) std::reverse(sc.loop.begin(), sc.loop.end());
-  lonlat::path_to_lines(sc.loop, out);
+  lonlat::path_to_lines(sc.loop, out, options_.precision);
 }
 
 double DelaunayGeometry::triangle_area_sr(TriId t) const {

@@ -132,6 +132,42 @@ bool is_star_shaped_ccw(const Ring& ring) {
   return turns == 1;
 }
 
+const char* to_string(WrittenStatus status) {
+  switch (status) {
+    case WrittenStatus::Written:
+      return "written";
+    case WrittenStatus::Collapsed:
+      return "collapsed";
+    case WrittenStatus::Unwritable:
+      return "unwritable";
+  }
+  return "?";
+}
+
+WrittenStatus certify_written(MultiPolygon& polygons, bool* cleaned_out) {
+  if (cleaned_out) *cleaned_out = false;
+  // Fast path: one ring, star-shaped about its mean (the typical cell), is valid as it stands.
+  if (polygons.size() == 1 && polygons[0].holes.empty() && is_star_shaped_ccw(polygons[0].exterior))
+    return WrittenStatus::Written;
+  if (polygons.empty()) return WrittenStatus::Collapsed;
+  bool cleaned = false;
+  for (Polygon& poly : polygons) {
+    const std::size_t before = poly.exterior.size();
+    remove_spikes(poly.exterior);
+    cleaned |= poly.exterior.size() != before;
+  }
+  if (cleaned_out) *cleaned_out = cleaned;
+  if (cleaned) {
+    std::erase_if(polygons, [](const Polygon& poly) { return poly.exterior.size() < 4; });
+    if (polygons.empty()) return WrittenStatus::Collapsed;
+  }
+  if (!polygon_problem(polygons).empty()) {
+    polygons.clear();
+    return WrittenStatus::Unwritable;
+  }
+  return WrittenStatus::Written;
+}
+
 void remove_spikes(Ring& ring) {
   if (ring.empty()) return;
   if (ring.size() > 1 && ring.back() == ring.front()) ring.pop_back();

@@ -45,6 +45,7 @@
 #include "geovor/core/coordinate_grid.hpp"
 #include "geovor/core/types.hpp"
 #include "geovor/io/geometry.hpp"
+#include "geovor/voronoi/polygon_validity.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 
 namespace geovor {
@@ -75,16 +76,9 @@ struct CellGeometryOptions {
   int precision = kFullPrecision;
 };
 
-/// What became of a cell when built at its precision (see CellGeometry::polygon).
-enum class CellStatus : std::uint8_t {
-  Written,     ///< a valid MultiPolygon
-  Collapsed,   ///< no area is left at this precision (every edge collapsed): empty geometry
-  Unwritable,  ///< rounding to this precision folds the cell (its written rings would cross
-               ///< themselves or each other): empty geometry, never an invalid one
-};
-
-/// "written", "collapsed" or "unwritable".
-const char* to_string(CellStatus status);
+/// What became of a cell when built at its precision (see CellGeometry::polygon): Written,
+/// Collapsed or Unwritable (polygon_validity.hpp).
+using CellStatus = WrittenStatus;
 
 /// Builds the lon/lat polygons of the cells of one VoronoiDiagram. Construction precomputes, for
 /// every Voronoi vertex, its collapsed representative, its snapped position and its lon/lat, and

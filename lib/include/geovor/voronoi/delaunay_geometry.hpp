@@ -40,7 +40,9 @@
 
 #include "geovor/core/types.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
+#include "geovor/core/coordinate_grid.hpp"
 #include "geovor/io/geometry.hpp"
+#include "geovor/voronoi/polygon_validity.hpp"
 
 namespace geovor {
 
@@ -54,6 +56,10 @@ struct DelaunayGeometryOptions {
   double max_step_deg = 1;
   /// Recursion depth cap of the bisection of one arc. DEFAULT: 20. REQUIRES: in [1, 40].
   int max_depth = 20;
+  /// Decimals of the written coordinates (0..17), or kFullPrecision for formats that store
+  /// doubles: positions are computed as a reader gets them back (snap_to_decimals), so that
+  /// each triangle is certified, and its area measured, as written. DEFAULT: kFullPrecision.
+  int precision = kFullPrecision;
 };
 
 enum class FaceKind : std::uint8_t { Proper, GreatCircle, Ghost };
@@ -96,12 +102,16 @@ class DelaunayGeometry {
   /// triangulation of the sites' convex hull.
   bool is_outer_edge(HalfedgeId e) const;
 
-  /// The polygon written for triangle t (see the file comment), reusing `out`'s storage.
-  void triangle_polygon(TriId t, MultiPolygon& out) const;
+  /// The polygon written for triangle t (see the file comment), reusing `out`'s storage, at
+  /// options().precision, cleaned and certified exactly (certify_written): unless the status is
+  /// Written, `out` is empty (the triangle collapses or folds at that precision; the caller
+  /// reports it), never invalid.
+  WrittenStatus triangle_polygon(TriId t, MultiPolygon& out) const;
 
   /// The line of the edge of half-edge e (from its origin to its destination), cut at the
   /// antimeridian and at a pole it passes through. Both half-edges of an edge give the same
-  /// positions in opposite orders.
+  /// positions in opposite orders. Empty when its positions collapse to one at
+  /// options().precision.
   void edge_line(HalfedgeId e, MultiLineString& out) const;
 
   /// Solid angle (steradians) of the region written for triangle t: below 2 pi for a Proper

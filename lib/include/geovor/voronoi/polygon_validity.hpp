@@ -6,11 +6,29 @@
 /// "valid" here means valid for any reader of the file, at the precision written.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "geovor/io/geometry.hpp"
 
 namespace geovor {
+
+/// What became of a polygon (a cell, a triangle) when written at its precision.
+enum class WrittenStatus : std::uint8_t {
+  Written,     ///< a valid MultiPolygon
+  Collapsed,   ///< no area is left at this precision: empty geometry
+  Unwritable,  ///< rounding to this precision folds it (its written rings would cross themselves
+               ///< or each other): empty geometry, never an invalid one
+};
+
+/// "written", "collapsed" or "unwritable".
+const char* to_string(WrittenStatus status);
+
+/// Makes `polygons` (as built from rounded positions) what may be written: spikes left by
+/// collapsed edges removed (remove_spikes), collapsed parts dropped, then certified exactly
+/// (is_star_shaped_ccw for one ring, else polygon_problem). Unless Written, `polygons` is left
+/// empty. `cleaned`, if given, tells whether positions were removed.
+WrittenStatus certify_written(MultiPolygon& polygons, bool* cleaned = nullptr);
 
 /// Why `polygons` is not a valid MultiPolygon, or "" if it is: every ring closed with at least
 /// four positions, no repeated position but the closing one, no two segments of any rings
