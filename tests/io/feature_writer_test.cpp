@@ -1282,6 +1282,32 @@ TEST(SafeOutput, SignalsRemoveTemporaries) {
   }
 }
 
+// The commit: without overwrite an existing name is left alone (EEXIST), with overwrite replaced.
+TEST(SafeOutput, RenameIntoPlace) {
+  TempDir dir;
+  spit(dir / "new", "new");
+  spit(dir / "old", "old");
+  EXPECT_EQ(rename_into_place(dir / "new", dir / "old", false), EEXIST);
+  EXPECT_EQ(slurp(dir / "old"), "old");
+  EXPECT_EQ(rename_into_place(dir / "new", dir / "fresh", false), 0);
+  EXPECT_EQ(slurp(dir / "fresh"), "new");
+  EXPECT_EQ(rename_into_place(dir / "fresh", dir / "old", true), 0);
+  EXPECT_EQ(slurp(dir / "old"), "new");
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"old"});
+  // A temporary: short name in the target's folder, gone once committed or discarded.
+  {
+    TemporaryOutput t(dir / std::string(250, 'x'), TemporaryOutput::Kind::File);
+    EXPECT_LE(fs::path(t.path()).filename().string().size(), 30u) << t.path();
+    EXPECT_EQ(fs::path(t.path()).parent_path(), fs::path(dir / "old").parent_path());
+    EXPECT_EQ(dir.entries().size(), 2u);
+  }
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"old"});
+  TemporaryOutput t(dir / "old", TemporaryOutput::Kind::File);
+  const Error e = error_of([&] { t.commit(dir / "old", false); });
+  EXPECT_TRUE(contains(e.what(), "old: exists; use --overwrite to replace it")) << e.what();
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"old"});
+}
+
 // The same-file test behind every command's outputs.
 TEST(SafeOutput, SameOutputFile) {
   TempDir dir;
