@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
+#include "geovor/io/output_target.hpp"
 #include "cell_output.hpp"
 #include "output_file.hpp"
 #include "site_input.hpp"
@@ -57,6 +58,8 @@ void write_report(OutputFile& out, const SiteTable& table, const BuildReport& re
 }
 
 int run(CellsArgs& args) {
+  // Two outputs that are one file (a path, an alias, a link; `-` twice): refused before any work.
+  check_distinct_outputs({{"--output", args.out.output}, {"--report", args.report}});
   // Opened first, so that an existing report is refused before any work; renamed into place last.
   std::unique_ptr<OutputFile> report_file;
   if (!args.report.empty()) report_file = std::make_unique<OutputFile>(args.report, args.out.overwrite);

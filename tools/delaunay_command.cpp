@@ -11,6 +11,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/feature_writer.hpp"
+#include "geovor/io/output_target.hpp"
 #include "geovor/voronoi/cell_geometry.hpp"
 #include "geovor/voronoi/delaunay_geometry.hpp"
 #include "site_input.hpp"
@@ -43,6 +44,8 @@ WriterOptions writer_options(const DelaunayArgs& args, const std::string& format
 int run(DelaunayArgs& args) {
   if (args.triangles.empty() && args.edges.empty())
     throw Error(ErrorCode::InvalidArgument, "nothing to write: give -o TRIANGLES and/or --edges EDGES");
+  // Two outputs that are one file (a path, an alias, a link; `-` twice): refused before any work.
+  check_distinct_outputs({{"--output", args.triangles}, {"--edges", args.edges}});
   const SiteTable table = read_site_input(args.sites);
   const std::vector<Vec3> points = site_points(table);
   BuildReport report;

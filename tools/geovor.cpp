@@ -16,6 +16,7 @@
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/io/feature_writer.hpp"
+#include "geovor/io/output_target.hpp"
 
 namespace geovor::tools {
 namespace {
@@ -107,6 +108,9 @@ int run_geovor(int argc, char** argv, bool has_gdal) {
     const int code = app.exit(e);
     return code == 0 ? kOk : kUsage;
   }
+  // Ctrl-C, SIGTERM and SIGHUP remove the temporaries of the outputs being written, then end
+  // the process by the same signal (exit status 130, 143, 129).
+  install_output_cleanup();
   try {
     for (const auto& [name, command] : commands)
       if (app.got_subcommand(name)) {

@@ -3,52 +3,35 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 
 #include "geovor/core/error.hpp"
+#include "geovor/io/output_target.hpp"
 
 namespace geovor::tools {
-namespace {
-
-std::atomic<unsigned> g_temp_counter{0};
-
-}  // namespace
 
 OutputFile::OutputFile(const std::string& path, bool overwrite)
-    : path_(path), name_(path == "-" ? "<stdout>" : path) {
+    : path_(path), name_(path == "-" ? "<stdout>" : path), overwrite_(overwrite) {
   if (path == "-") {
     file_ = stdout;
     return;
   }
-  struct stat st;
-  if (::stat(path.c_str(), &st) == 0) {
-    if (S_ISDIR(st.st_mode)) throw Error(ErrorCode::Io, path + ": is a directory");
-    if (!S_ISREG(st.st_mode)) {  // a device or a FIFO: written in place
-      file_ = std::fopen(path.c_str(), "wb");
-      if (file_ == nullptr) throw Error(ErrorCode::Io, path + ": cannot open: " + std::strerror(errno));
-      return;
-    }
-    if (!overwrite) throw Error(ErrorCode::Io, path + ": exists; use --overwrite to replace it");
+  if (check_output_target(path, overwrite) == OutputTargetState::Special) {  // a device or a FIFO: written in place
+    file_ = std::fopen(path.c_str(), "wb");
+    if (file_ == nullptr) throw Error(ErrorCode::Io, path + ": cannot open: " + std::strerror(errno));
+    return;
   }
-  const std::filesystem::path target(path);
-  const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
-  for (int attempt = 0; attempt < 100; ++attempt) {
-    std::string name(".");
-    name += target.filename().string();
-    name += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(g_temp_counter.fetch_add(1));
-    const std::string temp = (dir / name).string();
-    file_ = std::fopen(temp.c_str(), "wbx");  // "x": O_EXCL, never an existing file
-    if (file_ != nullptr) {
-      temp_ = temp;
-      return;
-    }
-    if (errno != EEXIST)
-      throw Error(ErrorCode::Io, path + ": cannot create the temporary file " + temp + ": " + std::strerror(errno));
+  temp_ = TemporaryOutput(path, TemporaryOutput::Kind::File);
+  const int fd = temp_.take_fd();
+  file_ = ::fdopen(fd, "wb");
+  if (file_ == nullptr) {
+    const int err = errno;
+    ::close(fd);
+    temp_.discard();
+    throw Error(ErrorCode::Io, path + ": cannot open the temporary file: " + std::strerror(err));
   }
-  throw Error(ErrorCode::Io, path + ": cannot find a free temporary file name");
 }
 
 OutputFile::~OutputFile() {
@@ -67,7 +50,7 @@ void OutputFile::flush() {
 
 void OutputFile::commit() {
   flush();
-  if (temp_.empty()) {  // stdout or a device: nothing to rename
+  if (!temp_.active()) {  // stdout or a device: nothing to rename
     if (file_ != stdout) {
       std::FILE* f = file_;
       file_ = nullptr;
@@ -81,8 +64,7 @@ void OutputFile::commit() {
   std::FILE* f = file_;
   file_ = nullptr;
   if (std::fclose(f) != 0) fail("write error", errno);
-  if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail("cannot rename " + temp_ + " to it", errno);
-  temp_.clear();
+  temp_.commit(path_, overwrite_);  // never over a file that appeared meanwhile, unless overwriting
   committed_ = true;
 }
 
@@ -94,8 +76,7 @@ void OutputFile::fail(const std::string& what, int err) {
 void OutputFile::discard() noexcept {
   if (file_ != nullptr && file_ != stdout) std::fclose(file_);
   file_ = nullptr;
-  if (!temp_.empty()) std::remove(temp_.c_str());
-  temp_.clear();
+  temp_.discard();
 }
 
 }  // namespace geovor::tools

@@ -5,14 +5,17 @@
 #include <cstdio>
 #include <string>
 
+#include "geovor/io/output_target.hpp"
+
 namespace geovor::tools {
 
 class OutputFile {
  public:
   /// Opens `path` for writing: "-" is stdout; an existing regular file is refused (Error(Io))
   /// unless `overwrite`; an existing device or FIFO (/dev/null, /dev/stdout) is written in place,
-  /// since renaming over it would replace it; anything else gets a temporary file
-  /// `.NAME.tmp-PID-N` in the target's directory.
+  /// since renaming over it would replace it; anything else gets a temporary file in the target's
+  /// directory (geovor/io/output_target.hpp: a short name, removed on errors and on SIGINT,
+  /// SIGTERM and SIGHUP).
   OutputFile(const std::string& path, bool overwrite);
   /// Removes the temporary file unless commit() succeeded.
   ~OutputFile();
@@ -26,15 +29,18 @@ class OutputFile {
   void write(const char* data, std::size_t n);
   /// Flushes the buffer; Error(Io) on failure (a full disk), with the temporary file removed.
   void flush();
-  /// Flushes, syncs, closes and renames the file into place; Error(Io) on failure (a full disk),
-  /// with the temporary file removed.
+  /// Flushes, syncs, closes and renames the file into place, never over a file that appeared
+  /// meanwhile unless `overwrite`; Error(Io) on failure (a full disk, "PATH: exists; use
+  /// --overwrite to replace it"), with the temporary file removed.
   void commit();
 
  private:
   [[noreturn]] void fail(const std::string& what, int err);
   void discard() noexcept;
 
-  std::string path_, name_, temp_;
+  std::string path_, name_;
+  bool overwrite_ = false;
+  TemporaryOutput temp_;  // unless stdout or a device
   std::FILE* file_ = nullptr;
   bool committed_ = false;
 };

@@ -15,6 +15,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/feature_writer.hpp"
+#include "geovor/io/output_target.hpp"
 #include "geovor/voronoi/lloyd.hpp"
 #include "site_input.hpp"
 
@@ -99,10 +100,10 @@ int run(RelaxArgs& args) {
     options.relocation = Relocation::Rebuild;
   else
     throw Error(ErrorCode::InvalidArgument, "--relocation: expected filtered, naive or rebuild, got '" + args.relocation + "'");
+  // Two outputs that are one file (a path, an alias, a link; `-` twice): refused before any work.
+  check_distinct_outputs({{"--output", args.cells.output}, {"--sites-output", args.sites_output}});
   check_writable(args.cells.output, args.cells.overwrite);
   check_writable(args.sites_output, args.cells.overwrite);
-  if (!args.sites_output.empty() && args.sites_output == args.cells.output)
-    throw Error(ErrorCode::InvalidArgument, "--sites-output must differ from --output");
 
   const SiteTable table = read_site_input(args.sites);
   const std::vector<Vec3> points = site_points(table);

@@ -15,6 +15,8 @@
 #include <ogr_spatialref.h>
 #include <ogrsf_frmts.h>
 #include <sys/mount.h>
+#include <sys/wait.h>
+#include <csignal>
 #include <unistd.h>
 
 #include <algorithm>
@@ -38,6 +40,7 @@
 #include "geovor/core/error.hpp"
 #include "support/temp_dir.hpp"
 #include "geovor/io/geojson_writer.hpp"
+#include "geovor/io/output_target.hpp"
 
 namespace geovor {
 namespace {
@@ -1213,6 +1216,118 @@ TEST(SafeOutput, NothingLeftWhenNotFinished) {
     }
     EXPECT_TRUE(dir.entries().empty()) << dir.entries().front();
   }
+}
+
+// A file that appears at the target while the writer runs is never replaced without overwrite
+// (the commit is renameat2(RENAME_NOREPLACE), not a plain rename); with overwrite it is.
+TEST(SafeOutput, FileAppearingMeanwhileIsNotReplaced) {
+  for (const std::string name : {"a.geojson", "a.geojsons", "a.gpkg", "a.fgb", "a.csv"}) {
+    SCOPED_TRACE(name);
+    TempDir dir;
+    {
+      auto w = open_feature_writer(dir / name, GeometryType::MultiPolygon, cell_schema(), {});
+      for (const Cell& c : cells()) w->write(c.geometry, c.values);
+      spit(dir / name, "precious");
+      const Error e = error_of([&] { w->finish(); });
+      EXPECT_EQ(e.code(), ErrorCode::Io) << e.what();
+      EXPECT_TRUE(contains(e.what(), "exists; use --overwrite")) << e.what();
+    }
+    EXPECT_EQ(slurp(dir / name), "precious");
+    EXPECT_EQ(dir.entries(), std::vector<std::string>{name});  // no temporary left
+    WriterOptions overwrite;
+    overwrite.overwrite = true;
+    auto w = open_feature_writer(dir / name, GeometryType::MultiPolygon, cell_schema(), overwrite);
+    for (const Cell& c : cells()) w->write(c.geometry, c.values);
+    spit(dir / name, "replaced");
+    w->finish();
+    EXPECT_NE(slurp(dir / name), "replaced");
+  }
+}
+
+// Temporaries have short names in the target's folder: a 250-byte file name can be written.
+TEST(SafeOutput, LongFileNames) {
+  for (const std::string ext : {".geojson", ".fgb"}) {
+    SCOPED_TRACE(ext);
+    TempDir dir;
+    const std::string name = std::string(250 - ext.size(), 'n') + ext;
+    auto w = open_feature_writer(dir / name, GeometryType::MultiPolygon, cell_schema(), {});
+    for (const Cell& c : cells()) w->write(c.geometry, c.values);
+    for (const std::string& entry : dir.entries()) EXPECT_LE(entry.size(), 30u) << entry;  // the temporary
+    w->finish();
+    EXPECT_EQ(dir.entries(), std::vector<std::string>{name});
+  }
+}
+
+// SIGTERM, SIGINT and SIGHUP (install_output_cleanup) remove the temporaries of the writers
+// being written (a GeoJSON file, a GDAL driver's directory) and end the process by the signal.
+TEST(SafeOutput, SignalsRemoveTemporaries) {
+  for (const int sig : {SIGTERM, SIGINT, SIGHUP}) {
+    SCOPED_TRACE(sig);
+    TempDir dir;
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      install_output_cleanup();
+      auto a = open_feature_writer(dir / "a.geojson", GeometryType::MultiPolygon, cell_schema(), {});
+      auto b = open_feature_writer(dir / "b.gpkg", GeometryType::MultiPolygon, cell_schema(), {});
+      for (const Cell& c : cells()) a->write(c.geometry, c.values), b->write(c.geometry, c.values);
+      if (dir.entries().size() != 2) ::_exit(3);  // the two temporaries
+      ::raise(sig);
+      ::_exit(4);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << status;
+    EXPECT_TRUE(dir.entries().empty()) << dir.entries().front();
+  }
+}
+
+// The commit: without overwrite an existing name is left alone (EEXIST), with overwrite replaced.
+TEST(SafeOutput, RenameIntoPlace) {
+  TempDir dir;
+  spit(dir / "new", "new");
+  spit(dir / "old", "old");
+  EXPECT_EQ(rename_into_place(dir / "new", dir / "old", false), EEXIST);
+  EXPECT_EQ(slurp(dir / "old"), "old");
+  EXPECT_EQ(rename_into_place(dir / "new", dir / "fresh", false), 0);
+  EXPECT_EQ(slurp(dir / "fresh"), "new");
+  EXPECT_EQ(rename_into_place(dir / "fresh", dir / "old", true), 0);
+  EXPECT_EQ(slurp(dir / "old"), "new");
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"old"});
+  // A temporary: short name in the target's folder, gone once committed or discarded.
+  {
+    TemporaryOutput t(dir / std::string(250, 'x'), TemporaryOutput::Kind::File);
+    EXPECT_LE(fs::path(t.path()).filename().string().size(), 30u) << t.path();
+    EXPECT_EQ(fs::path(t.path()).parent_path(), fs::path(dir / "old").parent_path());
+    EXPECT_EQ(dir.entries().size(), 2u);
+  }
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"old"});
+  TemporaryOutput t(dir / "old", TemporaryOutput::Kind::File);
+  const Error e = error_of([&] { t.commit(dir / "old", false); });
+  EXPECT_TRUE(contains(e.what(), "old: exists; use --overwrite to replace it")) << e.what();
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"old"});
+}
+
+// The same-file test behind every command's outputs.
+TEST(SafeOutput, SameOutputFile) {
+  TempDir dir;
+  const std::string a = dir / "a.geojson";
+  EXPECT_TRUE(same_output_file("-", "-"));
+  EXPECT_TRUE(same_output_file(a, a));  // neither exists
+  fs::create_directory(dir / "sub");
+  EXPECT_TRUE(same_output_file(a, dir / "sub/../a.geojson"));
+  EXPECT_FALSE(same_output_file(a, dir / "b.geojson"));
+  EXPECT_FALSE(same_output_file(a, "-"));
+  spit(a, "x");
+  EXPECT_TRUE(same_output_file(a, dir / "./a.geojson"));
+  fs::create_hard_link(a, dir / "hard");
+  fs::create_symlink(a, dir / "soft");
+  EXPECT_TRUE(same_output_file(a, dir / "hard"));
+  EXPECT_TRUE(same_output_file(dir / "soft", a));
+  EXPECT_FALSE(same_output_file("/dev/null", "/dev/null"));  // a device, written in place
+  const Error e = error_of([&] { check_distinct_outputs({{"--output", a}, {"--report", ""}, {"--edges", dir / "hard"}}); });
+  EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+  EXPECT_TRUE(contains(e.what(), "--output") && contains(e.what(), "--edges")) << e.what();
 }
 
 TEST(SafeOutput, MissingDirectoryIsAnIoError) {

@@ -358,7 +358,7 @@ TEST(IndexFileSave, RefusesAnExistingFileUnlessOverwriting) {
   EXPECT_EQ(load_index(path).attributes.num_rows(), table.sites.size());
   // No temporary file left behind.
   for (const auto& entry : fs::directory_iterator(fs::path(path).parent_path()))
-    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
+    EXPECT_FALSE(entry.path().filename().string().starts_with(".gv-")) << entry.path();
   // Attributes of another site count are refused.
   SiteAttributes wrong = index.attributes;
   wrong.site_rows.pop_back();

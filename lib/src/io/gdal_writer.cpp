@@ -25,13 +25,12 @@
 
 #include "geovor/core/error.hpp"
 #include "geovor/io/geojson_writer.hpp"
+#include "geovor/io/output_target.hpp"
 
 namespace geovor::gdal_detail {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::atomic<unsigned> g_temp_counter{0};
 
 void CPL_STDCALL capture_handler(CPLErr error_class, CPLErrorNum number, const char* message) {
   auto* capture = static_cast<ErrorCapture*>(CPLGetErrorHandlerUserData());
@@ -88,24 +87,10 @@ class GdalWriter final : public FeatureWriter {
     if (!target.has_filename()) throw Error(ErrorCode::InvalidArgument, path_ + ": not a file name");
     check_targets(target, options.overwrite);
 
-    // The private temporary directory, next to the target (same file system: rename works).
-    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    for (int attempt = 0;; ++attempt) {
-      std::string name(".");  // (not "." + string: GCC 12 warns wrongly, -Wrestrict)
-      name += target.filename().string();
-      name += ".tmp-" + std::to_string(::getpid()) + "-" +
-              std::to_string(g_temp_counter.fetch_add(1));
-      const fs::path temp = dir / name;
-      if (::mkdir(temp.c_str(), 0700) == 0) {
-        temp_dir_ = temp;
-        break;
-      }
-      const int err = errno;
-      if (err != EEXIST || attempt >= 100) {
-        throw Error(ErrorCode::Io, path_ + ": cannot create the temporary directory " +
-                                       temp.string() + ": " + std::strerror(err));
-      }
-    }
+    // The private temporary directory, next to the target (same file system: rename works), with
+    // a short name (output_target.hpp), removed on errors and signals.
+    temp_ = TemporaryOutput(path_, TemporaryOutput::Kind::Directory);
+    temp_dir_ = temp_.path();
     try {
       create(driver, target.filename().string(), schema, options);
     } catch (...) {
@@ -345,15 +330,18 @@ class GdalWriter final : public FeatureWriter {
                           [&](const std::string& n) { return n != filename; });
     std::vector<fs::path> moved;
     for (const std::string& name : produced) {
-      if (std::rename((temp_dir_ / name).c_str(), (dir / name).c_str()) != 0) {
-        const int err = errno;
+      // Never over a file that appeared meanwhile, unless overwriting.
+      const int err = rename_into_place((temp_dir_ / name).string(), (dir / name).string(), overwrite_);
+      if (err != 0) {
         for (const fs::path& p : moved) fs::remove(p, ec);
+        if (err == EEXIST) fail((dir / name).string() + " exists; use --overwrite to replace it");
         fail("cannot rename " + (temp_dir_ / name).string() + " to " + (dir / name).string() +
              ": " + std::strerror(err));
       }
       moved.push_back(dir / name);
     }
     fs::remove_all(temp_dir_, ec);
+    temp_.release();
     temp_dir_.clear();
   }
 
@@ -378,11 +366,8 @@ class GdalWriter final : public FeatureWriter {
     }
     transaction_ = false;
     layer_ = nullptr;
-    if (!temp_dir_.empty()) {
-      std::error_code ec;
-      fs::remove_all(temp_dir_, ec);
-      temp_dir_.clear();
-    }
+    temp_.discard();  // the directory and everything in it
+    temp_dir_.clear();
   }
 
   [[noreturn]] void fail(const std::string& what) {
@@ -399,7 +384,8 @@ class GdalWriter final : public FeatureWriter {
   GeometryType geometry_type_;
   std::size_t field_count_;
   bool overwrite_ = false;
-  fs::path temp_dir_;
+  TemporaryOutput temp_;
+  fs::path temp_dir_;  // temp_'s path
   GDALDataset* dataset_ = nullptr;
   OGRLayer* layer_ = nullptr;
   std::unique_ptr<OGRFeature> feature_;

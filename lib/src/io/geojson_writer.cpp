@@ -20,6 +20,7 @@
 #include <utility>
 
 #include "geovor/core/error.hpp"
+#include "geovor/io/output_target.hpp"
 
 namespace geovor {
 namespace {
@@ -149,22 +150,7 @@ static_assert(static_cast<int>(GeometryType::Point) == 0 &&
 // ---------------------------------------------------------------------------------------------
 // Output file handling
 
-std::atomic<unsigned> g_temp_counter{0};
-
 std::string errno_text(int err) { return std::strerror(err); }
-
-// Error(Io) if `path` exists and may not be replaced; true if it is a device or a FIFO
-// (/dev/stdout, /dev/null), written in place: renaming over it would replace it.
-bool check_target(const std::string& path, bool overwrite) {
-  std::error_code ec;
-  const fs::file_status st = fs::symlink_status(path, ec);
-  if (ec || !fs::exists(st)) return false;
-  const fs::file_status target = fs::status(path, ec);
-  if (fs::is_directory(target)) throw Error(ErrorCode::Io, path + ": is a directory");
-  if (fs::exists(target) && !fs::is_regular_file(target)) return true;
-  if (!overwrite) throw Error(ErrorCode::Io, path + ": exists; use --overwrite to replace it");
-  return false;
-}
 
 // The text of features as a GeoJSON file frames them. encode() is const and keeps no state, so
 // one encoder serves any number of threads at once.
@@ -399,7 +385,8 @@ class GeoJsonWriter final : public FeatureWriter {
     if (path_ == "-") {
       file_ = stdout;
     } else {
-      if (check_target(path_, options.overwrite)) {
+      overwrite_ = options.overwrite;
+      if (check_output_target(path_, options.overwrite) == OutputTargetState::Special) {
         file_ = std::fopen(path_.c_str(), "wb");
         if (file_ == nullptr) throw Error(ErrorCode::Io, path_ + ": cannot open: " + errno_text(errno));
       } else {
@@ -452,7 +439,7 @@ class GeoJsonWriter final : public FeatureWriter {
     }
     // Durable before it becomes visible under its name; errors of a full disk can surface here.
     if (std::fflush(file_) != 0) fail("cannot write", errno);
-    if (temp_path_.empty()) {  // a device or a FIFO, written in place
+    if (!temp_.active()) {  // a device or a FIFO, written in place
       if (std::fclose(std::exchange(file_, nullptr)) != 0) fail("cannot write", errno);
       finished_ = true;
       return;
@@ -460,8 +447,12 @@ class GeoJsonWriter final : public FeatureWriter {
     if (::fsync(::fileno(file_)) != 0 && errno != EINVAL && errno != EROFS) fail("cannot write", errno);
     FILE* f = std::exchange(file_, nullptr);
     if (std::fclose(f) != 0) fail("cannot write", errno);
-    if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
-      fail("cannot rename " + temp_path_ + " to it", errno);
+    // Never over a file that appeared meanwhile, unless overwriting (Error(Io), temporary removed).
+    try {
+      temp_.commit(path_, overwrite_);
+    } catch (...) {
+      failed_ = true;
+      throw;
     }
     finished_ = true;
   }
@@ -496,38 +487,25 @@ class GeoJsonWriter final : public FeatureWriter {
     if (buffer_.size() >= kFlushAt) flush();
   }
 
+  // A temporary file next to the target (output_target.hpp: short name, removed on signals).
   void open_temporary() {
-    const fs::path target(path_);
-    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    for (int attempt = 0; attempt < 100; ++attempt) {
-      std::string name(".");  // (not "." + string: GCC 12 warns wrongly, -Wrestrict)
-      name += target.filename().string();
-      name += ".tmp-" + std::to_string(::getpid()) + "-" +
-              std::to_string(g_temp_counter.fetch_add(1));
-      const fs::path temp = dir / name;
-      errno = 0;
-      // "x": O_EXCL, never reuse an existing file.
-      file_ = std::fopen(temp.c_str(), "wbx");
-      if (file_ != nullptr) {
-        temp_path_ = temp.string();
-        enable_direct();
-        return;
-      }
+    temp_ = TemporaryOutput(path_, TemporaryOutput::Kind::File);
+    const int fd = temp_.take_fd();
+    file_ = ::fdopen(fd, "wb");
+    if (file_ == nullptr) {
       const int err = errno;
-      if (err != EEXIST) {
-        throw Error(ErrorCode::Io, path_ + ": cannot create the temporary file " + temp.string() +
-                                       ": " + errno_text(err));
-      }
+      ::close(fd);
+      temp_.discard();
+      throw Error(ErrorCode::Io, path_ + ": cannot open the temporary file: " + errno_text(err));
     }
-    throw Error(ErrorCode::Io, path_ + ": cannot find a free temporary file name");
+    enable_direct();
   }
 
   // Removes the temporary file; nothing under the final name was touched.
   void discard() noexcept {
     if (file_ != nullptr && file_ != stdout) std::fclose(file_);
     file_ = nullptr;
-    if (!temp_path_.empty()) std::remove(temp_path_.c_str());
-    temp_path_.clear();
+    temp_.discard();
   }
 
   [[noreturn]] void fail(const std::string& what, int err) {
@@ -602,7 +580,7 @@ class GeoJsonWriter final : public FeatureWriter {
     // Start the write-back of the temporary file as it grows (without waiting for it), so that
     // finish()'s fsync has little left to wait for.
     unsynced_ += n;
-    if (unsynced_ >= kWriteBackEvery && !temp_path_.empty()) {
+    if (unsynced_ >= kWriteBackEvery && temp_.active()) {
       unsynced_ = 0;
       if (std::fflush(file_) != 0) fail("cannot write", errno);
       ::sync_file_range(::fileno(file_), 0, 0, SYNC_FILE_RANGE_WRITE);  // a hint: errors surface in fsync
@@ -616,7 +594,8 @@ class GeoJsonWriter final : public FeatureWriter {
   }
 
   std::string path_;
-  std::string temp_path_;
+  TemporaryOutput temp_;  // the file written, unless a device or stdout
+  bool overwrite_ = false;
   GeoJsonFraming framing_;
   GeoJsonEncoder encoder_;
   FILE* file_ = nullptr;

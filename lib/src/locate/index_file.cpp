@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "geovor/core/error.hpp"
+#include "geovor/io/output_target.hpp"
 
 namespace geovor {
 namespace {
@@ -521,17 +522,15 @@ void save_index(const std::string& path, const DelaunayHierarchy& h, const SiteA
   // Renaming over a device or a FIFO (/dev/null as root) would replace it.
   if (struct stat st; stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
     throw Error(ErrorCode::Io, path + ": not a regular file; an index must be one");
-  std::string tmp = path + ".tmp-XXXXXX";
-  const int fd = mkstemp(tmp.data());
-  if (fd < 0) throw Error(ErrorCode::Io, path + ": cannot create a temporary file " + tmp + ": " + sys_reason());
+  // A temporary file next to the target with a short name (output_target.hpp), removed on
+  // errors and signals.
+  TemporaryOutput temp(path, TemporaryOutput::Kind::File);
+  const int fd = temp.take_fd();
   auto fail = [&](const std::string& what) {
     const std::string reason = sys_reason();
-    std::remove(tmp.c_str());
+    temp.discard();
     throw Error(ErrorCode::Io, path + ": " + what + ": " + reason);
   };
-  const mode_t mask = umask(0);
-  umask(mask);
-  fchmod(fd, 0666 & ~mask);
   File f(fdopen(fd, "wb"));
   if (!f) {
     close(fd);
@@ -548,19 +547,17 @@ void save_index(const std::string& path, const DelaunayHierarchy& h, const SiteA
   }
   if (!ok) fail("write error");
   if (std::fclose(f.release()) != 0) fail("write error");
-  if (overwrite) {
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("cannot rename " + tmp + " to it");
-  } else {
-    // link() refuses an existing path, atomically (a file that appeared while writing).
-    if (link(tmp.c_str(), path.c_str()) != 0) {
-      if (errno == EEXIST) {
-        std::remove(tmp.c_str());
-        throw Error(ErrorCode::Io, path + ": exists (use --overwrite to replace it)");
-      }
-      if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("cannot rename " + tmp + " to it");
-    }
-    std::remove(tmp.c_str());
+  // Never over a file that appeared while writing, unless overwriting.
+  const int err = rename_into_place(temp.path(), path, overwrite);
+  if (err == EEXIST && !overwrite) {
+    temp.discard();
+    throw Error(ErrorCode::Io, path + ": exists (use --overwrite to replace it)");
   }
+  if (err != 0) {
+    errno = err;
+    fail("cannot rename " + temp.path() + " to it");
+  }
+  temp.release();
 }
 
 // ---------------------------------------------------------------------------------------------

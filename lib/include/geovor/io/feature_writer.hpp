@@ -105,9 +105,11 @@ class FeatureEncoder {
 };
 
 /// Streams features to a file. The output appears under its final name only when finish()
-/// succeeds (written to a temporary file or directory ".NAME.tmp-PID-N" next to it, then
-/// renamed); a failure, or destruction without finish(), removes the temporary files, so no
-/// partial output is ever left (a process killed by a signal can leave the hidden temporary).
+/// succeeds (written to a temporary file or directory with a short name next to it, then
+/// renamed: geovor/io/output_target.hpp); a failure, or destruction without finish(), removes
+/// the temporary files, so no partial output is ever left, and so do SIGINT, SIGTERM and SIGHUP
+/// once install_output_cleanup() was called (the geovor tool does). Without options.overwrite the
+/// final rename never replaces a file, not even one that appeared while writing (Error(Io)).
 /// An existing device or FIFO (/dev/null, /dev/stdout) is not replaced: GeoJSON and GeoJSONSeq
 /// write to it in place, the GDAL formats refuse it with Error(Io).
 /// After an Error(Io) the writer is dead: every later call throws. A feature refused with

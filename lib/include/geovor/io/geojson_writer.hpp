@@ -41,9 +41,10 @@ enum class GeoJsonFraming {
 
 /// Opens a native GeoJSON writer; open_feature_writer() calls it for "GeoJSON" / "GeoJSONSeq".
 /// `path` "-" writes to stdout (no temporary file: a failure there cannot be undone). Otherwise
-/// the features go to a temporary file ".NAME.tmp-PID-N" in the same directory, renamed to
-/// `path` by finish(); the temporary file is removed on any failure and by the destructor when
-/// finish() was not called. The temporary file is written with direct I/O (O_DIRECT, whole 4 KiB
+/// the features go to a temporary file in the same directory (geovor/io/output_target.hpp: a
+/// short name, removed on signals once install_output_cleanup() was called), renamed to `path` by
+/// finish() without replacing a file that appeared meanwhile unless options.overwrite; the
+/// temporary file is removed on any failure and by the destructor when finish() was not called. The temporary file is written with direct I/O (O_DIRECT, whole 4 KiB
 /// blocks from an aligned 4 MB buffer, the last partial block normally) where its file system
 /// allows it, which spares the kernel's copy into the page cache; otherwise normally.
 /// @exception Error(InvalidArgument) for a bad schema, id_field or precision (0..17);

@@ -123,8 +123,10 @@ SiteIndex build_site_index(const SiteTable& table, const DelaunayOptions& option
 inline constexpr char kIndexMagic[8] = {'G', 'E', 'O', 'V', 'O', 'R', 'I', 'X'};
 inline constexpr std::uint32_t kIndexVersion = 1;
 
-/// Saves an index to `path`: writes a temporary file in the same directory and renames it, so
-/// `path` is either untouched or complete. Empty levels at the top of the hierarchy (after
+/// Saves an index to `path`: writes a temporary file in the same directory and renames it
+/// (geovor/io/output_target.hpp: a short name, removed on errors and signals; without overwrite
+/// the rename never replaces a file that appeared meanwhile), so `path` is either untouched or
+/// complete. Empty levels at the top of the hierarchy (after
 /// removals) are not saved. With overwrite false, an existing `path` is refused.
 /// @exception Error(InvalidArgument) if the attributes do not have one entry per level-0 site;
 ///   Error(Io) if the file cannot be written, exists and overwrite is false, or is not a
