@@ -392,6 +392,7 @@ KNOWN_OPEN = {
     "area_sr = spherical area of the written polygon": "VoronoiDiagram::cell_area_sr is ill-conditioned for wedge cells of (near-)co-circular sites",
     "sum of area_sr = 4 pi": "same",
     "triangle area_sr = spherical triangle": "triangle_area_sr loses digits below 1e-17 sr",
+    "circumradius_m": "circumcentres of near-degenerate triangles are ill-conditioned",
     "relax -n 1 moves every site to its cell's spherical centroid": "centroids of degenerate (sliver) cells",
     "every shared segment written once by each side": "coverage of cells next to slivers of sites on one meridian (no snap rounding yet)",
     "the cut at +-180 and the pole lines are consistent": "same",
@@ -930,7 +931,9 @@ def check_delaunay(case, geovor, sites, collinear_all):
                 break
         case.check(not hull_bad, cmd, "Delaunay: no site inside a triangle's circumcircle (convex hull of unit vectors)",
                    "; ".join(hull_bad[:5]))
-    if ghosts == 0 and n >= 3 and not any(k == "great_circle" for _, k, _ in faces):
+    if reported_empty:
+        case.notes.append(f"{cmd}: {reported_empty} triangles reported empty: area sums skipped")
+    if ghosts == 0 and n >= 3 and not reported_empty and not any(k == "great_circle" for _, k, _ in faces):
         case.check(abs(sum_m2 - ELLIPSOID_AREA) <= 1e-9 * ELLIPSOID_AREA, cmd, "non-ghost triangles' area_m2 sum to the ellipsoid",
                    f"sum {sum_m2!r} (rel {abs(sum_m2 - ELLIPSOID_AREA) / ELLIPSOID_AREA:.3g})")
         case.check(abs(sum_sr - FOUR_PI) <= 1e-9 * FOUR_PI, cmd, "non-ghost triangles' area_sr sum to 4 pi", f"sum {sum_sr!r}")
@@ -1105,7 +1108,7 @@ def check_relax(case, geovor, sites, cells17):
             moved_bad.append(f"site {si}: moved_m {props['moved_m']} vs {mv!r}")
     case.check(len(sf) == n and not moved_bad, base[2], "relax sites: one per site, moved_m", "; ".join(moved_bad[:4]) or f"{len(sf)} sites for {n}")
     feats = read_features(base[0])
-    check_cells(case, feats, base[2], prec, 100.0, (fin_lat, fin_lon), None, set(), full=True)
+    check_cells(case, feats, base[2], prec, 100.0, (fin_lat, fin_lon), None, {-1} if "empty geometry" in base[3] else set(), full=True)
     # one Lloyd step against our own centroids of the exact (precision 17) cells
     if cells17 is None or n < 2:
         return

@@ -83,7 +83,10 @@ DelaunayGeometry::DelaunayGeometry(const SphericalDelaunay& dt, const DelaunayGe
 }
 
 double DelaunayGeometry::edge_bound2(HalfedgeId e) const {
-  return std::min(thickness2_[e / 3], thickness2_[dt_->halfedges()[e] / 3]);
+  const SphericalDelaunay& dt = *dt_;
+  const Vec3& u = dt.site(dt.tri_site(e / 3, static_cast<int>(e % 3)));
+  const Vec3& v = dt.site(dt.tri_site(e / 3, static_cast<int>((e + 1) % 3)));
+  return std::max(std::min(thickness2_[e / 3], thickness2_[dt.halfedges()[e] / 3]), 0x1p-60 * norm2(u - v));
 }
 
 bool DelaunayGeometry::is_hull_edge(HalfedgeId e) const {

@@ -79,6 +79,15 @@ std::string polygon_problem(const MultiPolygon& polygons) {
                       std::min(a.lat_deg, b.lat_deg), std::max(a.lat_deg, b.lat_deg), k, i, n});
     }
   }
+  // Sweep along the axis in which the segments are thinner, relative to the extent of all of
+  // them (rings near a pole have segments long in longitude and thin in latitude).
+  double xlo = 180, xhi = -180, ylo = 90, yhi = -90, xsum = 0, ysum = 0;
+  for (const Seg& t : segs) {
+    xlo = std::min(xlo, t.xmin), xhi = std::max(xhi, t.xmax), xsum += t.xmax - t.xmin;
+    ylo = std::min(ylo, t.ymin), yhi = std::max(yhi, t.ymax), ysum += t.ymax - t.ymin;
+  }
+  if (ysum * (xhi - xlo) < xsum * (yhi - ylo))
+    for (Seg& t : segs) std::swap(t.xmin, t.ymin), std::swap(t.xmax, t.ymax);  // sweep in y
   std::sort(segs.begin(), segs.end(), [](const Seg& a, const Seg& b) { return a.xmin < b.xmin; });
   for (std::size_t i = 0; i < segs.size(); ++i) {
     const Seg& s = segs[i];
