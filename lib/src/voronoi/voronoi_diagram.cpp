@@ -236,18 +236,38 @@ double VoronoiDiagram::cell_area_sr(SiteId s) const {
   }
   const std::span<const TriId> tris = cell_vertices(s);
   const std::span<const SiteId> nbrs = cell_neighbors(s);
-  const Vec3& p = sites_[s];
+  const Vec3& site = sites_[s];
   const std::size_t d = tris.size();
+  // The fan's apex: the site, unless a vertex lies far from it (a lune of (nearly) co-circular
+  // sites reaching (nearly) the site's antipode). A fan triangle with two (nearly) antipodal
+  // corners has both terms of the Van Oosterom-Strackee quotient near 0, and lost up to 1e-5 of
+  // the cell; the apex is then the direction of the edges' midpoints summed by length, inside it.
+  Vec3 apex = site;
+  bool far = false;
+  for (const TriId t : tris) far |= dot(site, vertices_[t]) < -0.5;
+  auto half = [&](std::size_t i, const Vec3& a, const Vec3& b) {
+    return dot(a, b) < 0 ? arc_midpoint(a, b, normalized(site - sites_[nbrs[i]])) : normalized(a + b);
+  };
+  if (far) {
+    Vec3 sum;
+    for (std::size_t i = 0; i < d; ++i) {
+      const Vec3& a = vertices_[tris[i]];
+      const Vec3& b = vertices_[tris[i + 1 == d ? 0 : i + 1]];
+      if (a == b) continue;
+      sum = sum + std::sqrt(norm2(a - b)) * half(i, a, b);  // by length: tiny edges count little
+    }
+    if (norm2(sum) > 1e-6) apex = normalized(sum);
+  }
   double area = 0;
   for (std::size_t i = 0; i < d; ++i) {
     const Vec3& a = vertices_[tris[i]];
     const Vec3& b = vertices_[tris[i + 1 == d ? 0 : i + 1]];
     if (dot(a, b) < 0) {
       // Long edge: two halves, so that no fan triangle has a side near 180 degrees.
-      const Vec3 m = arc_midpoint(a, b, normalized(p - sites_[nbrs[i]]));
-      area += triangle_area_sr(p, a, m) + triangle_area_sr(p, m, b);
+      const Vec3 m = half(i, a, b);
+      area += triangle_area_sr(apex, a, m) + triangle_area_sr(apex, m, b);
     } else {
-      area += triangle_area_sr(p, a, b);
+      area += triangle_area_sr(apex, a, b);
     }
   }
   return area;

@@ -86,7 +86,10 @@ class VoronoiDiagram {
   /// hemisphere, 0 for a site without a cell. Computed on demand in O(degree): the fan of the
   /// spherical triangles (site, v_i, v_i+1), each by the Van Oosterom-Strackee formula, an edge
   /// longer than 90 degrees split at its midpoint first (right for cells larger than a
-  /// hemisphere and for 180-degree edges). The areas of all cells sum to 4 pi up to rounding.
+  /// hemisphere and for 180-degree edges); when a vertex lies more than 120 degrees from the
+  /// site (lunes of co-circular sites), the fan's apex is the direction of the edges' midpoints
+  /// summed by length instead, since a fan triangle with two nearly antipodal corners is
+  /// ill-conditioned. The areas of all cells sum to 4 pi up to rounding.
   double cell_area_sr(SiteId s) const;
   /// The live sites in the order their cells are stored: the order in which they first appear in
   /// the triangulation's triangle array, which is spatially coherent. Visiting cells in this
