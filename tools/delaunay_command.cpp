@@ -183,7 +183,7 @@ Command add_delaunay_command(CLI::App& app) {
   cmd->add_option("--densify-m", args->densify_m,
                   "Largest distance in metres between a written segment and the true great-circle arc (default 100)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--precision", args->precision, "Decimals of coordinates in text formats (default 7, about 1 cm)")
+  cmd->add_option("--precision", args->precision, "Decimals of coordinates in GeoJSON (default 7, about 1 cm; binary formats store doubles): positions are computed, checked valid and measured as written; what collapses or cannot be written valid gets an empty geometry and is reported")
       ->check(CLI::Range(1, 17));
   cmd->add_flag("--no-ghosts", args->no_ghosts,
                 "Leave out the faces and edges with ghost = 1 (outside the sites' convex hull: only when all sites lie "

@@ -170,7 +170,7 @@ Command add_relax_command(CLI::App& app) {
   cmd->add_option("--densify-m", args->cells.densify_m,
                   "Largest distance in metres between a written edge and the true great-circle arc (default 100)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--precision", args->cells.precision, "Decimals of coordinates in text formats (default 7, about 1 cm)")
+  cmd->add_option("--precision", args->cells.precision, "Decimals of coordinates in GeoJSON (default 7, about 1 cm; binary formats store doubles): positions are computed, checked valid and measured as written; what collapses or cannot be written valid gets an empty geometry and is reported")
       ->check(CLI::Range(1, 17));
   cmd->add_flag("--overwrite", args->cells.overwrite, "Replace existing output files");
   cmd->add_flag("-q,--quiet", args->cells.quiet, "No per-iteration lines, progress or summary on stderr");
