@@ -368,7 +368,22 @@ MultiPolygon CellGeometry::polygon(SiteId s, BBox* bbox) const {
 void CellGeometry::polygon(SiteId s, MultiPolygon& out, BBox* bbox) const { build(s, out, bbox, nullptr); }
 
 CellStatus CellGeometry::polygon(SiteId s, MultiPolygon& out, double& area_m2, BBox* bbox) const {
-  return build(s, out, bbox, &area_m2);
+  const CellStatus status = build(s, out, bbox, &area_m2);
+  if (status != CellStatus::Written) return status;
+  // Within a few decimal steps of a pole, longitudes are ill-conditioned: a computed vertex a
+  // nanodegree from the pole, on its far side, can turn a thin lune into a cell around the Earth
+  // (fuzz_cells). Cells reaching that close are rare: their area is checked against the cell's
+  // on the sphere, and one that disagrees is reported unwritable rather than written wrong.
+  bool polar = out.size() > 1;
+  for (const Polygon& poly : out)
+    for (const LonLat& p : poly.exterior) polar |= std::fabs(p.lat_deg) > 89.99;
+  if (polar && !cell_areas_agree(area_m2, vd_->cell_area_sr(s), out, options_.densify_m, options_.precision)) {
+    out.clear();
+    area_m2 = 0;
+    if (bbox) *bbox = BBox{};
+    return CellStatus::Unwritable;
+  }
+  return status;
 }
 
 CellStatus CellGeometry::finish(SiteId s, int winding, MultiPolygon& out, BBox* bbox) const {

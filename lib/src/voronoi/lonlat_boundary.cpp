@@ -8,6 +8,7 @@
 #include "geovor/core/assert.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/geo/site_encoder.hpp"
+#include "geovor/kernel/predicates.hpp"
 #include "geovor/voronoi/cell_geometry.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 
@@ -79,6 +80,15 @@ int next_sheet(const RP& p, const RP& q) {
     return q.lon < p.lon ? p.k + 1 : p.k;
   }
   const double d = q.lon - p.lon;
+  if (std::fabs(d) > 90 && !is_pole(p.lat) && !is_pole(q.lat)) {
+    // Only near a pole (or across the antimeridian) do longitudes jump this far, and then the
+    // difference is ill-conditioned near 180 degrees. Along an arc that does not pass through a
+    // pole, the longitude moves monotonically, east exactly when the north pole lies on the
+    // arc's left: decided exactly on the sphere points.
+    const Sign side = kernel::orient(p.v, q.v, Vec3{0, 0, 1});
+    if (side == Sign::Positive) return d < 0 ? p.k + 1 : p.k;
+    if (side == Sign::Negative) return d > 0 ? p.k - 1 : p.k;
+  }
   if (d > 180) return p.k - 1;
   if (d < -180) return p.k + 1;
   return p.k;
