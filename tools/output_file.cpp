@@ -24,14 +24,7 @@ OutputFile::OutputFile(const std::string& path, bool overwrite)
     return;
   }
   temp_ = TemporaryOutput(path, TemporaryOutput::Kind::File);
-  const int fd = temp_.take_fd();
-  file_ = ::fdopen(fd, "wb");
-  if (file_ == nullptr) {
-    const int err = errno;
-    ::close(fd);
-    temp_.discard();
-    throw Error(ErrorCode::Io, path + ": cannot open the temporary file: " + std::strerror(err));
-  }
+  file_ = temp_.take_stdio(path);
 }
 
 OutputFile::~OutputFile() {

@@ -46,25 +46,31 @@ add_test(NAME cli.relax.zero_iterations_same_as_cells
 set_tests_properties(cli.relax.zero_iterations_same_as_cells PROPERTIES LABELS cli
   FIXTURES_REQUIRED "relax_zero;relax_cells_reference")
 
-# Every relocation strategy gives the same file, to the byte.
-foreach(how filtered naive rebuild)
-  geovor_cli_expect(cli.relax.strategy_${how} 0
-    COMMAND relax ${stations} -o ${relax_out}/strategy_${how}.geojson -n 5 --relocation ${how}
-            --sites-output ${relax_out}/strategy_sites_${how}.csv --overwrite -q)
-  set_tests_properties(cli.relax.strategy_${how} PROPERTIES FIXTURES_SETUP relax_strategy_${how})
-endforeach()
-foreach(how naive rebuild)
-  foreach(what strategy strategy_sites)
-    set(ext geojson)
-    if(what STREQUAL "strategy_sites")
-      set(ext csv)
-    endif()
-    add_test(NAME cli.relax.${what}_${how}_same_as_filtered
-      COMMAND ${CMAKE_COMMAND} -E compare_files ${relax_out}/${what}_filtered.${ext} ${relax_out}/${what}_${how}.${ext})
-    set_tests_properties(cli.relax.${what}_${how}_same_as_filtered PROPERTIES LABELS cli
-      FIXTURES_REQUIRED "relax_strategy_filtered;relax_strategy_${how}")
+# geovor_cli_relax_strategies(name input iterations): every relocation strategy gives the same
+# cells (cli.relax.<name>_<how>_same_as_filtered) and sites (<name>_sites_...) to the byte.
+function(geovor_cli_relax_strategies name input iterations)
+  foreach(how filtered naive rebuild)
+    geovor_cli_expect(cli.relax.${name}_${how} 0
+      COMMAND relax ${input} -o ${relax_out}/${name}_${how}.geojson -n ${iterations} --relocation ${how}
+              --sites-output ${relax_out}/${name}_sites_${how}.csv --overwrite -q)
+    set_tests_properties(cli.relax.${name}_${how} PROPERTIES FIXTURES_SETUP relax_${name}_${how})
   endforeach()
-endforeach()
+  foreach(how naive rebuild)
+    foreach(what ${name} ${name}_sites)
+      set(ext geojson)
+      if(what STREQUAL "${name}_sites")
+        set(ext csv)
+      endif()
+      add_test(NAME cli.relax.${what}_${how}_same_as_filtered
+        COMMAND ${CMAKE_COMMAND} -E compare_files ${relax_out}/${what}_filtered.${ext} ${relax_out}/${what}_${how}.${ext})
+      set_tests_properties(cli.relax.${what}_${how}_same_as_filtered PROPERTIES LABELS cli
+        FIXTURES_REQUIRED "relax_${name}_filtered;relax_${name}_${how}")
+    endforeach()
+  endforeach()
+endfunction()
+
+# Every relocation strategy gives the same file, to the byte.
+geovor_cli_relax_strategies(strategy ${stations} 5)
 # --quiet prints nothing.
 geovor_cli_expect(cli.relax.quiet 0 STDERR "^$"
   COMMAND relax ${fixtures}/cube_corners.csv -o ${relax_out}/quiet.geojson -n 2 --overwrite -q)
@@ -91,21 +97,4 @@ geovor_cli_expect(cli.help.relax 0 STDOUT "--iterations.*Examples:" COMMAND rela
 # A 31x31 grid at 0.001 degree (every four neighbours co-circular): the relocation strategies
 # number the triangles differently, and collapsed Voronoi vertices took the position of the
 # smallest triangle id, so the cells differed in the 7th decimal (issue 14).
-foreach(how filtered naive rebuild)
-  geovor_cli_expect(cli.relax.grid_${how} 0
-    COMMAND relax ${fixtures}/grid31_sydney.csv -o ${relax_out}/grid_${how}.geojson -n 3 --relocation ${how}
-            --sites-output ${relax_out}/grid_sites_${how}.csv --overwrite -q)
-  set_tests_properties(cli.relax.grid_${how} PROPERTIES FIXTURES_SETUP relax_grid_${how})
-endforeach()
-foreach(how naive rebuild)
-  foreach(what grid grid_sites)
-    set(ext geojson)
-    if(what STREQUAL "grid_sites")
-      set(ext csv)
-    endif()
-    add_test(NAME cli.relax.${what}_${how}_same_as_filtered
-      COMMAND ${CMAKE_COMMAND} -E compare_files ${relax_out}/${what}_filtered.${ext} ${relax_out}/${what}_${how}.${ext})
-    set_tests_properties(cli.relax.${what}_${how}_same_as_filtered PROPERTIES LABELS cli
-      FIXTURES_REQUIRED "relax_grid_filtered;relax_grid_${how}")
-  endforeach()
-endforeach()
+geovor_cli_relax_strategies(grid ${fixtures}/grid31_sydney.csv 3)

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "fuzz_bytes.hpp"
 #include "fuzz_check.hpp"
 #include "geovor/core/coordinate_grid.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
@@ -42,25 +43,6 @@ using namespace geovor;
 constexpr std::size_t kMaxSites = 400;
 constexpr double kSep = SphericalDelaunay::kMinSeparation;  // the merge distance, 2^-24 radians
 constexpr double kPi = std::numbers::pi;
-
-class Bytes {
- public:
-  Bytes(const std::uint8_t* d, std::size_t n) : d_(d), n_(n) {}
-  bool empty() const { return i_ >= n_; }
-  std::uint8_t u8() { return i_ < n_ ? d_[i_++] : 0; }
-  std::uint16_t u16() { return static_cast<std::uint16_t>(u8() | (u8() << 8)); }
-  std::uint64_t u64() {
-    std::uint64_t v = 0;
-    for (int k = 0; k < 8; ++k) v |= std::uint64_t{u8()} << (8 * k);
-    return v;
-  }
-  // In [lo, hi], 65536 steps.
-  double range(double lo, double hi) { return lo + (hi - lo) * (u16() / 65535.0); }
-
- private:
-  const std::uint8_t* d_;
-  std::size_t n_, i_ = 0;
-};
 
 // splitmix64, for the recipes that need more numbers than the input holds.
 class Random {

@@ -18,6 +18,7 @@
 #include <set>
 #include <vector>
 
+#include "fuzz_bytes.hpp"
 #include "fuzz_check.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
@@ -30,25 +31,6 @@ using namespace geovor;
 constexpr std::size_t kMaxPoints = 160;
 constexpr std::size_t kGlobalCheckBelow = 48;  // validate(report, true) is O(n^2)
 constexpr double kSep = SphericalDelaunay::kMinSeparation;
-
-class Bytes {
- public:
-  Bytes(const std::uint8_t* d, std::size_t n) : d_(d), n_(n) {}
-  bool empty() const { return i_ >= n_; }
-  std::uint8_t u8() { return i_ < n_ ? d_[i_++] : 0; }
-  std::uint16_t u16() { return static_cast<std::uint16_t>(u8() | (u8() << 8)); }
-  std::uint64_t u64() {
-    std::uint64_t v = 0;
-    for (int k = 0; k < 8; ++k) v |= std::uint64_t{u8()} << (8 * k);
-    return v;
-  }
-  // In [lo, hi], 65536 steps.
-  double range(double lo, double hi) { return lo + (hi - lo) * (u16() / 65535.0); }
-
- private:
-  const std::uint8_t* d_;
-  std::size_t n_, i_ = 0;
-};
 
 Vec3 normalized(const Vec3& v) {
   const double r = std::sqrt(norm2(v));

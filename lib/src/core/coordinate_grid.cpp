@@ -30,36 +30,34 @@ constexpr std::uint64_t kPow5[] = {1ull,
 
 }  // namespace
 
-double snap_to_decimals(double value, int precision) {
-  if (precision < 0 || precision > 17 || !std::isfinite(value)) return value;
+unsigned __int128 scaled_decimal(double value, int precision) {
   std::uint64_t bits;
   std::memcpy(&bits, &value, sizeof bits);
-  const bool negative = (bits >> 63) != 0;
   const int biased = static_cast<int>((bits >> 52) & 0x7ff);
   const std::uint64_t fraction = bits & ((std::uint64_t{1} << 52) - 1);
   const std::uint64_t m = biased == 0 ? fraction : fraction | (std::uint64_t{1} << 52);
-  const int e = biased == 0 ? -1074 : biased - 1075;  // value = m * 2^e exactly
-  if (e >= 0) return value;                            // |value| >= 2^52: an integer
-  // round(value * 10^p) exactly: value * 10^p = m * 5^p * 2^(e + p), m * 5^p < 2^93.
+  const int e = biased == 0 ? -1074 : biased - 1075;  // |value| = m * 2^e exactly
+  // |value| * 10^p = m * 5^p * 2^(e + p), and m * 5^p < 2^53 * 5^17 < 2^93.
   const unsigned __int128 one = 1;
   const unsigned __int128 n = static_cast<unsigned __int128>(m) * kPow5[precision];
   const int shift = -(e + precision);
-  unsigned __int128 q;
-  if (shift <= 0) {
-    q = n << (-shift);
-  } else if (shift >= 127) {
-    q = 0;
-  } else {
-    const unsigned __int128 rem = n & ((one << shift) - 1);
-    const unsigned __int128 half = one << (shift - 1);
-    q = n >> shift;
-    if (rem > half || (rem == half && (q & 1) != 0)) ++q;  // ties to even, as printf
-  }
+  if (shift <= 0) return n << (-shift);  // -shift = e + p < p <= 17: exact, below 2^110
+  if (shift >= 127) return 0;            // n < 2^93 < half of 2^shift: rounds to 0
+  const unsigned __int128 rem = n & ((one << shift) - 1);
+  const unsigned __int128 half = one << (shift - 1);
+  unsigned __int128 q = n >> shift;
+  if (rem > half || (rem == half && (q & 1) != 0)) ++q;  // ties to even, as printf
+  return q;
+}
+
+double snap_to_decimals(double value, int precision) {
+  if (precision < 0 || precision > 17 || !std::isfinite(value) || std::fabs(value) >= 0x1p52) return value;
+  const unsigned __int128 q = scaled_decimal(value, precision);
   // Past 2^53 the decimals are finer than the doubles around `value`: it reads back as itself.
-  if (q >= (one << 53)) return value;
+  if (q >= (static_cast<unsigned __int128>(1) << 53)) return value;
   // q and 10^p are exact doubles: the division is the correctly rounded decimal.
   const double r = static_cast<double>(static_cast<std::uint64_t>(q)) / kPow10[precision];
-  return r == 0 ? 0.0 : (negative ? -r : r);
+  return r == 0 ? 0.0 : (std::signbit(value) ? -r : r);
 }
 
 }  // namespace geovor

@@ -19,6 +19,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "geovor/core/coordinate_grid.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/io/output_target.hpp"
 
@@ -37,11 +38,6 @@ char* write_scaled(char* out, bool negative, std::uint64_t digits_value, int pre
 // 6 * text.size() + 2 characters; returns the end.
 char* put_json_string(char* p, std::string_view text);
 
-constexpr std::uint64_t pow5(int p) {
-  std::uint64_t r = 1;
-  for (int i = 0; i < p; ++i) r *= 5;
-  return r;
-}
 constexpr std::uint64_t pow10u(int p) {
   std::uint64_t r = 1;
   for (int i = 0; i < p; ++i) r *= 10;
@@ -55,9 +51,6 @@ constexpr char kDigitPairs[] =
     "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
-constexpr std::uint64_t kPow5[18] = {pow5(0),  pow5(1),  pow5(2),  pow5(3),  pow5(4),  pow5(5),
-                                     pow5(6),  pow5(7),  pow5(8),  pow5(9),  pow5(10), pow5(11),
-                                     pow5(12), pow5(13), pow5(14), pow5(15), pow5(16), pow5(17)};
 
 // ---------------------------------------------------------------------------------------------
 // Longitude arcs, for bounding boxes
@@ -490,14 +483,7 @@ class GeoJsonWriter final : public FeatureWriter {
   // A temporary file next to the target (output_target.hpp: short name, removed on signals).
   void open_temporary() {
     temp_ = TemporaryOutput(path_, TemporaryOutput::Kind::File);
-    const int fd = temp_.take_fd();
-    file_ = ::fdopen(fd, "wb");
-    if (file_ == nullptr) {
-      const int err = errno;
-      ::close(fd);
-      temp_.discard();
-      throw Error(ErrorCode::Io, path_ + ": cannot open the temporary file: " + errno_text(err));
-    }
+    file_ = temp_.take_stdio(path_);
     enable_direct();
   }
 
@@ -623,10 +609,7 @@ char* format_coordinate(char* out, double value, int precision) {
   std::memcpy(&bits, &value, sizeof bits);
   const bool negative = (bits >> 63) != 0;
   const int biased = static_cast<int>((bits >> 52) & 0x7ff);
-  const std::uint64_t fraction = bits & ((std::uint64_t{1} << 52) - 1);
-  // value = m * 2^e exactly.
-  const std::uint64_t m = biased == 0 ? fraction : fraction | (std::uint64_t{1} << 52);
-  const int e = biased == 0 ? -1074 : biased - 1075;
+  const int e = biased == 0 ? -1074 : biased - 1075;  // value = m * 2^e, m < 2^53
   if (biased == 0x7ff || e >= 0 || precision < 0 || precision > 17) {
     // |value| >= 2^52 (an integer), not finite, or a bad precision: shortest round trip.
     return std::to_chars(out, out + kMaxCoordinateChars, value).ptr;
@@ -645,21 +628,8 @@ char* format_coordinate(char* out, double value, int precision) {
       }
     }
   }
-  // value * 10^p = m * 5^p * 2^(e + p), and m * 5^p < 2^53 * 5^17 < 2^93.
   const unsigned __int128 one = 1;
-  const unsigned __int128 n = static_cast<unsigned __int128>(m) * kPow5[precision];
-  const int shift = -(e + precision);
-  unsigned __int128 q;
-  if (shift <= 0) {
-    q = n << (-shift);  // -shift = e + p < p <= 17, so q < 2^110: exact
-  } else if (shift >= 127) {
-    q = 0;  // n < 2^93 < half of 2^shift: rounds to 0
-  } else {
-    const unsigned __int128 rem = n & ((one << shift) - 1);
-    const unsigned __int128 half = one << (shift - 1);
-    q = n >> shift;
-    if (rem > half || (rem == half && (q & 1) != 0)) ++q;  // ties to even, as printf
-  }
+  const unsigned __int128 q = scaled_decimal(value, precision);
   if (q >= (one << 63)) {
     // |value| * 10^p beyond 2^63 (|value| < 2^52 here, so at most 36 characters).
     char tmp[64];

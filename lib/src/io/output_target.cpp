@@ -197,6 +197,18 @@ TemporaryOutput& TemporaryOutput::operator=(TemporaryOutput&& other) noexcept {
 
 int TemporaryOutput::take_fd() { return std::exchange(fd_, -1); }
 
+std::FILE* TemporaryOutput::take_stdio(const std::string& target) {
+  const int fd = take_fd();
+  std::FILE* file = ::fdopen(fd, "wb");
+  if (file == nullptr) {
+    const int err = errno;
+    ::close(fd);
+    discard();
+    throw Error(ErrorCode::Io, target + ": cannot open the temporary file: " + errno_text(err));
+  }
+  return file;
+}
+
 void TemporaryOutput::commit(const std::string& target, bool overwrite) {
   if (fd_ >= 0) ::close(std::exchange(fd_, -1));
   const int err = rename_into_place(path_, target, overwrite);

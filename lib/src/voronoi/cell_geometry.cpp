@@ -368,49 +368,48 @@ MultiPolygon CellGeometry::polygon(SiteId s, BBox* bbox) const {
 void CellGeometry::polygon(SiteId s, MultiPolygon& out, BBox* bbox) const { build(s, out, bbox, nullptr); }
 
 CellStatus CellGeometry::polygon(SiteId s, MultiPolygon& out, double& area_m2, BBox* bbox) const {
-  const CellStatus status = build(s, out, bbox, &area_m2);
-  if (status != CellStatus::Written) return status;
+  return build(s, out, bbox, &area_m2);
+}
+
+CellStatus CellGeometry::check_near_pole(SiteId s, bool near_pole, MultiPolygon& out, BBox* bbox,
+                                         double& area_m2) const {
   // Within a few decimal steps of a pole, longitudes are ill-conditioned: a computed vertex a
   // nanodegree from the pole, on its far side, can turn a thin lune into a cell around the Earth
-  // (fuzz_cells). Cells reaching that close are rare: their area is checked against the cell's
-  // on the sphere, and one that disagrees is reported unwritable rather than written wrong.
-  bool polar = out.size() > 1;
-  for (const Polygon& poly : out)
-    for (const LonLat& p : poly.exterior) polar |= std::fabs(p.lat_deg) > 89.99;
-  if (polar && !cell_areas_agree(area_m2, vd_->cell_area_sr(s), out, options_.densify_m, options_.precision)) {
-    out.clear();
-    area_m2 = 0;
-    if (bbox) *bbox = BBox{};
-    return CellStatus::Unwritable;
-  }
-  return status;
+  // (fuzz_cells). Cells reaching that close, or cut at +-180, are rare: their area is checked
+  // against the cell's on the sphere, and one that disagrees is reported, not written wrong.
+  if (!(near_pole || out.size() > 1) ||
+      cell_areas_agree(area_m2, vd_->cell_area_sr(s), out, options_.densify_m, options_.precision))
+    return CellStatus::Written;
+  out.clear();
+  area_m2 = 0;
+  if (bbox) *bbox = BBox{};
+  return CellStatus::Unwritable;
 }
 
 CellStatus CellGeometry::finish(SiteId s, int winding, MultiPolygon& out, BBox* bbox) const {
-  // Fast path: one ring, star-shaped about its mean (the typical cell), is valid as it stands.
-  if (winding == 0 && s != north_owner_ && s != south_owner_ && out.size() == 1 && out[0].holes.empty() &&
-      is_star_shaped_ccw(out[0].exterior))
-    return CellStatus::Written;
   if (out.empty()) return CellStatus::Collapsed;
-  auto unwritable = [&] {
-    out.clear();
-    if (bbox) *bbox = BBox{};
-    return CellStatus::Unwritable;
-  };
-  // The poles, decided exactly: a ring may enclose a pole only if its site owns it; the owner's
-  // ring must enclose it or pass through it (rounding can put the pole on its boundary). A
-  // rounded wedge at a pole turned the wrong way otherwise gives a cell around the whole Earth.
-  bool at_north = false, at_south = false;
-  for (const Polygon& poly : out)
-    for (const LonLat& p : poly.exterior) {
-      at_north |= p.lat_deg == 90;
-      at_south |= p.lat_deg == -90;
-    }
-  if ((winding > 0 && s != north_owner_) || (winding < 0 && s != south_owner_) ||
-      (s == north_owner_ && winding <= 0 && !at_north) || (s == south_owner_ && winding >= 0 && !at_south))
-    return unwritable();
-  for (const Polygon& poly : out)
-    if (std::fabs(planar_area_deg2(poly.exterior)) >= kWholeDeg2 * (1 - 1e-12)) return unwritable();
+  if (winding != 0 || s == north_owner_ || s == south_owner_) {
+    auto unwritable = [&] {
+      out.clear();
+      if (bbox) *bbox = BBox{};
+      return CellStatus::Unwritable;
+    };
+    // The poles, decided exactly: a ring may enclose a pole only if its site owns it; the
+    // owner's ring must enclose it or pass through it (rounding can put the pole on its
+    // boundary). A rounded wedge at a pole turned the wrong way otherwise gives a cell around
+    // the whole Earth.
+    bool at_north = false, at_south = false;
+    for (const Polygon& poly : out)
+      for (const LonLat& p : poly.exterior) {
+        at_north |= p.lat_deg == 90;
+        at_south |= p.lat_deg == -90;
+      }
+    if ((winding > 0 && s != north_owner_) || (winding < 0 && s != south_owner_) ||
+        (s == north_owner_ && winding <= 0 && !at_north) || (s == south_owner_ && winding >= 0 && !at_south))
+      return unwritable();
+    for (const Polygon& poly : out)
+      if (std::fabs(planar_area_deg2(poly.exterior)) >= kWholeDeg2 * (1 - 1e-12)) return unwritable();
+  }
   bool cleaned = false;
   const CellStatus status = certify_written(out, &cleaned);
   if (status != CellStatus::Written) {
@@ -435,6 +434,10 @@ CellStatus CellGeometry::finish(SiteId s, int winding, MultiPolygon& out, BBox* 
 
 CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const {
   const VoronoiDiagram& vd = *vd_;
+  // Whether s holds each pole in its interior (0 when nobody does: a tie puts it on a boundary).
+  auto pole_owner = [this](SiteId site) {
+    return lonlat::PoleOwner{site == north_owner_, site == south_owner_};
+  };
   if (area_m2) *area_m2 = 0;
   if (bbox) *bbox = BBox{};
   if (!vd.has_cell(s)) {
@@ -528,10 +531,9 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
       area_sum += s < w ? sum : -sum;
       area_crossings += s < w ? crossings : -crossings;
     }
-    int winding = 0;
-    lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &winding,
-                             {north_owner_ == kNoIndex ? 0 : s == north_owner_, south_owner_ == kNoIndex ? 0 : s == south_owner_});
-    const CellStatus status = finish(s, winding, out, bbox);
+    lonlat::LoopInfo info;
+    lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &info, pole_owner(s));
+    const CellStatus status = finish(s, info.winding, out, bbox);
     if (area_m2 && status == CellStatus::Written) {
       // The edges' sums are the ring's when the ring is the loop itself (same positions, same
       // order): not cut, no pole. Otherwise GeographicLib on the written rings.
@@ -540,16 +542,17 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
         same = out[0].exterior[j].lon_deg == loop[j].lon && out[0].exterior[j].lat_deg == loop[j].lat;
       *area_m2 = same ? reduced_area(area_sum, area_crossings, planar_area_deg2(out[0].exterior))
                       : ellipsoid_area_m2(out);
+      return check_near_pole(s, info.near_pole, out, bbox, *area_m2);
     }
     return status;
   }
 
-  int winding = 0;
-  lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &winding,
-                           {north_owner_ == kNoIndex ? 0 : s == north_owner_, south_owner_ == kNoIndex ? 0 : s == south_owner_});
-  const CellStatus status = finish(s, winding, out, bbox);
-  if (area_m2 && status == CellStatus::Written) *area_m2 = ellipsoid_area_m2(out);
-  return status;
+  lonlat::LoopInfo info;
+  lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &info, pole_owner(s));
+  const CellStatus status = finish(s, info.winding, out, bbox);
+  if (!area_m2 || status != CellStatus::Written) return status;
+  *area_m2 = ellipsoid_area_m2(out);
+  return check_near_pole(s, info.near_pole, out, bbox, *area_m2);
 }
 
 MultiPolygon cell_polygon(const VoronoiDiagram& diagram, SiteId s,

@@ -274,9 +274,9 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
   split(mp, b, depth + 1);
 }
 
-void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int precision, int* winding_out,
+void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int precision, LoopInfo* info,
                       PoleOwner pole_owner) {
-  if (winding_out) *winding_out = 0;
+  if (info) *info = LoopInfo{};
   std::size_t used = 0;
   if (bbox) *bbox = BBox{};
   Scratch& sc = scratch();
@@ -287,10 +287,14 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
       return a.lat == b.lat && (a.lon == b.lon || is_pole(a.lat));
     };
     std::size_t w = 0;
-    for (std::size_t i = 0; i < loop.size(); ++i)
+    bool near_pole = false;
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      near_pole |= std::fabs(loop[i].lat) > 89.99;
       if (w == 0 || !same(loop[i], loop[w - 1])) loop[w++] = loop[i];
+    }
     while (w > 1 && same(loop[w - 1], loop[0])) --w;
     loop.resize(w);
+    if (info) info->near_pole = near_pole;
   }
   if (loop.size() < 3) {
     out.clear();
@@ -328,7 +332,7 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
 
   std::vector<RP>& piece = sc.piece;
   bool polar = winding != 0;
-  if (winding_out) *winding_out = winding;
+  if (info) info->winding = winding;
   if (winding == 0) {
     // Sheets every point can be written in: [k - 1, k] on the antimeridian, else {k}.
     int common_lo = std::numeric_limits<int>::min(), common_hi = std::numeric_limits<int>::max();

@@ -76,16 +76,21 @@ class Densifier {
 /// around a pole, rings counter-clockwise and closed by an exact copy. `loop` is modified
 /// (consecutive duplicates dropped). An empty result means a degenerate loop. The points' lon/lat
 /// must already be written with `precision` decimals; the antimeridian crossings are too.
-/// `winding`, if given, is set to +1 when the ring encloses the north pole, -1 the south pole,
-/// 0 when it encloses neither (a pole on the ring is not enclosed).
+/// `info`, if given, gets the ring's winding: +1 when it encloses the north pole, -1 the south
+/// pole, 0 when it encloses neither (a pole on the ring is not enclosed); and whether a point of
+/// the loop lies within 0.01 degree of a pole, where longitudes are ill-conditioned.
 /// `pole_owner` says, when known, whether the region holds each pole in its interior (1), not
 /// (0), or unknown (-1): the angle of the region at a point of the loop drawn at a pole is then
 /// taken on the right side of 180 degrees, else the ring only touches the pole there.
 struct PoleOwner {
   int north = -1, south = -1;
 };
+struct LoopInfo {
+  int winding = 0;
+  bool near_pole = false;
+};
 void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox = nullptr,
-                      int precision = kFullPrecision, int* winding = nullptr, PoleOwner pole_owner = {});
+                      int precision = kFullPrecision, LoopInfo* info = nullptr, PoleOwner pole_owner = {});
 
 /// An open path (densified) as lines: cut at the antimeridian (both parts end on it at the same
 /// latitude, at +180 and -180) and at a pole it passes through; parts of fewer than two distinct

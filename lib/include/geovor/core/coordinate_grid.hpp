@@ -21,4 +21,9 @@ inline constexpr int kFullPrecision = -1;
 /// snaps to itself, so writing it and reading it back gives it again. -0 becomes +0.
 double snap_to_decimals(double value, int precision);
 
+/// round_half_even(|value| * 10^precision), exactly (128-bit integers; no rounding of the
+/// product), as printf rounds it: the digits snap_to_decimals and format_coordinate start from.
+/// REQUIRES: value finite with |value| < 2^52, 0 <= precision <= 17 (the result is < 2^110).
+unsigned __int128 scaled_decimal(double value, int precision);
+
 }  // namespace geovor

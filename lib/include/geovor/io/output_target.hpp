@@ -19,6 +19,7 @@
 ///   link, `-` twice) before any work.
 #pragma once
 
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,10 @@ class TemporaryOutput {
   /// A file's descriptor, now owned by the caller (who closes it before commit()); -1 after the
   /// first call and for a directory.
   int take_fd();
+  /// take_fd() as a stdio stream ("wb"), owned by the caller (who fcloses it before commit()).
+  /// @exception Error(Io) naming `target` if the stream cannot be made; the temporary is then
+  ///   removed.
+  std::FILE* take_stdio(const std::string& target);
 
   /// Moves the temporary file to `target` (rename_into_place) and forgets it. On failure the
   /// temporary is removed and Error(Io) names the target: "TARGET: exists; use --overwrite to

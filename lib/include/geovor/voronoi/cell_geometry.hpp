@@ -169,6 +169,9 @@ class CellGeometry {
   // Cleans and checks `out` as built for site s, whose ring encloses the pole `winding` says
   // (loop_to_polygons); empties it unless valid.
   CellStatus finish(SiteId s, int winding, MultiPolygon& out, BBox* bbox) const;
+  // The area check of a written cell reaching within 0.01 degree of a pole or cut at +-180
+  // (see polygon()): Unwritable, `out` emptied and `area_m2` 0, if it fails.
+  CellStatus check_near_pole(SiteId s, bool near_pole, MultiPolygon& out, BBox* bbox, double& area_m2) const;
   // The site whose cell holds each pole in its interior (the site of largest, smallest z:
   // the hull's extreme point in that direction, an exact comparison), or kNoIndex when two
   // sites tie (the pole is on the boundary of their cells).
