@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "geovor/core/ascii.hpp"
 #include "geovor/core/assert.hpp"
 #include "geovor/io/feature_writer.hpp"
 #include "geovor/io/geojson_writer.hpp"
@@ -104,11 +105,6 @@ IdTexts make_texts(std::size_t n, unsigned threads, const Make& make) {
   return texts;
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 }  // namespace
 
 bool writes_geojson(const CellOutputArgs& args) { return !output_needs_gdal(args.output, args.format); }
@@ -144,7 +140,7 @@ std::size_t write_cells(const CellOutputArgs& args, const SiteTable& table, cons
                                {"area_m2", FieldType::Real},       {"area_sr", FieldType::Real},
                                {"n_vertices", FieldType::Integer}, {"neighbors", FieldType::String}};
   for (const std::string& column : table.columns) {
-    const bool clash = std::any_of(ours.begin(), ours.end(), [&](const std::string& o) { return lower(o) == lower(column); });
+    const bool clash = std::any_of(ours.begin(), ours.end(), [&](const std::string& o) { return ascii_iequals(o, column); });
     schema.push_back({clash ? "src_" + column : column, FieldType::String});
   }
   WriterOptions writer_options;

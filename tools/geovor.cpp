@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/io/feature_writer.hpp"
 #include "geovor/io/output_target.hpp"
@@ -24,11 +25,6 @@ namespace {
 void check_stdout() {
   if (std::fflush(stdout) != 0 || std::ferror(stdout))
     throw geovor::Error(geovor::ErrorCode::Io, std::string("<stdout>: write error: ") + std::strerror(errno));
-}
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
-  return s;
 }
 
 // The directory of this executable, from /proc/self/exe ("" if unknown).
@@ -62,7 +58,7 @@ int hand_to_gdal_tool(char** argv) {
 }  // namespace
 
 bool output_needs_gdal(const std::string& path, const std::string& format) {
-  const std::string f = lower(!format.empty() ? format : path == "-" ? std::string("GeoJSON") : format_from_extension(path));
+  const std::string f = ascii_lower(!format.empty() ? format : path == "-" ? std::string("GeoJSON") : format_from_extension(path));
   return f != "geojson" && f != "geojsonseq";
 }
 

@@ -12,6 +12,7 @@
 
 #include "cell_output.hpp"
 #include "commands.hpp"
+#include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/feature_writer.hpp"
@@ -38,11 +39,6 @@ void check_writable(const std::string& path, bool overwrite) {
   if (std::filesystem::exists(path, ec)) throw Error(ErrorCode::Io, path + ": exists; use --overwrite");
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 // The final sites as points: our fields, then the input columns except the positions (which no
 // longer hold), renamed src_<name> on a clash.
 void write_sites(const RelaxArgs& args, const SiteTable& table, const BuildReport& report, const SphericalDelaunay& dt,
@@ -58,7 +54,7 @@ void write_sites(const RelaxArgs& args, const SiteTable& table, const BuildRepor
         std::find(table.ecef_columns.begin(), table.ecef_columns.end(), ci) != table.ecef_columns.end())
       continue;
     const bool clash = std::any_of(schema.begin(), schema.end(),
-                                   [&](const Field& f) { return lower(f.name) == lower(table.columns[c]); });
+                                   [&](const Field& f) { return ascii_iequals(f.name, table.columns[c]); });
     schema.push_back({clash ? "src_" + table.columns[c] : table.columns[c], FieldType::String});
     columns.push_back(c);
   }

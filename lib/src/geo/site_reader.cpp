@@ -2,22 +2,14 @@
 
 #include <cstddef>
 
+#include "geovor/core/ascii.hpp"
 #include "geovor/geo/csv_site_scan.hpp"
 #include "geo/trim.hpp"
 
 namespace geovor {
 namespace {
 
-bool same_name(std::string_view column, std::string_view name) {
-  column = trim(column);
-  name = trim(name);
-  if (column.size() != name.size()) return false;
-  for (std::size_t i = 0; i < column.size(); ++i) {
-    auto lower = [](char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; };
-    if (lower(column[i]) != lower(name[i])) return false;
-  }
-  return true;
-}
+bool same_name(std::string_view column, std::string_view name) { return ascii_iequals(trim(column), trim(name)); }
 
 }  // namespace
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <set>
 
+#include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/io/geojson_writer.hpp"
 #include "io/gdal_writer.hpp"
@@ -12,15 +13,8 @@
 namespace geovor {
 namespace {
 
-std::string lower(std::string s) {
-  for (char& c : s) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
-  return s;
-}
-
 std::string extension(const std::string& path) {
-  return lower(std::filesystem::path(path).extension().string());
+  return ascii_lower(std::filesystem::path(path).extension().string());
 }
 
 // Field names must be non-empty and unique; case-insensitively, because GPKG (SQLite), DBF and
@@ -29,7 +23,7 @@ void check_schema(const std::vector<Field>& schema) {
   std::set<std::string> seen;
   for (const Field& f : schema) {
     if (f.name.empty()) throw Error(ErrorCode::InvalidArgument, "a field has an empty name");
-    if (!seen.insert(lower(f.name)).second) {
+    if (!seen.insert(ascii_lower(f.name)).second) {
       throw Error(ErrorCode::InvalidArgument, "field name '" + f.name + "' is used twice");
     }
   }
@@ -62,7 +56,7 @@ std::unique_ptr<FeatureWriter> open_feature_writer(const std::string& path, Geom
                   path + ": cannot tell the output format from the extension; use --format");
     }
   }
-  const std::string f = lower(format);
+  const std::string f = ascii_lower(format);
   if (f == "geojson") {
     return open_geojson_writer(path, GeoJsonFraming::FeatureCollection, geometry_type, schema,
                                options);

@@ -23,6 +23,7 @@
 #include <system_error>
 #include <utility>
 
+#include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/io/geojson_writer.hpp"
 #include "geovor/io/output_target.hpp"
@@ -41,23 +42,15 @@ void CPL_STDCALL capture_handler(CPLErr error_class, CPLErrorNum number, const c
   if (capture != nullptr) capture->record(static_cast<int>(error_class), message);
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
-  return s;
-}
-
-bool iequals(const std::string& a, const std::string& b) { return lower(a) == lower(b); }
 
 // Sidecar extensions that a previous output of the same name may have left and that would be
 // read together with the new one; removed when it is replaced (--overwrite).
 std::vector<std::string> stale_sidecars(const std::string& driver) {
-  if (iequals(driver, "ESRI Shapefile")) {
+  if (ascii_iequals(driver, "ESRI Shapefile")) {
     return {"shp", "shx", "dbf", "prj", "cpg", "qix", "sbn", "sbx", "qpj"};
   }
-  if (iequals(driver, "CSV")) return {"csvt"};  // types GDAL would apply on reading
-  if (iequals(driver, "MapInfo File")) return {"tab", "dat", "map", "id", "ind", "mif", "mid"};
+  if (ascii_iequals(driver, "CSV")) return {"csvt"};  // types GDAL would apply on reading
+  if (ascii_iequals(driver, "MapInfo File")) return {"tab", "dat", "map", "id", "ind", "mif", "mid"};
   return {};
 }
 
@@ -124,7 +117,7 @@ class GdalWriter final : public FeatureWriter {
     if (auto why = geometry_problem(geometry); !why.empty()) {
       throw Error(ErrorCode::InvalidArgument, path_ + ": " + feature() + ": " + why);
     }
-    if (iequals(driver_, "FlatGeobuf")) {
+    if (ascii_iequals(driver_, "FlatGeobuf")) {
       // GDAL's FlatGeobuf writer leaves out a feature with an empty geometry (its spatial index
       // has no box for it): refused, never dropped.
       const auto* polygons = std::get_if<MultiPolygon>(&geometry);
@@ -212,8 +205,8 @@ class GdalWriter final : public FeatureWriter {
     srs.importFromEPSG(4326);
     srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
     CPLStringList lco;
-    const bool shapefile = iequals(driver_, "ESRI Shapefile");
-    if (iequals(driver_, "CSV")) lco.SetNameValue("GEOMETRY", "AS_WKT");
+    const bool shapefile = ascii_iequals(driver_, "ESRI Shapefile");
+    if (ascii_iequals(driver_, "CSV")) lco.SetNameValue("GEOMETRY", "AS_WKT");
     if (shapefile) {
       lco.SetNameValue("ENCODING", "UTF-8");  // writes a .cpg; our strings are UTF-8
       lco.SetNameValue("RESIZE", "YES");      // string widths shrunk to the longest value
@@ -423,7 +416,7 @@ void ErrorCapture::record(int error_class, const char* message) {
 std::string driver_for_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   if (ext.size() < 2) return "";
-  ext = lower(ext.substr(1));
+  ext = ascii_lower(ext.substr(1));
   register_gdal();
   GDALDriverManager* manager = GetGDALDriverManager();
   std::vector<std::string> found;
@@ -437,7 +430,7 @@ std::string driver_for_extension(const std::string& path) {
     if (exts == nullptr) continue;
     const CPLStringList list(CSLTokenizeString(exts));
     for (int k = 0; k < list.size(); ++k) {
-      if (lower(list[k]) == ext) {
+      if (ascii_lower(list[k]) == ext) {
         found.emplace_back(d->GetDescription());
         break;
       }
@@ -465,12 +458,12 @@ std::vector<std::string> shapefile_field_names(const std::vector<Field>& schema)
   std::vector<std::string> out;
   for (const Field& field : schema) {
     std::string name = cut(field.name, kMaxBytes);
-    for (int k = 1; used.count(lower(name)) != 0; ++k) {
+    for (int k = 1; used.count(ascii_lower(name)) != 0; ++k) {
       std::string suffix(1, '_');
       suffix += std::to_string(k);
       name = cut(field.name, kMaxBytes - suffix.size()) + suffix;
     }
-    used.insert(lower(name));
+    used.insert(ascii_lower(name));
     out.push_back(name);
   }
   return out;
