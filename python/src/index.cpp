@@ -1,0 +1,182 @@
+// Index: the nearest-site index (locate/index_file.hpp's SiteIndex) for geovor.Index: built from
+// coordinate arrays, saved and loaded as `geovor index` files, queried by numpy arrays.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bindings.hpp"
+#include "geovor/core/error.hpp"
+#include "geovor/core/parallel.hpp"
+#include "geovor/geo/lat_lon.hpp"
+#include "geovor/geo/site_encoder.hpp"
+#include "geovor/locate/index_file.hpp"
+#include "geovor/locate/locator.hpp"
+
+namespace py = pybind11;
+
+namespace geovor::python {
+namespace {
+
+using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// A 1-D array of n doubles, or ValueError naming it.
+const double* column(const Doubles& a, const char* name, std::size_t n) {
+  if (a.ndim() != 1) throw Error(ErrorCode::InvalidArgument, std::string(name) + " must be one-dimensional");
+  if (static_cast<std::size_t>(a.shape(0)) != n)
+    throw Error(ErrorCode::InvalidArgument, std::string(name) + " has " + std::to_string(a.shape(0)) +
+                                                " values, lat has " + std::to_string(n));
+  return a.data();
+}
+
+// The unit vector of (lat, lon), or ValueError naming the row.
+Vec3 encode(double lat_deg, double lon_deg, const char* what, std::size_t row) {
+  const std::string problem = normalize_lat_lon(lat_deg, lon_deg);
+  if (!problem.empty())
+    throw Error(ErrorCode::BadData, std::string(what) + " " + std::to_string(row) + ": " + problem);
+  return SiteEncoder::from_lat_lon(lat_deg, lon_deg);
+}
+
+class Index {
+ public:
+  Index(const Doubles& lat, const Doubles& lon, std::optional<std::vector<std::string>> ids) {
+    const std::size_t n = static_cast<std::size_t>(lat.ndim() == 1 ? lat.shape(0) : 0);
+    const double* la = column(lat, "lat", n);
+    const double* lo = column(lon, "lon", n);
+    if (ids && ids->size() != n)
+      throw Error(ErrorCode::InvalidArgument, "ids has " + std::to_string(ids->size()) + " values, lat has " + std::to_string(n));
+    SiteTable table;
+    table.source = "<arrays>";
+    table.rows_read = n;
+    table.sites.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      InputSite& s = table.sites[i];
+      s.row = i + 1;
+      s.lat_deg = la[i], s.lon_deg = lo[i];
+      const std::string problem = normalize_lat_lon(s.lat_deg, s.lon_deg);
+      if (!problem.empty()) throw Error(ErrorCode::BadData, "site " + std::to_string(i) + ": " + problem);
+      s.unit = SiteEncoder::from_lat_lon(s.lat_deg, s.lon_deg);
+      s.id = ids ? std::move((*ids)[i]) : std::to_string(i);
+    }
+    py::gil_scoped_release unlocked;
+    index_ = build_site_index(table);
+  }
+  explicit Index(SiteIndex index) : index_(std::move(index)) {}
+
+  static Index load(const std::string& path) {
+    py::gil_scoped_release unlocked;
+    return Index(load_index(path));
+  }
+  void save(const std::string& path, bool overwrite) const {
+    py::gil_scoped_release unlocked;
+    save_index(path, index_.hierarchy, index_.attributes, overwrite);
+  }
+
+  std::size_t num_sites() const { return index_.attributes.num_sites(); }
+
+  // Per site: its id, its first row's position, and the rows merged into it (0-based input rows).
+  py::dict sites() const {
+    const SiteAttributes& a = index_.attributes;
+    const std::size_t n = a.num_sites();
+    py::array_t<double> lat(static_cast<py::ssize_t>(n)), lon(static_cast<py::ssize_t>(n));
+    py::array_t<std::int64_t> first_row(static_cast<py::ssize_t>(n)), rows_begin(static_cast<py::ssize_t>(n + 1));
+    py::array_t<std::int64_t> rows(static_cast<py::ssize_t>(a.num_rows()));
+    py::list ids;
+    for (std::size_t s = 0; s < n; ++s) {
+      const bool live = a.site_rows[s] < a.site_rows[s + 1];
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      lat.mutable_data()[s] = live ? a.rows[a.site_rows[s]].lat_deg : nan;
+      lon.mutable_data()[s] = live ? a.rows[a.site_rows[s]].lon_deg : nan;
+      first_row.mutable_data()[s] = live ? static_cast<std::int64_t>(a.rows[a.site_rows[s]].row) - 1 : -1;
+      rows_begin.mutable_data()[s] = static_cast<std::int64_t>(a.site_rows[s]);
+      ids.append(py::str(std::string(a.site_id(static_cast<SiteId>(s)))));
+    }
+    rows_begin.mutable_data()[n] = static_cast<std::int64_t>(a.site_rows[n]);
+    for (std::size_t r = 0; r < a.num_rows(); ++r) rows.mutable_data()[r] = static_cast<std::int64_t>(a.rows[r].row) - 1;
+    py::dict out;
+    out["id"] = ids;
+    out["lat"] = lat;
+    out["lon"] = lon;
+    out["first_row"] = first_row;
+    out["rows_begin"] = rows_begin;
+    out["rows"] = rows;
+    out["columns"] = a.columns;
+    out["source"] = a.source;
+    return out;
+  }
+
+  // (site_index, distance_m): shape (n,) for k == 1, (n, k) otherwise; -1 and inf where fewer
+  // than k sites lie within max_distance_m.
+  py::tuple nearest(const Doubles& lat, const Doubles& lon, std::size_t k, const std::string& metric,
+                    std::optional<double> max_distance_m, unsigned threads) const {
+    if (k == 0) throw Error(ErrorCode::InvalidArgument, "k must be at least 1");
+    if (metric != "sphere" && metric != "geodesic")
+      throw Error(ErrorCode::InvalidArgument, "metric must be 'sphere' or 'geodesic', not '" + metric + "'");
+    if (max_distance_m && !(*max_distance_m >= 0))
+      throw Error(ErrorCode::InvalidArgument, "max_distance_m must be a number >= 0");
+    const bool geodesic = metric == "geodesic";
+    const std::size_t n = static_cast<std::size_t>(lat.ndim() == 1 ? lat.shape(0) : 0);
+    const double* la = column(lat, "lat", n);
+    const double* lo = column(lon, "lon", n);
+    std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(n)};
+    if (k > 1) shape.push_back(static_cast<py::ssize_t>(k));
+    py::array_t<std::int64_t> site(shape);
+    py::array_t<double> dist(shape);
+    std::int64_t* site_out = site.mutable_data();
+    double* dist_out = dist.mutable_data();
+    const double limit = max_distance_m.value_or(std::numeric_limits<double>::infinity());
+    {
+      py::gil_scoped_release unlocked;
+      // Bad queries are found before any work: the error names the first.
+      std::vector<Vec3> unit(n);
+      for (std::size_t i = 0; i < n; ++i) unit[i] = encode(la[i], lo[i], "query", i);
+      Locator prototype(index_.hierarchy);
+      if (n >= 1024) prototype.prepare();
+      parallel_for(n, threads, [&](unsigned, std::size_t begin, std::size_t end) {
+        Locator locator = prototype;
+        for (std::size_t i = begin; i < end; ++i) {
+          std::vector<NearestResult> found;
+          if (geodesic) {
+            if (k == 1) found.push_back(locator.nearest_geodesic(la[i], lo[i]));
+            else throw Error(ErrorCode::InvalidArgument, "k > 1 with metric='geodesic' is not supported yet");
+          } else if (k == 1) {
+            found.push_back(locator.nearest(unit[i]));
+          } else {
+            found = locator.k_nearest(unit[i], k);
+          }
+          for (std::size_t j = 0; j < k; ++j) {
+            const bool ok = j < found.size() && found[j].site != kNoIndex && found[j].dist_m <= limit;
+            site_out[i * k + j] = ok ? static_cast<std::int64_t>(found[j].site) : -1;
+            dist_out[i * k + j] = ok ? found[j].dist_m : std::numeric_limits<double>::infinity();
+          }
+        }
+      });
+    }
+    return py::make_tuple(site, dist);
+  }
+
+ private:
+  SiteIndex index_;
+};
+
+}  // namespace
+
+void bind_index(py::module_& m) {
+  py::class_<Index>(m, "Index")
+      .def(py::init<const Doubles&, const Doubles&, std::optional<std::vector<std::string>>>(), py::arg("lat"),
+           py::arg("lon"), py::arg("ids") = py::none())
+      .def_static("load", &Index::load, py::arg("path"))
+      .def("save", &Index::save, py::arg("path"), py::arg("overwrite") = false)
+      .def_property_readonly("num_sites", &Index::num_sites)
+      .def("sites", &Index::sites)
+      .def("nearest", &Index::nearest, py::arg("lat"), py::arg("lon"), py::arg("k") = 1,
+           py::arg("metric") = "sphere", py::arg("max_distance_m") = py::none(), py::arg("threads") = 0);
+}
+
+}  // namespace geovor::python
