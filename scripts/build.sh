@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Usage: scripts/build.sh [release|asan] [TARGET...]
-#   release (default): build/, Release, tests and benchmarks.
+#   release (default): build/, Release, tests, benchmarks and the Python extension (python/).
 #   asan: build-asan/, Clang 14, RelWithDebInfo at -O1 with AddressSanitizer + UBSan, no
 #     benchmarks; also the libFuzzer targets of tests/fuzz/ (GEOVOR_BUILD_FUZZ).
 # Installs missing packages (install-deps.sh), configures with Ninja when needed and builds the
@@ -13,8 +13,9 @@ mode=${1:-release}
 case $mode in
   release)
     dir=build
+    # The Python extension with Debian's Python (a python3 earlier in PATH may be another build).
     args=(-DCMAKE_BUILD_TYPE=Release -DGEOVOR_BUILD_TESTS=ON -DGEOVOR_BUILD_BENCH=ON
-          -DGEOVOR_SANITIZE=OFF)
+          -DGEOVOR_SANITIZE=OFF -DGEOVOR_BUILD_PYTHON=ON -DPython_EXECUTABLE=/usr/bin/python3)
     ;;
   asan)
     dir=build-asan

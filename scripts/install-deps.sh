@@ -9,6 +9,8 @@ packages=(
   libgtest-dev libgmock-dev libcli11-dev libbenchmark-dev libnanoflann-dev
   clang-14 libclang-rt-14-dev llvm-14
   python3-shapely python3-pyproj python3-numpy python3-geographiclib
+  pybind11-dev python3-dev python3-venv python3-pip python3-setuptools python3-wheel python3-pytest
+  python3-scipy python3-pandas python3-geopandas python3-dask python3-distributed python3-sklearn
 )
 
 missing=()

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The test command: release build and all its tests, then the ASan/UBSan build and all its tests
-# except those labelled package or nosan, then 60 s of each libFuzzer target (tests labelled fuzz,
-# docs/fuzzing.md). Exits non-zero if any stage fails. Ends with one summary line per stage (with
+# The test command: release build and all its tests, the Python package's tests (pytest), then
+# the ASan/UBSan build and all its tests except those labelled package or nosan, then 60 s of each
+# libFuzzer target (tests labelled fuzz, docs/fuzzing.md). Exits non-zero if any stage fails. Ends with one summary line per stage (with
 # elapsed seconds) and the total of tests passed and failed.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -51,10 +51,30 @@ run_ctest() {
   return "$rc"
 }
 
+# run_pytest: installs the Python package (pip install --no-build-isolation, its extension from
+# the release build) into build/python-venv, a virtual environment over Debian's packages, and runs
+# python/tests with pytest. Adds its counts to the totals.
+# shellcheck disable=SC2317  # called through stage
+run_pytest() {
+  local venv=build/python-venv rc=0 line
+  [[ -x $venv/bin/python ]] || /usr/bin/python3 -m venv --system-site-packages "$venv"
+  GEOVOR_CMAKE_BUILD_DIR=build "$venv/bin/pip" install --no-build-isolation --no-deps --no-index -q . || return
+  # From build/, so that python/geovor (the sources, without the extension) is not imported.
+  (cd build && python-venv/bin/python -m pytest -p no:cacheprovider -q ../python/tests) 2>&1 |
+    tee build/pytest.log || rc=$?
+  line=$(tail -n 1 build/pytest.log)
+  [[ $line =~ ([0-9]+)\ passed ]] && tests_passed=$((tests_passed + BASH_REMATCH[1]))
+  [[ $line =~ ([0-9]+)\ failed ]] && tests_failed=$((tests_failed + BASH_REMATCH[1]))
+  [[ $line =~ ([0-9]+)\ error ]] && tests_failed=$((tests_failed + BASH_REMATCH[1]))
+  return "$rc"
+}
+
 if stage build-release scripts/build.sh release; then
   stage test-release run_ctest build || true
+  stage test-python run_pytest || true
 else
   skip test-release "the release build failed"
+  skip test-python "the release build failed"
 fi
 
 if stage build-asan scripts/build.sh asan; then

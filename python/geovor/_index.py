@@ -67,16 +67,21 @@ class Index:
 
     def sites(self):
         """The sites as a pandas DataFrame indexed by site index: id, lat, lon (the first row's),
-        first_row (0-based input row) and rows (every input row merged into the site)."""
+        first_row (0-based input row), rows (every input row merged into the site), then, for an
+        index built from a table (`geovor index`), the first row's field of each of its columns
+        as text."""
         import pandas as pd
 
         s = self._core.sites()
         begin = s["rows_begin"]
         rows = s["rows"]
-        return pd.DataFrame({
+        columns = {
             "id": s["id"], "lat": s["lat"], "lon": s["lon"], "first_row": s["first_row"],
             "rows": [rows[begin[i]:begin[i + 1]].tolist() for i in range(len(begin) - 1)],
-        }).rename_axis("site_index")
+        }
+        for name, values in s["fields"].items():
+            columns.setdefault(name, values)
+        return pd.DataFrame(columns).rename_axis("site_index")
 
     def nearest(self, lat, lon, k=1, metric="sphere", max_distance_m=None, threads=None):
         """The exact nearest site (or k nearest) of every query.

@@ -108,6 +108,15 @@ class Index {
     out["rows"] = rows;
     out["columns"] = a.columns;
     out["source"] = a.source;
+    // Each column's field of each site's first row, as read (empty for a site without rows).
+    py::dict fields;
+    for (std::size_t c = 0; c < a.columns.size(); ++c) {
+      py::list values;
+      for (std::size_t s = 0; s < n; ++s)
+        values.append(py::str(a.site_rows[s] < a.site_rows[s + 1] ? std::string(a.field(a.site_rows[s], c)) : std::string()));
+      fields[py::str(a.columns[c])] = values;
+    }
+    out["fields"] = fields;
     return out;
   }
 
