@@ -190,7 +190,7 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
 }
 
 // ---------------------------------------------------------------------------------------------
-// Inspectors and validation
+// Inspectors and the arrays of an index file
 
 bool SphericalDelaunay::is_ghost(TriId t) const {
   return kernel::orient(sites_[triangles_[3 * t]], sites_[triangles_[3 * t + 1]],
