@@ -1,5 +1,6 @@
-// SphericalDelaunay against independent oracles: CGAL's Delaunay_triangulation_on_sphere_2,
-// brute force (no site in any circumcircle), and its own invariants on the hard sets.
+// SphericalDelaunay::build() and the inspectors: the triangulation equals CGAL's (up to
+// co-circular ties), does not depend on the insertion order, merges close points and reports
+// them; arrays() and from_arrays() round-trip and reject corruption.
 #include "geovor/delaunay/spherical_delaunay.hpp"
 
 #include <gtest/gtest.h>
@@ -7,7 +8,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
 #include <random>
 #include <set>
 
@@ -18,26 +18,22 @@
 #include "geovor/kernel/predicates.hpp"
 #include "support/cgal_oracle.hpp"
 #include "support/generators.hpp"
+#include "support/triangulation_checks.hpp"
 
 namespace geovor {
 namespace {
 
+using testing::build_checked;
+using testing::expect_as_rebuilt;
+using testing::jitter;
+using testing::triangle_set;
 using testing::Tri;
+using testing::weather_station_sites;
 
 Tri canonical(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
   if (b < a && b < c) return {b, c, a};
   if (c < a && c < b) return {c, a, b};
   return {a, b, c};
-}
-
-// Our triangles in terms of `label[site]` (e.g. the input index of each site), sorted.
-std::vector<Tri> our_triangles(const SphericalDelaunay& dt, const std::vector<std::uint32_t>& label = {}) {
-  std::vector<Tri> out;
-  auto L = [&](SiteId s) { return label.empty() ? s : label[s]; };
-  for (TriId t = 0; t < dt.num_triangles(); ++t)
-    out.push_back(canonical(L(dt.tri_site(t, 0)), L(dt.tri_site(t, 1)), L(dt.tri_site(t, 2))));
-  std::sort(out.begin(), out.end());
-  return out;
 }
 
 // For each site, the input index CGAL kept among the inputs merged into it (CGAL keeps the
@@ -54,21 +50,11 @@ std::vector<std::uint32_t> cgal_labels(const SphericalDelaunay& dt, const BuildR
   return label;
 }
 
-SphericalDelaunay build_checked(const std::vector<Vec3>& pts, BuildReport* rep = nullptr,
-                                bool global = false, const DelaunayOptions& opt = {}) {
-  BuildReport local;
-  BuildReport* r = rep ? rep : &local;
-  SphericalDelaunay dt = SphericalDelaunay::build(pts, opt, r);
-  const Validation v = dt.validate(r, global);
-  EXPECT_TRUE(v.ok()) << (v.errors.empty() ? "" : v.errors.front());
-  return dt;
-}
-
 // Triangles where ours and CGAL's differ must come from co-circular ties: every one of them has
 // an edge whose opposite site (in our triangulation) is exactly on its circumcircle.
 void expect_equal_up_to_ties(const SphericalDelaunay& dt, const std::vector<std::uint32_t>& label,
                              const std::vector<Tri>& cgal) {
-  const std::vector<Tri> ours_labelled = our_triangles(dt, label);
+  const std::vector<Tri> ours_labelled = triangle_set(dt, label);
   ASSERT_EQ(ours_labelled.size(), cgal.size());
   std::vector<Tri> only_ours;
   std::set_difference(ours_labelled.begin(), ours_labelled.end(), cgal.begin(), cgal.end(),
@@ -108,18 +94,18 @@ TEST(SphericalDelaunay, EqualsCgalOnUniformPoints) {
     const auto pts = testing::uniform_on_sphere(n, 100 + n);
     const SphericalDelaunay dt = build_checked(pts, nullptr, n <= 5000);
     EXPECT_EQ(dt.num_triangles(), 2 * n - 4);
-    EXPECT_EQ(our_triangles(dt), testing::cgal_triangles(pts)) << "n = " << n;
+    EXPECT_EQ(triangle_set(dt), testing::cgal_triangles(pts)) << "n = " << n;
   }
 }
 
 TEST(SphericalDelaunay, EqualsCgalOnClusteredAndHemispherePoints) {
   const auto clustered = testing::clustered(20000, 20, 0.01, 5);
   SphericalDelaunay dt = build_checked(clustered);
-  EXPECT_EQ(our_triangles(dt), testing::cgal_triangles(clustered));
+  EXPECT_EQ(triangle_set(dt), testing::cgal_triangles(clustered));
   const auto cap = testing::in_hemisphere(3000, 8);
   dt = build_checked(cap, nullptr, true);
   EXPECT_GT(dt.num_ghost_triangles(), 0u);
-  EXPECT_EQ(our_triangles(dt), testing::cgal_triangles(cap));
+  EXPECT_EQ(triangle_set(dt), testing::cgal_triangles(cap));
 }
 
 TEST(SphericalDelaunay, WeatherStationsEqualCgalUpToTies) {
@@ -138,14 +124,6 @@ TEST(SphericalDelaunay, WeatherStationsEqualCgalUpToTies) {
   expect_equal_up_to_ties(dt, cgal_labels(dt, rep, rejected), cgal);
 }
 
-TEST(SphericalDelaunay, BruteForceNoSiteInAnyCircumcircle) {
-  // validate(global) tests every triangle against every site, exactly.
-  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
-    const auto pts = testing::uniform_on_sphere(300, seed);
-    build_checked(pts, nullptr, true);
-  }
-}
-
 TEST(SphericalDelaunay, ResultDoesNotDependOnInsertionOrder) {
   // The perturbation makes the triangulation unique, even on grids full of co-circular sites.
   for (const auto& pts : {testing::lat_lon_grid(10), testing::cube_corners(),
@@ -156,16 +134,16 @@ TEST(SphericalDelaunay, ResultDoesNotDependOnInsertionOrder) {
     DelaunayOptions other_seed;
     other_seed.brio = true;
     other_seed.seed = 12345;
-    const auto a = our_triangles(build_checked(pts, nullptr, pts.size() < 3000));
-    EXPECT_EQ(a, our_triangles(build_checked(pts, nullptr, false, unsorted)));
-    EXPECT_EQ(a, our_triangles(build_checked(pts, nullptr, false, other_seed)));
+    const auto a = triangle_set(build_checked(pts, nullptr, pts.size() < 3000));
+    EXPECT_EQ(a, triangle_set(build_checked(pts, nullptr, false, unsorted)));
+    EXPECT_EQ(a, triangle_set(build_checked(pts, nullptr, false, other_seed)));
     // Reversed input order: site ids reverse, so map them back.
     std::vector<Vec3> rev(pts.rbegin(), pts.rend());
     const SphericalDelaunay r = build_checked(rev);
     std::vector<std::uint32_t> label(rev.size());
     for (std::uint32_t i = 0; i < rev.size(); ++i) label[i] = static_cast<std::uint32_t>(rev.size() - 1 - i);
     // With reversed priorities ties may resolve differently; the triangle count and validity hold.
-    EXPECT_EQ(our_triangles(r, label).size(), a.size());
+    EXPECT_EQ(triangle_set(r, label).size(), a.size());
   }
 }
 
@@ -181,20 +159,6 @@ TEST(SphericalDelaunay, SmallInputs) {
   const SphericalDelaunay cube = build_checked(testing::cube_corners(), nullptr, true);
   EXPECT_EQ(cube.num_triangles(), 12u);
   EXPECT_EQ(cube.num_ghost_triangles(), 0u);
-}
-
-TEST(SphericalDelaunay, DegenerateCircles) {
-  // All on the equator: every triangle is flat (a hemisphere), none is a ghost.
-  const auto eq = testing::on_great_circle(200, 6);
-  const SphericalDelaunay dt = build_checked(eq, nullptr, true);
-  EXPECT_EQ(dt.num_triangles(), 2 * eq.size() - 4);
-  for (TriId t = 0; t < dt.num_triangles(); ++t)
-    EXPECT_EQ(kernel::orient(dt.site(dt.tri_site(t, 0)), dt.site(dt.tri_site(t, 1)), dt.site(dt.tri_site(t, 2))), Sign::Zero);
-  // All on one small circle: one side is a hemisphere-plus cap (ghosts), the other solid.
-  const auto sc = testing::on_small_circle(100, 40, 7);
-  const SphericalDelaunay dc = build_checked(sc, nullptr, true);
-  EXPECT_EQ(dc.num_triangles(), 2 * sc.size() - 4);
-  EXPECT_EQ(dc.num_ghost_triangles(), sc.size() - 2);
 }
 
 TEST(SphericalDelaunay, HardSets) {
@@ -248,61 +212,6 @@ TEST(SphericalDelaunay, NearDuplicatesAroundTheSeparationBound) {
   }
 }
 
-TEST(SphericalDelaunay, DynamicInsertAndRemoveEqualAFreshBuild) {
-  const auto pts = testing::uniform_on_sphere(3000, 33);
-  const auto grid = testing::lat_lon_grid(15);  // co-circular ties: removal must use the same perturbation
-  for (const auto& set : {pts, grid}) {
-    SphericalDelaunay dt = build_checked(set);
-    std::mt19937_64 rng(4);
-    std::vector<char> removed(set.size(), 0);
-    for (std::size_t k = 0; k < set.size() / 2; ++k) {
-      const SiteId s = static_cast<SiteId>(rng() % set.size());
-      if (removed[s]) continue;
-      dt.remove(s);
-      removed[s] = 1;
-      if (k % 97 == 0) {
-        ASSERT_TRUE(dt.validate().ok());
-      }
-    }
-    ASSERT_TRUE(dt.validate(nullptr, set.size() < 1000).ok());
-    // A fresh build of the survivors, in id order, has the same priorities: identical triangles.
-    std::vector<Vec3> rest;
-    std::vector<std::uint32_t> label;
-    for (SiteId s = 0; s < set.size(); ++s) {
-      if (!removed[s]) rest.push_back(set[s]), label.push_back(s);
-    }
-    EXPECT_EQ(our_triangles(dt), our_triangles(build_checked(rest), label));
-    // Stations come back online: new ids, the triangulation stays valid.
-    for (SiteId s = 0; s < set.size(); s += 3) {
-      if (!removed[s]) continue;
-      const InsertResult r = dt.insert(set[s]);
-      EXPECT_FALSE(r.merged);
-    }
-    EXPECT_TRUE(dt.validate().ok());
-    // Inserting the position of a live site merges into it.
-    SiteId live = 0;
-    while (!dt.is_live(live)) ++live;
-    const InsertResult again = dt.insert(dt.site(live));
-    EXPECT_TRUE(again.merged);
-    EXPECT_EQ(again.site, live);
-  }
-}
-
-TEST(SphericalDelaunay, RemoveDownToNothing) {
-  const auto pts = testing::uniform_on_sphere(12, 2);
-  SphericalDelaunay dt = build_checked(pts);
-  for (SiteId s = 0; s < pts.size(); ++s) {
-    dt.remove(s);
-    ASSERT_TRUE(dt.validate(nullptr, true).ok()) << "after removing " << s;
-    EXPECT_EQ(dt.num_triangles(), dt.num_sites() >= 3 ? 2 * dt.num_sites() - 4 : 0);
-  }
-  EXPECT_EQ(dt.num_sites(), 0u);
-  for (const Vec3& p : pts) dt.insert(p);
-  EXPECT_TRUE(dt.validate(nullptr, true).ok());
-  EXPECT_EQ(dt.num_triangles(), 20u);
-  EXPECT_THROW(dt.remove(0), Error);  // already removed
-}
-
 TEST(SphericalDelaunay, RejectsBadInputAndOptions) {
   EXPECT_THROW(SphericalDelaunay::build(std::vector<Vec3>{{1, 1, 0}}), Error);
   EXPECT_THROW(SphericalDelaunay::build(std::vector<Vec3>{{NAN, 0, 0}}), Error);
@@ -316,42 +225,6 @@ TEST(SphericalDelaunay, MemoryPerSite) {
   const SphericalDelaunay dt = SphericalDelaunay::build(pts);
   EXPECT_LE(static_cast<double>(dt.memory_bytes()) / dt.num_sites(), 80.0);
 }
-
-TEST(SphericalDelaunay, ValidateCatchesCorruption) {
-  // validate() must fail on a broken structure: flip one triangle's orientation by hand.
-  const auto pts = testing::uniform_on_sphere(50, 3);
-  SphericalDelaunay dt = SphericalDelaunay::build(pts);
-  auto* tris = const_cast<SiteId*>(dt.triangles().data());
-  std::swap(tris[0], tris[1]);
-  EXPECT_FALSE(dt.validate().ok());
-  std::swap(tris[0], tris[1]);
-  EXPECT_TRUE(dt.validate().ok());
-  // A non-Delaunay but combinatorially valid triangulation: flip one edge by hand.
-  SphericalDelaunay flipped = SphericalDelaunay::build(pts);
-  auto* t2 = const_cast<SiteId*>(flipped.triangles().data());
-  auto* h2 = const_cast<HalfedgeId*>(flipped.halfedges().data());
-  const HalfedgeId a = 0, b = h2[0];
-  // Triangles (p0 p1 p2) and (p1 p0 p3) become (p3 p2 p0) and (p2 p3 p1): rewrite both.
-  const SiteId p0 = t2[a], p1 = t2[next_halfedge(a)], p2 = t2[prev_halfedge(a)], p3 = t2[prev_halfedge(b)];
-  const HalfedgeId a1 = h2[next_halfedge(a)], a2 = h2[prev_halfedge(a)], b1 = h2[next_halfedge(b)], b2 = h2[prev_halfedge(b)];
-  const TriId ta = tri_of(a), tb = tri_of(b);
-  t2[3 * ta] = p3, t2[3 * ta + 1] = p2, t2[3 * ta + 2] = p0;
-  t2[3 * tb] = p2, t2[3 * tb + 1] = p3, t2[3 * tb + 2] = p1;
-  auto link = [&](HalfedgeId x, HalfedgeId y) { h2[x] = y, h2[y] = x; };
-  link(3 * ta, 3 * tb);
-  link(3 * ta + 1, a2);  // p2 -> p0
-  link(3 * ta + 2, b1);  // p0 -> p3
-  link(3 * tb + 1, b2);  // p3 -> p1
-  link(3 * tb + 2, a1);  // p1 -> p2
-  const Validation v = flipped.validate();
-  EXPECT_FALSE(v.ok());
-}
-
-}  // namespace
-}  // namespace geovor
-
-namespace geovor {
-namespace {
 
 TEST(SphericalDelaunay, LongitudesAtTheAntimeridianAndPoles) {
   // 180 and -180 are one point (an exact duplicate); 179.9999999 is 1.1 cm away at the equator,
@@ -387,18 +260,12 @@ TEST(SphericalDelaunay, LongitudesAtTheAntimeridianAndPoles) {
   EXPECT_EQ(near, 3);           // 179.9999999 at each latitude
 }
 
-}  // namespace
-}  // namespace geovor
-
-namespace geovor {
-namespace {
-
 TEST(SphericalDelaunay, ArraysRoundTripAndCorruptionIsAnError) {
   const auto pts = testing::uniform_on_sphere(2000, 51);
   SphericalDelaunay dt = SphericalDelaunay::build(pts);
   for (SiteId s = 0; s < 100; s += 3) dt.remove(s);
   const SphericalDelaunay back = SphericalDelaunay::from_arrays(dt.arrays());
-  EXPECT_EQ(our_triangles(back), our_triangles(dt));
+  EXPECT_EQ(triangle_set(back), triangle_set(dt));
   EXPECT_EQ(back.num_sites(), dt.num_sites());
   EXPECT_TRUE(back.validate().ok());
   // Corrupt one entry at a time: from_arrays throws Error, or (harmless change) gives a structure

@@ -5,8 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <thread>
+#include <vector>
 
 #include "geovor/core/error.hpp"
+#include "geovor/locate/walk_graph.hpp"
 #include "support/generators.hpp"
 
 namespace geovor {
@@ -114,6 +117,47 @@ TEST(DelaunayHierarchy, SmallAndDegenerateInputs) {
   HierarchyOptions bad;
   bad.ratio = 1;
   EXPECT_THROW(DelaunayHierarchy::build(testing::cube_corners(), {}, bad), Error);
+}
+
+TEST(DelaunayHierarchy, OwnsTheWalkGraphOfItsCurrentState) {
+  const auto pts = testing::uniform_on_sphere(2000, 73);
+  DelaunayHierarchy h = DelaunayHierarchy::build(std::span(pts).first(1500));
+  const auto a = h.walk_graph();
+  EXPECT_EQ(h.walk_graph().get(), a.get());  // built once
+  EXPECT_TRUE(a->matches(h));
+  h.insert(pts[1600]);
+  const auto b = h.walk_graph();
+  EXPECT_NE(a.get(), b.get());
+  EXPECT_FALSE(a->matches(h));  // the old one stays with its holder, stale
+  EXPECT_TRUE(b->matches(h));
+  h.remove(7);
+  EXPECT_TRUE(h.walk_graph()->matches(h));
+  RelocationOptions opt;
+  h.move(3, pts[1700], opt);
+  EXPECT_TRUE(h.walk_graph()->matches(h));
+  // A copy and a moved-to hierarchy are other objects: each builds its own.
+  const DelaunayHierarchy copy = h;
+  const auto c = copy.walk_graph();
+  EXPECT_NE(c.get(), h.walk_graph().get());
+  EXPECT_TRUE(c->matches(copy));
+  DelaunayHierarchy moved = std::move(h);
+  EXPECT_TRUE(moved.walk_graph()->matches(moved));
+  h = DelaunayHierarchy::build(std::span(pts).first(1500));  // same object, new content
+  EXPECT_TRUE(h.walk_graph()->matches(h));
+}
+
+TEST(DelaunayHierarchy, WalkGraphIsBuiltOnceForConcurrentCallers) {
+  const auto pts = testing::uniform_on_sphere(20000, 74);
+  const DelaunayHierarchy h = DelaunayHierarchy::build(pts);
+  std::vector<std::shared_ptr<const WalkGraph>> got(8);
+  std::vector<std::thread> threads;
+  for (std::size_t i = 0; i < got.size(); ++i) threads.emplace_back([&, i] { got[i] = h.walk_graph(); });
+  for (std::thread& t : threads) t.join();
+  for (const auto& g : got) {
+    ASSERT_NE(g, nullptr);
+    EXPECT_EQ(g.get(), got[0].get());
+  }
+  EXPECT_TRUE(got[0]->matches(h));
 }
 
 }  // namespace

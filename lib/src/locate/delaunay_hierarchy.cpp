@@ -5,6 +5,7 @@
 
 #include "geovor/core/assert.hpp"
 #include "geovor/core/error.hpp"
+#include "geovor/locate/walk_graph.hpp"
 
 namespace geovor {
 namespace {
@@ -124,6 +125,7 @@ DelaunayHierarchy DelaunayHierarchy::from_parts(const HierarchyOptions& options,
 }
 
 InsertResult DelaunayHierarchy::insert(const Vec3& p) {
+  walk_graph_.graph.reset();  // stale after any change: free it now
   const InsertResult r = levels_[0].insert(p);
   if (r.merged) return r;
   up_[0].push_back(kNoIndex);
@@ -150,6 +152,7 @@ InsertResult DelaunayHierarchy::insert(const Vec3& p) {
 }
 
 void DelaunayHierarchy::remove(SiteId s) {
+  walk_graph_.graph.reset();  // stale after any change: free it now
   levels_[0].remove(s);  // throws if s is not live
   for (int l = 0; l + 1 < num_levels(); ++l) {
     const SiteId u = up_[static_cast<std::size_t>(l)][s];
@@ -168,6 +171,7 @@ void DelaunayHierarchy::remove(SiteId s) {
 }
 
 MoveStats DelaunayHierarchy::move(SiteId s, const Vec3& p, const RelocationOptions& options) {
+  walk_graph_.graph.reset();  // stale after any change: free it now
   if (!levels_[0].is_live(s)) return levels_[0].move(s, p, options);  // throws
   const Vec3 old = levels_[0].site(s);
   const MoveStats st = levels_[0].move(s, p, options);
@@ -195,6 +199,7 @@ MoveStats DelaunayHierarchy::move(SiteId s, const Vec3& p, const RelocationOptio
 }
 
 MoveStats DelaunayHierarchy::move_all(std::span<const Vec3> positions, const RelocationOptions& options) {
+  walk_graph_.graph.reset();  // stale after any change: free it now
   MoveStats st = levels_[0].move_all(positions, options);
   std::vector<Vec3> target;
   for (std::size_t l = 1; l < levels_.size(); ++l) {
@@ -218,6 +223,13 @@ MoveStats DelaunayHierarchy::move_all(std::span<const Vec3> positions, const Rel
     }
   }
   return st;
+}
+
+std::shared_ptr<const WalkGraph> DelaunayHierarchy::walk_graph() const {
+  const std::lock_guard<std::mutex> lock(walk_graph_.mutex);  // a second caller waits for the build
+  if (walk_graph_.graph == nullptr || !walk_graph_.graph->matches(*this))
+    walk_graph_.graph = std::make_shared<const WalkGraph>(*this);
+  return walk_graph_.graph;
 }
 
 std::size_t DelaunayHierarchy::memory_bytes() const {

@@ -198,7 +198,7 @@ void Locator::reset() {
 
 void Locator::prepare() {
   if (options_.packed && h_->base().num_sites() <= kMaxPackedSites && (graph_ == nullptr || !graph_->matches(*h_))) {
-    graph_ = WalkGraph::shared(*h_);
+    graph_ = h_->walk_graph();
     seen_.clear();
     for (int l = 0; l < h_->num_levels(); ++l) seen_.push_back(h_->level(l).revision());
     reset();
@@ -224,7 +224,7 @@ void Locator::sync() {
   const std::uint64_t after =
       options_.rebuild_after > 0 ? options_.rebuild_after : std::max<std::uint64_t>(1024, h_->base().num_sites() / 8);
   if (++unchanged_queries_ < after) return;
-  graph_ = WalkGraph::shared(*h_);
+  graph_ = h_->walk_graph();
   reset();
 }
 

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <mutex>
 #include <new>
 
 #include <sys/mman.h>
@@ -120,23 +119,6 @@ WalkGraph::WalkGraph(const DelaunayHierarchy& h) : source_(&h) {
     }
   }
   if (num_levels > 0) node_of_ = std::move(node_of[0]);
-}
-
-std::shared_ptr<const WalkGraph> WalkGraph::shared(const DelaunayHierarchy& h) {
-  static std::mutex mutex;
-  static std::vector<std::weak_ptr<const WalkGraph>> graphs;
-  const std::lock_guard<std::mutex> lock(mutex);  // a second caller waits for the build
-  std::shared_ptr<const WalkGraph> found;
-  std::erase_if(graphs, [&](const std::weak_ptr<const WalkGraph>& w) {
-    std::shared_ptr<const WalkGraph> g = w.lock();
-    if (g == nullptr) return true;
-    if (g->matches(h)) found = std::move(g);
-    return false;
-  });
-  if (found != nullptr) return found;
-  auto g = std::make_shared<const WalkGraph>(h);
-  graphs.push_back(g);
-  return g;
 }
 
 std::uint32_t WalkGraph::curve_start(const Vec3& q) const {

@@ -25,6 +25,9 @@
 /// Triangles whose circumcircle is larger than a hemisphere (possible only when all sites lie in
 /// one open hemisphere) are kept, so the surface stays a closed sphere; is_ghost() flags them
 /// (CGAL's "ghost faces").
+///
+/// One concept per source file (lib/src/delaunay/): the build, insertion, the cavity, removal,
+/// validation, the bi-cell tolerance, the filter and relocation; their proofs: docs/delaunay.md.
 #pragma once
 
 #include <array>
@@ -164,74 +167,22 @@ class SphericalDelaunay {
   /// Removes a live site (stations going offline); other ids do not change.
   void remove(SiteId s);
 
-  /// \name Moving sites (issue 6; lib/src/delaunay/relocation.cpp)
+  /// \name Moving sites (relocation.cpp, the filter in move_filter.cpp; docs/delaunay.md)
   /// Moves keep the site's id, and the result is the triangulation a fresh build of the new
   /// positions gives (same triangles: the perturbation follows the ids).
   ///
   /// The filter (thesis Ch. 5, Algorithm 1): every site s keeps a reference position f_s and a
-  /// tolerance eps_s; a move to p with chord |p - f_s| < eps_s is certified to change no Delaunay
-  /// certificate, so only the coordinates change (O(1), no allocation). eps_s is a lower bound of
-  /// the tolerance of every bi-cell containing s (the bi-cells of the edges at s and of the edges
-  /// opposite s in its star). A bi-cell (two triangles sharing an edge a-b, four sites) is
-  /// certified by the sign of orientation_3 of its four sites; its tolerance tau, a bound on how far
-  /// each of the four may move on the unit sphere before that sign can change, is
-  ///   tau = min(max(w / 2, min(K / S, cap)), (|a - b| - merge_distance) / 2):
-  ///  - w, the minimal width of the tetrahedron of the four points (the thinnest slab holding
-  ///    them: the least of the four vertex-face heights and the three distances between the lines
-  ///    of opposite edges, 6 V / max |u x v|; bounded below by 6 V over the largest product |u||v|
-  ///    of two edges of a face, the face's least, or of two opposite edges, as 2 x area <= |u||v|).
-  ///    If each point moves (anywhere in R^3) by less than
-  ///    w/2, the four moved points lie on no plane P: the original ones would all be within < w/2
-  ///    of P, in a slab thinner than w. Moving them along straight segments, every intermediate
-  ///    configuration is as close, so the determinant never vanishes and keeps its sign.
-  ///  - K / S, the same argument after the linear map T that stretches the component along the
-  ///    four points' mean direction c by 1/(lambda S), lambda = 1/4. Points move on the sphere:
-  ///    with s0 the largest sine of the angle between c and a point, a move of chord D <= cap
-  ///    (cap <= 1/2) turns a point by the angle 2 asin(D / 2) <= k D, k = 1 + cap^2 / 20, so by
-  ///    at most A = k (cap + 2^-49), and changes its component along c by at most S D + eps,
-  ///    S = min(k (s0 + A), 1), eps = 2^-49 (1 + S) <= 2^-48 (mean value theorem on the cosine;
-  ///    2^-49 for sites 2^-50 off the sphere), and its other components by at most D: its image
-  ///    under T moves by at most
-  ///    sqrt(1 + 1/lambda^2) D + eps / (lambda S). T keeps coplanarity, det T = 1/(lambda S), so
-  ///    6 V_T = 6 V / (lambda S), and an edge u maps to |T u|^2 <= |u|^2 + (u.c)^2 / (lambda S)^2,
-  ///    u.c a difference of two of the four dot products f_i.c, bounded at S = s0 (below every
-  ///    S, where the bound is largest): with M the largest edge product there, the images keep
-  ///    their sign while D < (6 V / (2 M) - eps) / (S sqrt(lambda^2 + 1)) = K / S. Any cap is
-  ///    valid; the one used, min(K / S(cap1), cap1) with cap1 = K / s0, is within a few percent
-  ///    of the best (K / S(cap) = cap). The orientation determinant is computed once, no
-  ///    image is. A small bi-cell's tetrahedron is flat (height ~ edge^2, so w ~ edge^2) but its
-  ///    images are not: K / S ~ edge times how far the four sites are from one circle, as in the
-  ///    plane. Against the optimum (the half-width of the thinnest spherical annulus holding the
-  ///    four sites), the bound is 2.17x smaller at the median on the bi-cells of a 2^16-site
-  ///    Lloyd mesh (iteration 90) and 1.37x on the tenth with the smallest tolerances, those
-  ///    that set the sites' (lambda = 1 with a fixed cap s0/16 gave 3.4x on the Lloyd mesh).
-  ///  - the edge term keeps every edge longer than the merge distance; the nearest site of a site
-  ///    is a Delaunay neighbour, so a filtered move never comes within the merge distance of one.
-  /// tau is computed in doubles and shrunk by certified bounds of the rounding (Shewchuk's orient3d
-  /// bound for the volume, 2^-47 for each u.c, relative margins of 2^-49 on the squared lengths and
-  /// 2^-44 on the largest product, 2^-46 for the rest), so it stays a lower bound; a coplanar (tied)
-  /// bi-cell gets 0. As in Algorithm 1, a real relocation of s sets f_s to its new position and
-  /// recomputes the tolerances of the bi-cells it changed (lowering their other sites' eps); a site
-  /// whose eps falls below its own displacement is refreshed the same way (MoveStats::refreshed).
-  /// The second test (MoveStats::reanchored, counted as filtered): when a move to p fails the
-  /// filter but the step from the current position m_s is below eps_s (a site drifting steadily),
-  /// the tolerances tau_B' of s's bi-cells are recomputed with a new reference f (p, or p moved on
-  /// along the step to use about 80% of eps_s). If every tau_B' exceeds |f - m_s| and |p - f| and
-  /// the drift of B's other sites, the sign is kept: (m_s, f_others) has the sign of the references
-  /// (|m_s - f_s| < eps_s <= tau_B), so has (f, f_others) (s moved by < tau_B'), so have the
-  /// current positions (all within tau_B'). Then f_s = f and the eps are lowered, and nothing is
-  /// relocated; otherwise the move is relocated as below.
-  /// Whatever the order of moves, between calls every site satisfies |m_s - f_s| < eps_s or
-  /// m_s = f_s, hence every certificate has the sign it had when the structure was last decided
-  /// exactly. Memory: 32 bytes per site (f_s and eps_s^2), allocated at the first filtered move,
-  /// kept current by insert() and remove(), and rebuilt in O(n) after an unfiltered move.
-  ///
-  /// Not filtered: by flips when every triangle of the star stays positively oriented around the
-  /// new position (exact orient; no ghost triangle in the star), then Lawson flips with the
-  /// perturbed in-sphere test, each checked to keep both new triangles positively oriented and
-  /// the new edge new; otherwise (the flips done so far undone) by remove + insert keeping the id.
-  /// A position within the merge distance of another site (chord in doubles, as insert()) is
-  /// refused: the site stays where it was and MoveStats::refused counts it.
+  /// tolerance eps_s, a lower bound of bicell_tolerance() over the bi-cells containing s; a move
+  /// to p with chord |p - f_s| < eps_s changes no Delaunay certificate, so only the coordinates
+  /// change (O(1), no allocation). A move failing it may still pass the second test
+  /// (MoveStats::reanchored): the tolerances recomputed with a new reference near p. Otherwise
+  /// the site is relocated: by flips when every triangle of its star stays positively oriented
+  /// around the new position, else by remove + insert keeping the id; the bi-cells it changed
+  /// lower their sites' eps, and a site whose eps falls below its own displacement is refreshed
+  /// (MoveStats::refreshed). A position within the merge distance of another site (chord in
+  /// doubles, as insert()) is refused: the site stays where it was (MoveStats::refused).
+  /// Memory: 32 bytes per site (f_s and eps_s^2), allocated at the first filtered move, kept
+  /// current by insert() and remove(), and rebuilt in O(n) after an unfiltered move.
   ///@{
   /// Moves live site s to unit vector p (|p|^2 within 2^-49 of 1); keeps its id.
   /// @exception Error(InvalidArgument) if s is not live or p is not a unit vector.
@@ -252,10 +203,6 @@ class SphericalDelaunay {
   /// The filter's reference position of live site s (where its tolerance was computed from);
   /// call tolerance() first. For tests.
   const Vec3& reference(SiteId s) const { return anchor_[s].f; }
-  /// Lower bound of the tolerance of the bi-cell of four points (a, b the shared edge) for moves
-  /// on the sphere: see above. REQUIRES: unit vectors (|p|^2 within 2^-49 of 1). For the tests.
-  static double bicell_tolerance(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
-                                 double merge_distance);
   ///@}
 
   /// \name Inspectors
@@ -299,16 +246,21 @@ class SphericalDelaunay {
 
  private:
   static constexpr HalfedgeId kRemoved = kNoIndex - 1;  // site_edge_ of a removed site
+  static constexpr std::size_t kMaxSites = 700'000'000;  // 6n half-edges must fit in 32 bits
   bool alive(SiteId s) const { return site_edge_[s] != kRemoved; }
   std::uint32_t priority(SiteId s) const { return priority_.empty() ? s : priority_[s]; }
-  // Where a new point goes: merged into a site, or a triangle in conflict with it.
+  static std::uint64_t next_revision();
+  void touch() { revision_ = next_revision(); }  // every change of sites or triangles calls it
+
+  // Insertion (insertion.cpp). Where a new point goes: merged into a site, or a triangle in
+  // conflict with it.
   struct Placement {
     SiteId merged_into = kNoIndex;
     double chord = 0;
     bool hidden = false;
     TriId conflict = kNoIndex;
   };
-  bool in_conflict(TriId t, const Vec3& p, std::uint32_t prio) const;
+  bool in_conflict(TriId t, const Vec3& p, std::uint32_t prio) const;  // inline: conflict.hpp
   bool in_conflict_exact(TriId t, const Vec3& p, std::uint32_t prio) const;
   SiteId walk_to_nearest(const Vec3& p, SiteId start) const;
   TriId find_conflict(const Vec3& p, std::uint32_t prio, SiteId near) const;
@@ -317,7 +269,13 @@ class SphericalDelaunay {
   // The site p merges into (merged_into set) if any lies within the merge distance.
   Placement nearest_site(const Vec3& p, SiteId hint) const;
   void make_first_triangles(SiteId a, SiteId b, SiteId c);
-  // The triangles in conflict with p, grown from seed, and the half-edges bounding them.
+  SiteId any_live_site() const;
+  // Inserts site s, already stored in sites_ with site_edge_[s] == kRemoved (not inserted yet);
+  // on a merge s stays so and the result names the site it went into.
+  InsertResult insert_site(SiteId s, SiteId hint);
+
+  // The cavity (cavity.cpp): the triangles in conflict with p, grown from seed, and the
+  // half-edges bounding them.
   void find_cavity(const Vec3& p, std::uint32_t prio, TriId seed);
   // find_cavity() by the filter alone and without a call; false (its marks undone) when a test
   // needs the exact stage or a scratch buffer is full.
@@ -326,17 +284,13 @@ class SphericalDelaunay {
   void fill_cavity(SiteId s);
   // Gives up the cavity found last (p merges instead): clears its marks.
   void abandon_cavity();
-  SiteId any_live_site() const;
-  void move_triangle(TriId from, TriId to);
-  // Inserts site s, already stored in sites_ with site_edge_[s] == kRemoved (not inserted yet);
-  // on a merge s stays so and the result names the site it went into.
-  InsertResult insert_site(SiteId s, SiteId hint);
-  // remove() without dropping the tolerances.
+
+  // Removal (removal.cpp): remove() without dropping the tolerances.
   void remove_site(SiteId s);
+  void move_triangle(TriId from, TriId to);
 
   // Relocation (relocation.cpp).
   MoveStats move_one(SiteId s, const Vec3& p, const RelocationOptions& options);
-  bool reanchor(SiteId s, const Vec3& p);           // the second test: f_s := p, no relocation
   // move_all()'s policy (RelocationOptions::rebuild_when_faster).
   static constexpr std::size_t kRebuildMinSites = 16384;
   static constexpr double kRelocatedShareToRebuild = 0.12, kFreshFailureShareToFilter = 0.02;
@@ -347,6 +301,9 @@ class SphericalDelaunay {
   void flip(HalfedgeId e);                           // the diagonal of the two triangles at e
   bool adjacent(SiteId a, SiteId b) const;
   bool reinsert(SiteId s, const Vec3& p);            // false: merged, put back (never expected)
+
+  // The filter (move_filter.cpp, Algorithm 1).
+  bool reanchor(SiteId s, const Vec3& p);           // the second test: f_s := p, no relocation
   void tolerances_after_insert(SiteId s);            // insert() keeps the tolerances current
   void remove_keeping_tolerances(SiteId s);          // so does remove()
   void collect_link(SiteId s);                       // link_ = the neighbours of s
@@ -362,9 +319,6 @@ class SphericalDelaunay {
   void site_tau2(SiteId s);                          // quads_, tau2_: the bi-cells containing s
   void refresh_site(SiteId s);                       // f_s = m_s, eps_s recomputed
   std::size_t settle_queue();                        // refreshes the sites that left their tolerance
-
-  static std::uint64_t next_revision();
-  void touch() { revision_ = next_revision(); }  // every change of sites or triangles calls it
 
   DelaunayOptions options_;
   std::uint64_t revision_ = next_revision();
@@ -402,8 +356,6 @@ class SphericalDelaunay {
   std::vector<Quad> quads_;          // site_tau2()'s bi-cells' sites
   std::vector<SiteId> link_w_, link_x_;  // site_tau2()'s link and the sites across it
   double relocated_share_ = 0;  // of the last filtered move_all(): (flipped + reinserted) / live sites
-
-  friend class SphericalDelaunayTester;
 };
 
 }  // namespace geovor

@@ -9,6 +9,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -16,6 +18,8 @@
 #include "geovor/delaunay/spherical_delaunay.hpp"
 
 namespace geovor {
+
+class WalkGraph;  // walk_graph.hpp
 
 /// Options of DelaunayHierarchy; every default is documented.
 struct HierarchyOptions {
@@ -80,7 +84,13 @@ class DelaunayHierarchy {
   /// The highest level of a level-0 site with this id, from its draw.
   int drawn_level(SiteId s) const;
   const HierarchyOptions& options() const { return options_; }
+  /// Bytes held by the levels and links (not the walk graph: see walk_graph()).
   std::size_t memory_bytes() const;
+  /// The packed copy of the hierarchy as it is now, for the Locators' walks: built at the first
+  /// call after a change (O(n log n), about one build; the caller waits, so does a concurrent
+  /// one), then shared by every caller until the next change, which drops the hierarchy's hold
+  /// (a Locator keeps its copy until it sees the change). Thread-safe among const callers.
+  std::shared_ptr<const WalkGraph> walk_graph() const;
   ///@}
 
   /// validate() of every level, plus the links: up and down are inverse, every copy is the same
@@ -92,6 +102,19 @@ class DelaunayHierarchy {
   std::vector<SphericalDelaunay> levels_;
   std::vector<std::vector<SiteId>> up_;    // up_[l][s]: level l -> level l+1 (last level: none)
   std::vector<std::vector<SiteId>> down_;  // down_[l][s]: level l -> level l-1 (down_[0] empty)
+
+  // walk_graph()'s copy; a copied or moved hierarchy starts without one (a graph names its source).
+  struct WalkGraphCache {
+    std::mutex mutex;
+    std::shared_ptr<const WalkGraph> graph;
+    WalkGraphCache() = default;
+    WalkGraphCache(const WalkGraphCache&) {}
+    WalkGraphCache& operator=(const WalkGraphCache&) {
+      graph.reset();
+      return *this;
+    }
+  };
+  mutable WalkGraphCache walk_graph_;
 };
 
 }  // namespace geovor

@@ -131,7 +131,7 @@ class Locator {
 
   /// Forgets the landmarks and the previous answer (done by itself when the hierarchy changes).
   void reset();
-  /// Gets the packed copy now (built unless another Locator holds the current one) rather than at
+  /// Gets the packed copy now (DelaunayHierarchy::walk_graph(): built unless current) rather than at
   /// the first query; copies of this Locator share it. No effect without options().packed.
   void prepare();
   /// The packed copy in use, or null (not yet built, walking the hierarchy after a change, or

@@ -19,8 +19,8 @@
 /// triangulation would make.
 ///
 /// A WalkGraph is immutable; when the hierarchy changes (any level's revision() changes) it is
-/// stale, and matches() says so. shared() hands out one graph per hierarchy state to every
-/// Locator asking, built once.
+/// stale, and matches() says so. The hierarchy owns the graph of its current state
+/// (DelaunayHierarchy::walk_graph()), built once and shared by every Locator asking.
 #pragma once
 
 #include <cstddef>
@@ -40,10 +40,6 @@ class WalkGraph {
  public:
   /// Builds the packed copy of every level of `h`: O(n log n) (one Hilbert sort per level).
   explicit WalkGraph(const DelaunayHierarchy& h);
-
-  /// A graph of the current state of `h`, shared with every caller asking for the same state
-  /// (built on the first request, freed with its last holder); thread-safe.
-  static std::shared_ptr<const WalkGraph> shared(const DelaunayHierarchy& h);
 
   /// True iff the graph is a copy of `h` as it is now: the same object with the same revision()
   /// on every level. O(levels).

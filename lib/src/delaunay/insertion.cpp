@@ -1,0 +1,211 @@
+// Inserting a site: where the point goes (a walk to its nearest site, a triangle in conflict or a
+// merge), then its cavity (cavity.cpp) replaced by a fan. docs/delaunay.md, "Insertion".
+#include <cmath>
+#include <string>
+
+#include "delaunay/cavity.hpp"
+#include "delaunay/conflict.hpp"
+#include "delaunay/unit_vector.hpp"
+#include "geovor/core/assert.hpp"
+#include "geovor/core/error.hpp"
+#include "geovor/delaunay/spherical_delaunay.hpp"
+#include "geovor/kernel/predicates.hpp"
+
+namespace geovor {
+
+bool SphericalDelaunay::in_conflict_exact(TriId t, const Vec3& p, std::uint32_t prio) const {
+  const SiteId a = triangles_[3 * t], b = triangles_[3 * t + 1], c = triangles_[3 * t + 2];
+  // Ties get the perturbation; only now are the priorities needed.
+  return kernel::perturbed_in_sphere(sites_[a], priority(a), sites_[b], priority(b), sites_[c],
+                                     priority(c), p, prio) == Sign::Positive;
+}
+
+InsertResult SphericalDelaunay::insert(const Vec3& p) {
+  touch();
+  const double r2 = norm2(p);
+  if (!std::isfinite(r2) || std::fabs(r2 - 1.0) > 0x1p-49)
+    throw Error(ErrorCode::InvalidArgument, "insert: not a unit vector (|p|^2 = " + format_number(r2) + ")");
+  if (sites_.size() >= kMaxSites) throw Error(ErrorCode::InvalidArgument, "too many sites");
+  GEOVOR_ASSERT(priority_.empty());
+  const SiteId s = static_cast<SiteId>(sites_.size());
+  sites_.push_back(p);
+  site_edge_.push_back(kRemoved);
+  const InsertResult r = insert_site(s, last_site_);
+  if (r.merged) {  // the point never became a site: give its id back
+    sites_.pop_back();
+    site_edge_.pop_back();
+  } else {
+    tolerances_after_insert(s);  // the relocation filter's new bi-cells
+  }
+  return r;
+}
+
+InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
+  const Vec3& p = sites_[s];
+  const std::uint32_t prio = priority(s);
+  const double md2 = options_.merge_distance * options_.merge_distance;
+  if (num_live_ < 3) {
+    // No triangle yet: compare with the (at most two) live sites directly.
+    SiteId live[2];
+    std::size_t k = 0;
+    for (SiteId t = 0; t < sites_.size() && k < num_live_; ++t)
+      if (t != s && alive(t)) live[k++] = t;
+    for (std::size_t i = 0; i < k; ++i) {
+      const double d2 = chord2(p, sites_[live[i]]);
+      if (d2 < md2) return {live[i], true, std::sqrt(d2), false};
+    }
+    site_edge_[s] = kNoIndex;
+    ++num_live_;
+    last_site_ = s;
+    if (num_live_ == 3) make_first_triangles(live[0], live[1], s);
+    return {s, false, 0, false};
+  }
+  if (hint == kNoIndex || !alive(hint) || site_edge_[hint] == kNoIndex) hint = any_live_site();
+  const Placement where = place(p, prio, hint);
+  if (where.merged_into != kNoIndex) return {where.merged_into, true, where.chord, where.hidden};
+  find_cavity(p, prio, where.conflict);
+  if (num_boundary_ != num_cavity_ + 2) {
+    abandon_cavity();
+    // Not a disk: a site is inside the cavity, which only a point on (or extremely near) a site
+    // not met so far can cause.
+    const Placement near = nearest_site(p, triangles_[3 * where.conflict]);
+    GEOVOR_ASSERT(near.merged_into != kNoIndex);
+    return {near.merged_into, true, near.chord, false};
+  }
+  // The nearest site of p becomes its Delaunay neighbour, so it is on the cavity's boundary
+  // (every vertex of a disk-shaped cavity is): the merge test needs no search of its own.
+  SiteId closest = kNoIndex;
+  double best = md2;
+  const Vec3* const S = sites_.data();
+  const CavityEdge* const bnd = boundary_.data();
+  for (std::size_t k = 0; k < num_boundary_; ++k) {
+    const double d2 = chord2(p, S[bnd[k].a]);
+    if (d2 < best) [[unlikely]]
+      best = d2, closest = bnd[k].a;
+  }
+  if (closest != kNoIndex) {
+    abandon_cavity();
+    return {closest, true, std::sqrt(best), false};
+  }
+  fill_cavity(s);
+  ++num_live_;
+  last_site_ = s;
+  return {s, false, 0, false};
+}
+
+SiteId SphericalDelaunay::any_live_site() const {
+  if (last_site_ != kNoIndex && last_site_ < sites_.size() && alive(last_site_) &&
+      (num_live_ < 3 || site_edge_[last_site_] != kNoIndex))
+    return last_site_;
+  for (SiteId s = 0; s < sites_.size(); ++s)
+    if (alive(s) && (num_live_ < 3 || site_edge_[s] != kNoIndex)) return s;
+  return kNoIndex;
+}
+
+
+// Greedy walk on the Delaunay graph towards the site maximising dot(p, site): the simplex method
+// on the hull's vertex graph, so a local maximum is the global one. Plain doubles are enough:
+// the result only seeds the exact conflict search.
+SiteId SphericalDelaunay::walk_to_nearest(const Vec3& p, SiteId v) const {
+  double best = dot(p, sites_[v]);
+  for (;;) {
+    const HalfedgeId e0 = site_edge_[v];
+    HalfedgeId e = e0;
+    SiteId next = v;
+    do {
+      const SiteId w = triangles_[next_halfedge(e)];
+      const double d = dot(p, sites_[w]);
+      if (d > best) best = d, next = w;
+      e = next_around_site(e);
+    } while (e != e0);
+    if (next == v) return v;
+    v = next;
+  }
+}
+
+TriId SphericalDelaunay::find_conflict(const Vec3& p, std::uint32_t prio, SiteId near) const {
+  // The new site's nearest neighbour becomes its Delaunay neighbour, so some triangle around it
+  // is in conflict; the exhaustive search below is only a safety net.
+  const HalfedgeId e0 = site_edge_[near];
+  HalfedgeId e = e0;
+  do {
+    if (in_conflict(tri_of(e), p, prio)) return tri_of(e);
+    e = next_around_site(e);
+  } while (e != e0);
+  for (TriId t = 0; t < num_triangles(); ++t)
+    if (in_conflict(t, p, prio)) return t;
+  return kNoIndex;
+}
+
+SphericalDelaunay::Placement SphericalDelaunay::place(const Vec3& p, std::uint32_t prio,
+                                                      SiteId hint) {
+  Placement where;
+  // Fast path: consecutive sites in a spatial order are near, so the triangles around the last
+  // site are often in conflict already. Those found not in conflict stay marked as tested, so
+  // the cavity search does not test them again.
+  const HalfedgeId e0 = site_edge_[hint];
+  HalfedgeId e = e0;
+  TriId* tested = tested_.data();
+  std::size_t nt = 0;
+  do {
+    const TriId t = tri_of(e);
+    if (in_conflict(t, p, prio)) {
+      where.conflict = t;
+      num_tested_ = nt;
+      return where;
+    }
+    triangles_[3 * t + 1] |= kMark;
+    if (nt == tested_.size()) tested = grow(tested_);
+    tested[nt++] = t;
+    e = next_around_site(e);
+  } while (e != e0);
+  for (std::size_t k = 0; k < nt; ++k) triangles_[3 * tested[k] + 1] &= ~kMark;
+  num_tested_ = 0;
+  // Slow path: walk to the nearest site; a point on or next to it merges before any exhaustive
+  // search (a duplicate can be hidden inside the hull).
+  const SiteId v = walk_to_nearest(p, hint);
+  const Placement near = nearest_site(p, v);  // its walk starts at the end: no step
+  if (near.merged_into != kNoIndex) return near;
+  where.conflict = find_conflict(p, prio, v);
+  if (where.conflict == kNoIndex) {
+    // No triangle in conflict: p lies inside the hull, which the minimum separation excludes;
+    // it goes into the nearest site all the same, and the report says so.
+    where.merged_into = v;
+    where.chord = std::sqrt(chord2(p, sites_[v]));
+    where.hidden = true;
+  }
+  return where;
+}
+
+SphericalDelaunay::Placement SphericalDelaunay::nearest_site(const Vec3& p, SiteId hint) const {
+  // The walk is in doubles; the nearest site is then v or one of its neighbours.
+  const SiteId v = walk_to_nearest(p, hint);
+  SiteId closest = v;
+  double best = chord2(p, sites_[v]);
+  const HalfedgeId e0 = site_edge_[v];
+  HalfedgeId e = e0;
+  do {
+    const SiteId w = triangles_[next_halfedge(e)];
+    const double d2 = chord2(p, sites_[w]);
+    if (d2 < best) best = d2, closest = w;
+    e = next_around_site(e);
+  } while (e != e0);
+  Placement where;
+  if (best < options_.merge_distance * options_.merge_distance) {
+    where.merged_into = closest;
+    where.chord = std::sqrt(best);
+  }
+  return where;
+}
+
+void SphericalDelaunay::make_first_triangles(SiteId a, SiteId b, SiteId c) {
+  // Two triangles glued along their three edges: the (flat) hull of three points.
+  triangles_.assign({a, b, c, a, c, b});
+  halfedges_.assign({5, 4, 3, 2, 1, 0});
+  site_edge_[a] = 0;
+  site_edge_[b] = 1;
+  site_edge_[c] = 2;
+}
+
+
+}  // namespace geovor

@@ -1,0 +1,124 @@
+// validate(): every invariant of the triangulation checked exactly; validate_structure(): its
+// combinatorial part, O(n), for loaded files.
+#include <string>
+#include <vector>
+
+#include "delaunay/conflict.hpp"
+#include "geovor/delaunay/spherical_delaunay.hpp"
+
+namespace geovor {
+
+Validation SphericalDelaunay::validate_structure() const {
+  Validation v;
+  auto fail = [&v](std::string msg) {
+    if (v.errors.size() < 50) v.errors.push_back(std::move(msg));
+  };
+  const std::size_t nh = halfedges_.size(), nt = num_triangles();
+  std::size_t live = 0;
+  for (SiteId s = 0; s < sites_.size(); ++s) live += alive(s);
+  if (live != num_live_) fail("live site count " + std::to_string(live) + " != " + std::to_string(num_live_));
+  if (triangles_.size() != nh) fail("triangles and halfedges differ in size");
+  // Euler: a triangulated sphere with n vertices has 2n - 4 triangles.
+  const std::size_t expect = live >= 3 ? 2 * live - 4 : 0;
+  if (nt != expect)
+    fail("Euler: " + std::to_string(nt) + " triangles for " + std::to_string(live) + " sites");
+  if (!v.ok()) return v;
+
+  for (HalfedgeId e = 0; e < nh; ++e) {
+    const HalfedgeId tw = halfedges_[e];
+    if (tw >= nh || tw == e || halfedges_[tw] != e) {
+      fail("half-edge " + std::to_string(e) + ": twin not symmetric");
+      continue;
+    }
+    // Orientation: a twin runs the other way, so neighbouring triangles are oriented alike.
+    if (triangles_[tw] != triangles_[next_halfedge(e)] || triangles_[next_halfedge(tw)] != triangles_[e])
+      fail("half-edge " + std::to_string(e) + ": twin does not run the other way");
+  }
+  for (TriId t = 0; t < nt; ++t) {
+    const SiteId a = triangles_[3 * t], b = triangles_[3 * t + 1], c = triangles_[3 * t + 2];
+    if (a >= sites_.size() || b >= sites_.size() || c >= sites_.size() || !alive(a) || !alive(b) || !alive(c))
+      fail("triangle " + std::to_string(t) + " uses a removed or unknown site");
+    else if (a == b || b == c || c == a)
+      fail("triangle " + std::to_string(t) + " repeats a site");
+  }
+  if (!v.ok()) return v;
+
+  // Every live site is a vertex whose star is one cycle: the walks around all sites together
+  // meet every half-edge exactly once.
+  std::size_t visited = 0;
+  for (SiteId s = 0; s < sites_.size(); ++s) {
+    if (!alive(s)) continue;
+    const HalfedgeId e0 = site_edge_[s];
+    if (live < 3) {
+      if (e0 != kNoIndex) fail("site " + std::to_string(s) + " has an edge with fewer than 3 sites");
+      continue;
+    }
+    if (e0 >= nh || triangles_[e0] != s) {
+      fail("site " + std::to_string(s) + " is not a vertex");
+      continue;
+    }
+    HalfedgeId e = e0;
+    std::size_t degree = 0;
+    do {
+      ++degree;
+      e = next_around_site(e);
+    } while (e != e0 && degree <= nh);
+    if (e != e0) fail("site " + std::to_string(s) + ": star is not a cycle");
+    visited += degree;
+  }
+  if (live >= 3 && visited != nh) fail("vertex stars do not cover every half-edge once");
+  return v;
+}
+
+Validation SphericalDelaunay::validate(const BuildReport* report, bool global) const {
+  Validation v = validate_structure();
+  if (!v.ok()) return v;
+  auto fail = [&v](std::string msg) {
+    if (v.errors.size() < 50) v.errors.push_back(std::move(msg));
+  };
+  const std::size_t nh = halfedges_.size(), nt = num_triangles();
+  const std::size_t live = num_live_;
+
+  // Local Delaunay under the perturbation: across every edge, the opposite site is outside the
+  // circumcircle. (The test is the same from both sides: an even permutation.)
+  for (HalfedgeId e = 0; e < nh; ++e) {
+    const HalfedgeId tw = halfedges_[e];
+    if (tw < e) continue;
+    const SiteId d = triangles_[prev_halfedge(tw)];
+    if (live == 3) continue;  // the two triangles of three sites share all their vertices
+    if (in_conflict(tri_of(e), sites_[d], priority(d)))
+      fail("edge " + std::to_string(e) + " is not locally Delaunay");
+  }
+  if (global) {
+    for (TriId t = 0; t < nt; ++t)
+      for (SiteId s = 0; s < sites_.size(); ++s) {
+        if (!alive(s) || s == triangles_[3 * t] || s == triangles_[3 * t + 1] || s == triangles_[3 * t + 2]) continue;
+        if (in_conflict(t, sites_[s], priority(s)))
+          fail("site " + std::to_string(s) + " lies in the circumcircle of triangle " + std::to_string(t));
+      }
+  }
+
+  if (report) {
+    // Every input point is accounted for: it is a site, or merged into one and listed.
+    std::vector<char> seen(sites_.size(), 0);
+    std::size_t merged = 0;
+    for (std::size_t i = 0; i < report->site_of_input.size(); ++i) {
+      const SiteId s = report->site_of_input[i];
+      if (s >= sites_.size()) {
+        fail("input " + std::to_string(i) + " has no site");
+        continue;
+      }
+      if (seen[s]) ++merged;
+      seen[s] = 1;
+    }
+    if (merged != report->merges.size())
+      fail("merges listed: " + std::to_string(report->merges.size()) + ", found " + std::to_string(merged));
+    for (const Merge& m : report->merges)
+      if (m.input >= report->site_of_input.size() || report->site_of_input[m.input] != m.site)
+        fail("merge of input " + std::to_string(m.input) + " disagrees with site_of_input");
+  }
+  return v;
+}
+
+
+}  // namespace geovor
