@@ -14,11 +14,11 @@
 #include <numbers>
 #include <span>
 #include <string>
-#include <thread>
 
 #include "geovor/core/assert.hpp"
 #include "geovor/core/compensated_sum.hpp"
 #include "geovor/core/error.hpp"
+#include "geovor/core/parallel.hpp"
 #include "geovor/geo/geodesic_area.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/voronoi/polygon_validity.hpp"
@@ -137,16 +137,9 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
 
   const std::size_t nv = diagram.num_vertices();
   const std::span<const SiteId> order = diagram.storage_order();
-  const unsigned threads = static_cast<unsigned>(std::min<std::size_t>(
-      options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency()),
-      std::max<std::size_t>(1, nv / 16384)));
-  // Runs work(thread, begin, end) over [0, n) split into `threads` slices.
-  auto split = [threads](std::size_t n, const auto& work) {
-    std::vector<std::thread> pool;
-    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work, i, n * i / threads, n * (i + 1) / threads);
-    work(0u, std::size_t{0}, n / threads);
-    for (std::thread& th : pool) th.join();
-  };
+  const unsigned threads = static_cast<unsigned>(
+      std::min<std::size_t>(thread_count(options.threads), std::max<std::size_t>(1, nv / 16384)));
+  auto split = [threads](std::size_t n, const auto& work) { parallel_for(n, threads, work); };
 
   // Union-find over the Voronoi vertices joined by a short edge (found on all threads, joined
   // here); the root is the smallest id, whatever the order of the unions.
