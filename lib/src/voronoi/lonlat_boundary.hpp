@@ -10,7 +10,7 @@
 
 #include "geovor/core/coordinate_grid.hpp"
 #include "geovor/core/types.hpp"
-#include "geovor/io/geometry.hpp"
+#include "geovor/lonlat/geometry.hpp"
 
 namespace geovor::lonlat {
 
