@@ -1,7 +1,7 @@
 // Lon/lat cell polygons against independent oracles: GEOS validity (OGR IsValid), the WGS84
 // ellipsoid's area (GeographicLib), 4 pi, the lon/lat rectangle's 64800 square degrees,
 // brute-force nearest sites for random queries (point in polygon), and the RFC 7946 rules.
-#include "geovor/voronoi/cell_geometry.hpp"
+#include "geovor/lonlat/cell_geometry.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,7 +23,7 @@
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/geo/site_reader.hpp"
-#include "geovor/voronoi/polygon_validity.hpp"
+#include "geovor/lonlat/polygon_validity.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 #include "geovor/core/coordinate_grid.hpp"
 #include "support/generators.hpp"

@@ -1,7 +1,7 @@
 /// \file geodesic_area_test.cpp
 /// \brief geodesic_s12 against GeographicLib's own Geodesic::GenInverse (the oracle), on random
 /// edges in every quadrant and at every scale, near the poles, the equator and the antimeridian.
-#include "geovor/geo/geodesic_area.hpp"
+#include "geovor/lonlat/ellipsoid_area.hpp"
 
 #include <GeographicLib/Geodesic.hpp>
 #include <GeographicLib/PolygonArea.hpp>

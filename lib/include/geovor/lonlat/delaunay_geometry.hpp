@@ -42,7 +42,7 @@
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/core/coordinate_grid.hpp"
 #include "geovor/lonlat/geometry.hpp"
-#include "geovor/voronoi/polygon_validity.hpp"
+#include "geovor/lonlat/polygon_validity.hpp"
 
 namespace geovor {
 

@@ -1,4 +1,4 @@
-#include "geovor/voronoi/lloyd.hpp"
+#include "geovor/relax/lloyd.hpp"
 
 #include <algorithm>
 #include <chrono>

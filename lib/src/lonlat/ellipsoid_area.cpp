@@ -1,4 +1,4 @@
-#include "geovor/geo/geodesic_area.hpp"
+#include "geovor/lonlat/ellipsoid_area.hpp"
 
 #include <GeographicLib/Geodesic.hpp>
 

@@ -1,4 +1,4 @@
-#include "geovor/voronoi/cell_geometry.hpp"
+#include "geovor/lonlat/cell_geometry.hpp"
 
 #include <GeographicLib/Geodesic.hpp>
 #include <GeographicLib/Math.hpp>
@@ -19,10 +19,10 @@
 #include "geovor/core/compensated_sum.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
-#include "geovor/geo/geodesic_area.hpp"
+#include "geovor/lonlat/ellipsoid_area.hpp"
 #include "geovor/geo/site_encoder.hpp"
-#include "geovor/voronoi/polygon_validity.hpp"
-#include "lonlat_boundary.hpp"
+#include "geovor/lonlat/polygon_validity.hpp"
+#include "lonlat/boundary.hpp"
 
 namespace geovor {
 namespace {

@@ -45,7 +45,7 @@
 #include "geovor/core/coordinate_grid.hpp"
 #include "geovor/core/types.hpp"
 #include "geovor/lonlat/geometry.hpp"
-#include "geovor/voronoi/polygon_validity.hpp"
+#include "geovor/lonlat/polygon_validity.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 
 namespace geovor {
