@@ -14,6 +14,7 @@
 #include "geovor/io/output_target.hpp"
 #include "geovor/lonlat/cell_geometry.hpp"
 #include "geovor/lonlat/delaunay_geometry.hpp"
+#include "geovor/lonlat/ellipsoid_area.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
