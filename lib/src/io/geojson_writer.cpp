@@ -1,6 +1,5 @@
 #include "geovor/io/geojson_writer.hpp"
 
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,6 +19,7 @@
 
 #include "geovor/core/error.hpp"
 #include "geovor/io/output_target.hpp"
+#include "io/direct_output.hpp"
 
 namespace geovor {
 namespace {
@@ -277,6 +277,7 @@ class GeoJsonWriter final : public FeatureWriter {
         open_temporary();
       }
     }
+    if (!temp_.active()) out_.attach(file_, false);  // stdout, a device or a FIFO
     buffer_.reserve(kFlushAt + (std::size_t{1} << 16));
     if (framing_ == GeoJsonFraming::FeatureCollection) {
       buffer_ += "{\"type\":\"FeatureCollection\",\"name\":";
@@ -315,7 +316,11 @@ class GeoJsonWriter final : public FeatureWriter {
       buffer_ += "}\n";
     }
     flush();
-    if (stage_ != nullptr) write_stage(true);
+    try {
+      out_.finish();
+    } catch (const DirectOutput::Failure& f) {
+      fail("cannot write", f.err);
+    }
     if (file_ == stdout) {
       if (std::fflush(stdout) != 0) fail("cannot write to stdout", errno);
       finished_ = true;
@@ -346,8 +351,6 @@ class GeoJsonWriter final : public FeatureWriter {
   // from the caller's memory.
   static constexpr std::size_t kFlushAt = std::size_t{1} << 20;
   static constexpr std::size_t kDirectAt = std::size_t{1} << 16;
-  static constexpr std::size_t kWriteBackEvery = std::size_t{8} << 20;
-  static constexpr std::size_t kDirectBlock = 4096, kStageSize = std::size_t{4} << 20;
 
   void check_usable() const {
     if (failed_) throw Error(ErrorCode::Io, path_ + ": the writer failed earlier");
@@ -375,7 +378,8 @@ class GeoJsonWriter final : public FeatureWriter {
   void open_temporary() {
     temp_ = TemporaryOutput(path_, TemporaryOutput::Kind::File);
     file_ = temp_.take_stdio(path_);
-    enable_direct();
+    out_.attach(file_, true);
+    out_.enable_direct();
   }
 
   // Removes the temporary file; nothing under the final name was touched.
@@ -391,76 +395,12 @@ class GeoJsonWriter final : public FeatureWriter {
     throw Error(ErrorCode::Io, path_ + ": " + what + (err != 0 ? ": " + errno_text(err) : ""));
   }
 
-  // Direct I/O of the temporary file where its file system allows it: the text is staged in an
-  // aligned buffer and written in whole blocks with O_DIRECT, which spares the kernel's copy into
-  // the page cache (a fifth of the CPU time of a large cells file); the last partial block is
-  // written normally. Any refusal (EINVAL) falls back to normal writes.
-  void enable_direct() {
-    const int fd = ::fileno(file_);
-    const int flags = ::fcntl(fd, F_GETFL);
-    if (flags == -1 || ::fcntl(fd, F_SETFL, flags | O_DIRECT) != 0) return;
-    stage_.reset(static_cast<char*>(std::aligned_alloc(kDirectBlock, kStageSize)));
-    if (stage_ == nullptr) {
-      disable_direct();
-      return;
-    }
-    direct_ = true;
-  }
-  void disable_direct() {
-    const int fd = ::fileno(file_);
-    const int flags = ::fcntl(fd, F_GETFL);
-    if (flags != -1) ::fcntl(fd, F_SETFL, flags & ~O_DIRECT);
-    direct_ = false;
-  }
-  // Writes n bytes to the temporary file's descriptor (whole blocks while direct_).
-  void write_fd(const char* data, std::size_t n) {
-    const int fd = ::fileno(file_);
-    while (n > 0) {
-      const ssize_t w = ::write(fd, data, n);
-      if (w < 0) {
-        if (errno == EINTR) continue;
-        if (errno == EINVAL && direct_) {
-          disable_direct();
-          continue;
-        }
-        fail("cannot write", errno);
-      }
-      data += w, n -= static_cast<std::size_t>(w);
-      if (n % kDirectBlock != 0 && direct_) disable_direct();  // a short write broke the alignment
-    }
-  }
-  // Writes the staged bytes: the whole blocks, and the rest too if `all` (then direct I/O ends).
-  void write_stage(bool all) {
-    const std::size_t blocks = staged_ / kDirectBlock * kDirectBlock;
-    write_fd(stage_.get(), blocks);
-    std::memmove(stage_.get(), stage_.get() + blocks, staged_ - blocks);
-    staged_ -= blocks;
-    if (all && staged_ > 0) {
-      if (direct_) disable_direct();
-      write_fd(stage_.get(), staged_);
-      staged_ = 0;
-    }
-  }
-
+  // Writes n bytes to the output; a failure fails the writer (the file is removed).
   void write_out(const char* data, std::size_t n) {
-    if (stage_ != nullptr) {
-      while (n > 0) {
-        const std::size_t k = std::min(n, kStageSize - staged_);
-        std::memcpy(stage_.get() + staged_, data, k);
-        staged_ += k, data += k, n -= k;
-        if (staged_ == kStageSize) write_stage(false);
-      }
-      return;
-    }
-    errno = 0;
-    if (std::fwrite(data, 1, n, file_) != n) fail(file_ == stdout ? "cannot write to stdout" : "cannot write", errno);
-    // Start the write-back of the temporary file as it grows (without waiting for it), so that
-    // finish()'s fsync has little left to wait for.
-    unsynced_ += n;
-    if (unsynced_ >= kWriteBackEvery && temp_.active()) {
-      unsynced_ = 0;
-      if (std::fflush(file_) != 0) fail("cannot write", errno);
-      ::sync_file_range(::fileno(file_), 0, 0, SYNC_FILE_RANGE_WRITE);  // a hint: errors surface in fsync
+    try {
+      out_.write(data, n);
+    } catch (const DirectOutput::Failure& f) {
+      fail(file_ == stdout ? "cannot write to stdout" : "cannot write", f.err);
     }
   }
 
@@ -480,13 +420,7 @@ class GeoJsonWriter final : public FeatureWriter {
   EncodedFeatures one_;   // write()'s feature
   BBoxUnion extent_;
   std::uint64_t count_ = 0;
-  std::size_t unsynced_ = 0;  // bytes written since the last write-back request
-  struct FreeAligned {
-    void operator()(char* p) const { std::free(p); }
-  };
-  std::unique_ptr<char, FreeAligned> stage_;  // the temporary file's text not yet written (fd I/O)
-  std::size_t staged_ = 0;
-  bool direct_ = false;  // O_DIRECT is on
+  DirectOutput out_;  // file_'s bytes, through direct I/O for a temporary file
   bool finished_ = false;
   bool failed_ = false;
 };
