@@ -14,7 +14,7 @@
 
 #include "bench_common.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
-#include "geovor/geo/geodesic_area.hpp"
+#include "geovor/lonlat/ellipsoid_area.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 

@@ -31,7 +31,7 @@
 
 #include "bench_common.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
-#include "geovor/voronoi/lloyd.hpp"
+#include "geovor/relax/lloyd.hpp"
 #include "support/generators.hpp"
 
 namespace {

@@ -18,7 +18,7 @@
 #include "geovor/core/assert.hpp"
 #include "geovor/io/feature_writer.hpp"
 #include "geovor/io/geojson_writer.hpp"
-#include "geovor/voronoi/cell_geometry.hpp"
+#include "geovor/lonlat/cell_geometry.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 #include "commands.hpp"
 #include "site_input.hpp"

@@ -10,7 +10,7 @@
 
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/geo/site_reader.hpp"
-#include "geovor/voronoi/cell_geometry.hpp"
+#include "geovor/lonlat/cell_geometry.hpp"
 
 namespace geovor::tools {
 

@@ -12,8 +12,9 @@
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/feature_writer.hpp"
 #include "geovor/io/output_target.hpp"
-#include "geovor/voronoi/cell_geometry.hpp"
-#include "geovor/voronoi/delaunay_geometry.hpp"
+#include "geovor/lonlat/cell_geometry.hpp"
+#include "geovor/lonlat/delaunay_geometry.hpp"
+#include "geovor/lonlat/ellipsoid_area.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {

@@ -17,7 +17,7 @@
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/feature_writer.hpp"
 #include "geovor/io/output_target.hpp"
-#include "geovor/voronoi/lloyd.hpp"
+#include "geovor/relax/lloyd.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {

@@ -32,8 +32,8 @@
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/geo/site_encoder.hpp"
-#include "geovor/voronoi/cell_geometry.hpp"
-#include "geovor/voronoi/polygon_validity.hpp"
+#include "geovor/lonlat/cell_geometry.hpp"
+#include "geovor/lonlat/polygon_validity.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 
 namespace {

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "geovor/core/types.hpp"
-#include "geovor/io/geometry.hpp"
+#include "geovor/lonlat/geometry.hpp"
 
 namespace geovor::testing {
 

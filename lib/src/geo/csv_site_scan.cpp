@@ -6,17 +6,16 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <limits>
 #include <string_view>
 #include <system_error>
-#include <thread>
 #include <utility>
 
 #include "geovor/core/error.hpp"
+#include "geovor/core/parallel.hpp"
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geo/trim.hpp"
@@ -671,8 +670,7 @@ void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tu
   const std::size_t body = header.pos();
   std::vector<std::size_t> targets = tuning.cuts;
   if (targets.empty()) {
-    const std::size_t wanted =
-        options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    const std::size_t wanted = thread_count(options.threads);
     const std::size_t n = std::max<std::size_t>(
         1, std::min(wanted, (size - body) / std::max<std::size_t>(1, tuning.min_chunk_bytes)));
     for (std::size_t k = 1; k < n; ++k) targets.push_back(body + (size - body) * k / n);
@@ -684,21 +682,11 @@ void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tu
     s.chunks[k].end = k + 1 < starts.size() ? starts[k + 1] : size;
   }
 
-  std::vector<std::exception_ptr> failures(s.chunks.size());
-  auto work = [&](std::size_t k) {
-    try {
-      scan_chunk(buf, table, s.chunks[k]);
-    } catch (...) {
-      failures[k] = std::current_exception();
-    }
-  };
-  std::vector<std::thread> pool;
-  for (std::size_t k = 1; k < s.chunks.size(); ++k) pool.emplace_back(work, k);
-  work(0);
-  for (std::thread& t : pool) t.join();
-  for (const std::exception_ptr& e : failures) {
-    if (e) std::rethrow_exception(e);
-  }
+  // One slice per chunk (the first chunk's error, by chunk order, is rethrown).
+  const std::size_t chunks = s.chunks.size();
+  parallel_for(chunks, static_cast<unsigned>(chunks), [&](unsigned, std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) scan_chunk(buf, table, s.chunks[k]);
+  });
 
   // Rows and lines numbered across chunks; rejected rows in row order, chunk after chunk.
   std::uint64_t rows = 0, line = header.next_line() - 1;

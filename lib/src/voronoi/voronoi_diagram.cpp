@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
-#include <thread>
 #include <vector>
 #include <numbers>
 
 #include "geovor/core/assert.hpp"
+#include "geovor/core/parallel.hpp"
 #include "geovor/core/small_angle.hpp"
 #include "geovor/delaunay/halfedge.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
@@ -65,7 +64,7 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
   num_cells_ = dt.num_sites();
   const std::size_t nt = num_cells_ >= 3 ? dt.num_triangles() : 0;
   const std::span<const SiteId> tri_sites = dt.triangles();
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = thread_count(threads);
   threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(1, nt / 32768)));
   // The circumcentres, of triangles [begin, end).
   auto centres = [&](std::size_t begin, std::size_t end) {
@@ -82,25 +81,13 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
   // With several threads, the others compute the vertices while this one does the sequential
   // scans below; they only write vertices_, which nothing else reads before they are joined.
   // With two, the other one also sizes vertices_, so that its pages are first touched there.
-  std::vector<std::thread> centre_threads;
-  std::vector<std::exception_ptr> centre_errors(threads);
+  TaskGroup centre_tasks;
   if (threads > 2) vertices_.resize(nt);
   for (unsigned i = 1; i < threads; ++i)
-    centre_threads.emplace_back([&, i] {
-      try {
-        if (threads == 2) vertices_.resize(nt);
-        centres(nt * (i - 1) / (threads - 1), nt * i / (threads - 1));
-      } catch (...) {
-        centre_errors[i] = std::current_exception();  // rethrown after the join
-      }
+    centre_tasks.run([&, i] {
+      if (threads == 2) vertices_.resize(nt);
+      centres(nt * (i - 1) / (threads - 1), nt * i / (threads - 1));
     });
-  struct Joiner {
-    std::vector<std::thread>& threads;
-    ~Joiner() {
-      for (std::thread& t : threads)
-        if (t.joinable()) t.join();
-    }
-  } joiner{centre_threads};
 
   sites_.assign(dt.sites().begin(), dt.sites().end());
   live_.assign(cap, 0);
@@ -155,10 +142,8 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
   cell_nbrs_.resize(3 * nt);
   // The stars, in `threads` slices of the storage order (the centres joined first: they share
   // the cores).
-  for (std::thread& t : centre_threads) t.join();
-  for (const std::exception_ptr& e : centre_errors)
-    if (e) std::rethrow_exception(e);
-  auto stars = [&](std::size_t begin, std::size_t end) {
+  centre_tasks.wait();
+  auto stars = [&](unsigned, std::size_t begin, std::size_t end) {
     for (std::size_t j = begin; j < end; ++j) {
       const SiteId s = order_[j];
       // Start at the edge to the smallest neighbour: the cell's lists (and the polygons and sums
@@ -181,11 +166,7 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
       GEOVOR_ASSERT(i == cells_[s].end);  // the star is one cycle through every triangle of s
     }
   };
-  std::vector<std::thread> pool;
-  const std::size_t n = order_.size();
-  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(stars, n * i / threads, n * (i + 1) / threads);
-  stars(0, n / threads);
-  for (std::thread& th : pool) th.join();
+  parallel_for(order_.size(), threads, stars);
 }
 
 std::span<const TriId> VoronoiDiagram::cell_vertices(SiteId s) const {

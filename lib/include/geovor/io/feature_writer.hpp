@@ -31,7 +31,7 @@
 #include <variant>
 #include <vector>
 
-#include "geovor/io/geometry.hpp"
+#include "geovor/lonlat/geometry.hpp"
 
 namespace geovor {
 

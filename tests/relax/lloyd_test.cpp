@@ -1,7 +1,7 @@
 // Lloyd's iterations and the closed-form cell centroid, against independent oracles: a nearest-site
 // quadrature of the whole sphere (no Voronoi cell involved), a fine subdivision of each cell,
 // closed forms for hemispheres and symmetric sets, and fresh builds of the final positions.
-#include "geovor/voronoi/lloyd.hpp"
+#include "geovor/relax/lloyd.hpp"
 
 #include <gtest/gtest.h>
 

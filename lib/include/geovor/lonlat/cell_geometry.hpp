@@ -44,8 +44,9 @@
 
 #include "geovor/core/coordinate_grid.hpp"
 #include "geovor/core/types.hpp"
-#include "geovor/io/geometry.hpp"
-#include "geovor/voronoi/polygon_validity.hpp"
+#include "geovor/lonlat/ellipsoid_area.hpp"
+#include "geovor/lonlat/geometry.hpp"
+#include "geovor/lonlat/polygon_validity.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 
 namespace geovor {
@@ -183,16 +184,6 @@ class CellGeometry {
 MultiPolygon cell_polygon(const VoronoiDiagram& diagram, SiteId s,
                           const CellGeometryOptions& options = {}, BBox* bbox = nullptr);
 
-/// Area (m^2) on the WGS84 ellipsoid of polygons in lon/lat degrees with counter-clockwise
-/// exterior rings and clockwise holes, as GeographicLib::PolygonArea(Geodesic::WGS84()) computes
-/// it: the edges between consecutive positions are geodesics (for densified edges this differs
-/// from the straight lon/lat segment by less than the densification tolerance, and shared edges
-/// cancel exactly, so the areas of a tiling sum to the ellipsoid's area). Rings around a pole
-/// through (+-180, +-90) are handled by GeographicLib. An exterior ring counter-clockwise is
-/// taken as the area on its left, in [0, area of the ellipsoid); the one ring whose planar area
-/// is 64800 square degrees (the whole lon/lat rectangle) counts as the whole ellipsoid.
-double ellipsoid_area_m2(const MultiPolygon& polygons);
-
 /// A cheap invariant of a written cell (a violation is a bug): its area on the ellipsoid, area_m2,
 /// agrees with its area on the unit sphere, area_sr, scaled by the authalic radius, within the
 /// ellipsoid's flattening (0.5 %) plus what the written boundary may differ from the cell's by
@@ -202,9 +193,5 @@ double ellipsoid_area_m2(const MultiPolygon& polygons);
 /// is checked there.
 bool cell_areas_agree(double area_m2, double area_sr, const MultiPolygon& written, double densify_m,
                       int precision);
-
-/// Signed planar area of a closed ring in (lon, lat) (square degrees), positive when
-/// counter-clockwise.
-double planar_area_deg2(const Ring& ring);
 
 }  // namespace geovor

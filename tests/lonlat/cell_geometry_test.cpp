@@ -1,7 +1,7 @@
 // Lon/lat cell polygons against independent oracles: GEOS validity (OGR IsValid), the WGS84
 // ellipsoid's area (GeographicLib), 4 pi, the lon/lat rectangle's 64800 square degrees,
 // brute-force nearest sites for random queries (point in polygon), and the RFC 7946 rules.
-#include "geovor/voronoi/cell_geometry.hpp"
+#include "geovor/lonlat/cell_geometry.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,7 +23,6 @@
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/geo/site_reader.hpp"
-#include "geovor/voronoi/polygon_validity.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 #include "geovor/core/coordinate_grid.hpp"
 #include "support/generators.hpp"
@@ -480,29 +479,6 @@ TEST(CellGeometry, SharedEdgesAreBitIdenticalAcrossTheAntimeridian) {
   EXPECT_FALSE(common.empty());
 }
 
-TEST(CellGeometry, EllipsoidAreaOfSimpleRings) {
-  // The cut-ring form of a polar cap equals the cap as a ring around the pole.
-  Ring cap;
-  for (int lon = -180; lon <= 180; lon += 5) cap.push_back({static_cast<double>(lon), 80});
-  cap.push_back({180, 90});
-  cap.push_back({-180, 90});
-  cap.push_back(cap.front());
-  const double a = ellipsoid_area_m2({Polygon{cap, {}}});
-  Ring rest(cap.rbegin(), cap.rend());
-  for (LonLat& p : rest)
-    if (p.lat_deg == 90) p.lat_deg = -90;
-  EXPECT_NEAR(a + ellipsoid_area_m2({Polygon{rest, {}}}), kEllipsoidArea, 1);
-  EXPECT_GT(a, 0);
-  // A small counter-clockwise square, and the same as a hole.
-  const Ring sq{{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
-  const double s = ellipsoid_area_m2({Polygon{sq, {}}});
-  EXPECT_NEAR(s, 12308778361.5, 1e3);
-  const Ring hole(sq.rbegin(), sq.rend());
-  const Ring big{{-2, -2}, {3, -2}, {3, 3}, {-2, 3}, {-2, -2}};
-  EXPECT_NEAR(ellipsoid_area_m2({Polygon{big, {hole}}}), ellipsoid_area_m2({Polygon{big, {}}}) - s,
-              1e-3);
-}
-
 // The area of polygon(s, out, area_m2) (edge sums shared by the two cells of an edge) against
 // GeographicLib::PolygonArea run here on the written rings, cell by cell: within 1e-9 relative
 // or 4 ulps of the ellipsoid's area (0.25 m^2). Sets with cells cut at 180, polar cells and
@@ -797,51 +773,6 @@ TEST(CellGeometryAsWritten, NearCocircularRing) {
     const written::Outcome o = written::check(from_lat_lon(ll), p);
     EXPECT_EQ(o.written + o.collapsed + o.unwritable, 13u);
   }
-}
-
-TEST(PolygonValidity, AgainstGeosOnRoundedRings) {
-  // Random lon/lat quadrilaterals and pentagons on a coarse grid (many touching, collinear and
-  // crossing cases): polygon_problem() says valid exactly when GEOS does, for CCW rings.
-  std::uint64_t state = 14;
-  auto next = [&](int n) {
-    state = state * 6364136223846793005ull + 1442695040888963407ull;
-    return static_cast<int>((state >> 33) % static_cast<std::uint64_t>(n));
-  };
-  int agree = 0;
-  for (int iter = 0; iter < 4000; ++iter) {
-    Ring r;
-    const int n = 3 + next(4);
-    for (int i = 0; i < n; ++i) r.push_back({static_cast<double>(next(5)), static_cast<double>(next(5))});
-    r.push_back(r.front());
-    if (!(planar_area_deg2(r) > 0)) continue;
-    const MultiPolygon mp{Polygon{r, {}}};
-    const bool ours = polygon_problem(mp).empty();
-    const bool geos = testing::geos_invalid(mp).empty();
-    // Repeated positions: GEOS accepts them, we refuse them (what we write never repeats one).
-    bool repeats = false;
-    for (std::size_t i = 0; i + 1 < r.size(); ++i) repeats |= r[i] == r[i + 1];
-    if (repeats) {
-      EXPECT_FALSE(ours);
-      continue;
-    }
-    EXPECT_EQ(ours, geos) << "ring of " << n << ": " << polygon_problem(mp);
-    if (ours) EXPECT_EQ(is_star_shaped_ccw(r), is_star_shaped_ccw(r));
-    if (is_star_shaped_ccw(r)) EXPECT_TRUE(geos);
-    ++agree;
-  }
-  EXPECT_GT(agree, 1000);
-}
-
-TEST(PolygonValidity, RemoveSpikes) {
-  Ring r = {{0, 0}, {1, 0}, {2, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
-  remove_spikes(r);
-  EXPECT_EQ(r, (Ring{{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}}));
-  Ring seam = {{5, 5}, {0, 0}, {1, 0}, {1, 1}, {0, 0}, {5, 5}};
-  remove_spikes(seam);
-  EXPECT_EQ(seam, (Ring{{0, 0}, {1, 0}, {1, 1}, {0, 0}}));
-  Ring flat = {{0, 0}, {1, 0}, {0, 0}};
-  remove_spikes(flat);
-  EXPECT_LT(flat.size(), 4u);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// Private to the voronoi module: great-circle boundaries on the sphere as RFC 7946 lon/lat rings
+// Private to the lonlat module: great-circle boundaries on the sphere as RFC 7946 lon/lat rings
 // and lines (gis.md sections 0, 1, 4 and 5). Shared by the Voronoi cells (cell_geometry.cpp) and
 // the Delaunay triangles and edges (delaunay_geometry.cpp), so both follow one set of rules:
 // adaptive great-circle densification, snapping to the poles and the antimeridian, the cut at
@@ -10,7 +10,7 @@
 
 #include "geovor/core/coordinate_grid.hpp"
 #include "geovor/core/types.hpp"
-#include "geovor/io/geometry.hpp"
+#include "geovor/lonlat/geometry.hpp"
 
 namespace geovor::lonlat {
 

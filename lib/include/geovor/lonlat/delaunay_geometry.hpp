@@ -41,8 +41,8 @@
 #include "geovor/core/types.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/core/coordinate_grid.hpp"
-#include "geovor/io/geometry.hpp"
-#include "geovor/voronoi/polygon_validity.hpp"
+#include "geovor/lonlat/geometry.hpp"
+#include "geovor/lonlat/polygon_validity.hpp"
 
 namespace geovor {
 

@@ -1,4 +1,4 @@
-#include "lonlat_boundary.hpp"
+#include "lonlat/boundary.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/kernel/predicates.hpp"
-#include "geovor/voronoi/cell_geometry.hpp"
+#include "geovor/lonlat/cell_geometry.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 
 namespace geovor::lonlat {

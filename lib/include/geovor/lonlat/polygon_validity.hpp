@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <string>
 
-#include "geovor/io/geometry.hpp"
+#include "geovor/lonlat/geometry.hpp"
 
 namespace geovor {
 

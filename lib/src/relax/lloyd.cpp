@@ -1,14 +1,14 @@
-#include "geovor/voronoi/lloyd.hpp"
+#include "geovor/relax/lloyd.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
 #include <string>
-#include <thread>
 
 #include "geovor/core/assert.hpp"
 #include "geovor/core/error.hpp"
+#include "geovor/core/parallel.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 
@@ -31,7 +31,9 @@ double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(std::sqrt
 // list into contiguous blocks, which keeps each thread's walk spatially coherent.
 void centroids(const VoronoiDiagram& vd, std::span<const SiteId> sites, unsigned threads, std::vector<Vec3>& target,
                std::vector<double>& energy, std::vector<std::uint8_t>& defined) {
-  auto work = [&](std::size_t begin, std::size_t end) {
+  const std::size_t n = sites.size();
+  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(1, n / 4096)));
+  parallel_for(n, threads, [&](unsigned, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const SiteId s = sites[i];
       const CellCentroid c = cell_centroid(vd, s);
@@ -39,21 +41,7 @@ void centroids(const VoronoiDiagram& vd, std::span<const SiteId> sites, unsigned
       energy[s] = c.energy;
       defined[s] = c.defined;
     }
-  };
-  const std::size_t n = sites.size();
-  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(1, n / 4096)));
-  if (threads <= 1) {
-    work(0, n);
-    return;
-  }
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, n * t / threads, n * (t + 1) / threads);
-  work(0, n / threads);
-  for (auto& th : pool) th.join();
-}
-
-unsigned thread_count(unsigned requested) {
-  return requested > 0 ? requested : std::max(1u, std::thread::hardware_concurrency());
+  });
 }
 
 // Rebuilds dt from `target` (ids = indices, as dt has no removed site). A target merged into

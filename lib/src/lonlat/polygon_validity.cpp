@@ -1,4 +1,4 @@
-#include "geovor/voronoi/polygon_validity.hpp"
+#include "geovor/lonlat/polygon_validity.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 // the WGS84 ellipsoid's area (GeographicLib), 4 pi, exact point location by brute force (the
 // triangle holding a random point contains it in lon/lat too), haversine lengths from lon/lat,
 // and the identity that ghost faces cover the sites' convex hull exactly as the proper ones do.
-#include "geovor/voronoi/delaunay_geometry.hpp"
+#include "geovor/lonlat/delaunay_geometry.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,7 +21,7 @@
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/geo/site_reader.hpp"
 #include "geovor/kernel/predicates.hpp"
-#include "geovor/voronoi/cell_geometry.hpp"
+#include "geovor/lonlat/cell_geometry.hpp"
 #include "support/generators.hpp"
 #include "support/lonlat_checks.hpp"
 

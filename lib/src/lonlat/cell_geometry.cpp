@@ -1,8 +1,5 @@
-#include "geovor/voronoi/cell_geometry.hpp"
+#include "geovor/lonlat/cell_geometry.hpp"
 
-#include <GeographicLib/Geodesic.hpp>
-#include <GeographicLib/Math.hpp>
-#include <GeographicLib/PolygonArea.hpp>
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -14,15 +11,15 @@
 #include <numbers>
 #include <span>
 #include <string>
-#include <thread>
 
 #include "geovor/core/assert.hpp"
 #include "geovor/core/compensated_sum.hpp"
 #include "geovor/core/error.hpp"
-#include "geovor/geo/geodesic_area.hpp"
+#include "geovor/core/parallel.hpp"
 #include "geovor/geo/site_encoder.hpp"
-#include "geovor/voronoi/polygon_validity.hpp"
-#include "lonlat_boundary.hpp"
+#include "geovor/lonlat/ellipsoid_area.hpp"
+#include "geovor/lonlat/polygon_validity.hpp"
+#include "lonlat/boundary.hpp"
 
 namespace geovor {
 namespace {
@@ -43,39 +40,6 @@ std::vector<T>& scratch() {
   return buffer;
 }
 
-// GeographicLib's PolygonArea, for the shared edge sums: its transit(), whether lon1 -> lon2
-// crosses the prime meridian eastwards (1) or westwards (-1).
-int transit(double lon1, double lon2) {
-  using GeographicLib::Math;
-  // Off the antimeridian and less than 180 apart, AngDiff is the plain difference (same sign,
-  // zero only for equal longitudes) and AngNormalize the identity: no remainder() calls.
-  if (std::fabs(lon1) < 180 && std::fabs(lon2) < 180 && std::fabs(lon2 - lon1) < 180) {
-    const double d = lon2 - lon1;
-    return d > 0 && lon1 < 0 && lon2 >= 0 ? 1 : (d < 0 && lon1 >= 0 && lon2 < 0 ? -1 : 0);
-  }
-  const double lon12 = Math::AngDiff(lon1, lon2);
-  lon1 = Math::AngNormalize(lon1);
-  lon2 = Math::AngNormalize(lon2);
-  return lon12 > 0 && ((lon1 < 0 && lon2 >= 0) || (lon1 > 0 && lon2 == 0)) ? 1
-         : (lon12 < 0 && lon1 >= 0 && lon2 < 0 ? -1 : 0);
-}
-
-// PolygonArea::Compute(reverse = false, sign = true) from the ring's S12 sum and crossings, then
-// ellipsoid_area_m2's rule for rings larger than half the ellipsoid.
-double reduced_area(CompensatedSum sum, int crossings, double planar_deg2) {
-  const double whole = GeographicLib::Geodesic::WGS84().EllipsoidArea();
-  sum.remainder(whole);
-  if (crossings & 1) sum += (sum < 0 ? 1 : -1) * whole / 2;
-  sum *= -1;  // counter-clockwise
-  if (sum > whole / 2)
-    sum -= whole;
-  else if (sum <= -whole / 2)
-    sum += whole;
-  double area = 0 + sum();
-  if (area < 0 && std::fabs(planar_deg2) > 10000) area += whole;
-  return area;
-}
-
 // The geodesic segments of the edge a -> interior -> b as PolygonArea sees them (repeated
 // positions dropped), appended to `segments`; returns the edge's prime-meridian crossings.
 template <typename Interior>
@@ -85,7 +49,7 @@ int append_segments(const Pt& a, const Interior& interior, const Pt& b, std::vec
   auto segment = [&](double lon2, double lat2) {
     if (lon2 == lon && lat2 == lat) return;
     segments.push_back({lat, lon, lat2, lon2});
-    crossings += transit(lon, lon2);
+    crossings += prime_meridian_transit(lon, lon2);
     lon = lon2, lat = lat2;
   };
   for (const auto& q : interior) segment(q.lon, q.lat);
@@ -93,29 +57,7 @@ int append_segments(const Pt& a, const Interior& interior, const Pt& b, std::vec
   return crossings;
 }
 
-// The sum of S12 over segments, in order (GeographicLib's Accumulator arithmetic, as PolygonArea
-// sums).
-double sum_s12(std::span<const double> s12) {
-  if (s12.empty()) return 0;
-  if (s12.size() == 1) return s12[0];  // the Accumulator's value for one term
-  CompensatedSum acc;
-  for (const double x : s12) acc += x;
-  return acc();
-}
-
 }  // namespace
-
-double planar_area_deg2(const Ring& ring) {
-  if (ring.size() < 4) return 0;
-  const double x0 = ring[0].lon_deg, y0 = ring[0].lat_deg;
-  double twice = 0;
-  for (std::size_t i = 1; i + 1 < ring.size(); ++i) {
-    const double x1 = ring[i].lon_deg - x0, y1 = ring[i].lat_deg - y0;
-    const double x2 = ring[i + 1].lon_deg - x0, y2 = ring[i + 1].lat_deg - y0;
-    twice += x1 * y2 - x2 * y1;
-  }
-  return twice / 2;
-}
 
 CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOptions& options)
     : vd_(&diagram), options_(options) {
@@ -137,16 +79,9 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
 
   const std::size_t nv = diagram.num_vertices();
   const std::span<const SiteId> order = diagram.storage_order();
-  const unsigned threads = static_cast<unsigned>(std::min<std::size_t>(
-      options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency()),
-      std::max<std::size_t>(1, nv / 16384)));
-  // Runs work(thread, begin, end) over [0, n) split into `threads` slices.
-  auto split = [threads](std::size_t n, const auto& work) {
-    std::vector<std::thread> pool;
-    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work, i, n * i / threads, n * (i + 1) / threads);
-    work(0u, std::size_t{0}, n / threads);
-    for (std::thread& th : pool) th.join();
-  };
+  const unsigned threads = static_cast<unsigned>(
+      std::min<std::size_t>(thread_count(options.threads), std::max<std::size_t>(1, nv / 16384)));
+  auto split = [threads](std::size_t n, const auto& work) { parallel_for(n, threads, work); };
 
   // Union-find over the Voronoi vertices joined by a short edge (found on all threads, joined
   // here); the root is the smallest id, whatever the order of the unions.
@@ -540,7 +475,7 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
       bool same = out.size() == 1 && out[0].holes.empty() && out[0].exterior.size() == loop.size() + 1;
       for (std::size_t j = 0; same && j < loop.size(); ++j)
         same = out[0].exterior[j].lon_deg == loop[j].lon && out[0].exterior[j].lat_deg == loop[j].lat;
-      *area_m2 = same ? reduced_area(area_sum, area_crossings, planar_area_deg2(out[0].exterior))
+      *area_m2 = same ? ring_area_m2(area_sum, area_crossings, planar_area_deg2(out[0].exterior))
                       : ellipsoid_area_m2(out);
       return check_near_pole(s, info.near_pole, out, bbox, *area_m2);
     }
@@ -563,7 +498,7 @@ MultiPolygon cell_polygon(const VoronoiDiagram& diagram, SiteId s,
 bool cell_areas_agree(double area_m2, double area_sr, const MultiPolygon& written, double densify_m,
                       int precision) {
   // The authalic radius of WGS84: the sphere with the ellipsoid's area.
-  static const double authalic2 = GeographicLib::Geodesic::WGS84().EllipsoidArea() / (4 * std::numbers::pi);
+  static const double authalic2 = wgs84_area_m2() / (4 * std::numbers::pi);
   const double sphere_m2 = area_sr * authalic2;
   const double diff = std::fabs(area_m2 - sphere_m2);
   if (diff <= 0.005 * sphere_m2) return true;
@@ -582,30 +517,6 @@ bool cell_areas_agree(double area_m2, double area_sr, const MultiPolygon& writte
   // wrong.
   if (step_m >= 1 && area_m2 < sphere_m2) return true;
   return diff <= slack;
-}
-
-double ellipsoid_area_m2(const MultiPolygon& polygons) {
-  const GeographicLib::Geodesic& geod = GeographicLib::Geodesic::WGS84();
-  const double whole = geod.EllipsoidArea();
-  // Signed area on the left of a ring, in (-whole/2, whole/2] from GeographicLib; a ring whose
-  // lon/lat area is large is a polygon larger than half the ellipsoid, not a negative sliver.
-  auto ring_area = [&](const Ring& ring, bool reverse) {
-    const double planar = std::fabs(planar_area_deg2(ring));
-    if (planar >= kWholeDeg2 * (1 - 1e-12)) return whole;
-    GeographicLib::PolygonArea pa(geod);
-    for (std::size_t i = 0; i + 1 < ring.size(); ++i) pa.AddPoint(ring[i].lat_deg, ring[i].lon_deg);
-    double perimeter = 0, area = 0;
-    pa.Compute(reverse, true, perimeter, area);
-    // A polygon of more than half the ellipsoid has more than 2 pi rad^2 = 20626 deg^2 in lon/lat.
-    if (area < 0 && planar > 10000) area += whole;
-    return area;
-  };
-  double total = 0;
-  for (const Polygon& poly : polygons) {
-    total += ring_area(poly.exterior, false);
-    for (const Ring& h : poly.holes) total -= ring_area(h, true);
-  }
-  return total;
 }
 
 }  // namespace geovor

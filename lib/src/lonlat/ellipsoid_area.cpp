@@ -1,6 +1,8 @@
-#include "geovor/geo/geodesic_area.hpp"
+#include "geovor/lonlat/ellipsoid_area.hpp"
 
 #include <GeographicLib/Geodesic.hpp>
+#include <GeographicLib/Math.hpp>
+#include <GeographicLib/PolygonArea.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -20,6 +22,8 @@ constexpr double kF1 = 1 - kF;
 constexpr double kE2 = kF * (2 - kF);
 constexpr double kEp2 = kE2 / (1 - kE2);
 constexpr double kDegree = std::numbers::pi / 180;
+// Planar area (square degrees) of the whole lon/lat rectangle.
+constexpr double kWholeDeg2 = 360.0 * 180.0;
 
 // The domain of the fast path (see the header), and Newton's stopping rule.
 constexpr double kMaxLon12Deg = 2.5;
@@ -333,6 +337,80 @@ void geodesic_s12(std::span<const GeodesicEdge> edges, std::span<double> s12_m2)
       s12_m2[begin + i] = area;
     }
   }
+}
+
+namespace detail {
+
+// The antimeridian or long edges: GeographicLib's own arithmetic.
+int prime_meridian_transit_general(double lon1, double lon2) {
+  using GeographicLib::Math;
+  const double lon12 = Math::AngDiff(lon1, lon2);
+  lon1 = Math::AngNormalize(lon1);
+  lon2 = Math::AngNormalize(lon2);
+  return lon12 > 0 && ((lon1 < 0 && lon2 >= 0) || (lon1 > 0 && lon2 == 0)) ? 1
+         : (lon12 < 0 && lon1 >= 0 && lon2 < 0 ? -1 : 0);
+}
+
+}  // namespace detail
+
+double wgs84_area_m2() { return GeographicLib::Geodesic::WGS84().EllipsoidArea(); }
+
+double sum_s12(std::span<const double> s12) {
+  if (s12.empty()) return 0;
+  if (s12.size() == 1) return s12[0];  // the Accumulator's value for one term
+  CompensatedSum acc;
+  for (const double x : s12) acc += x;
+  return acc();
+}
+
+double ring_area_m2(CompensatedSum sum, int crossings, double planar_deg2) {
+  const double whole = GeographicLib::Geodesic::WGS84().EllipsoidArea();
+  sum.remainder(whole);
+  if (crossings & 1) sum += (sum < 0 ? 1 : -1) * whole / 2;
+  sum *= -1;  // counter-clockwise
+  if (sum > whole / 2)
+    sum -= whole;
+  else if (sum <= -whole / 2)
+    sum += whole;
+  double area = 0 + sum();
+  if (area < 0 && std::fabs(planar_deg2) > 10000) area += whole;
+  return area;
+}
+
+double planar_area_deg2(const Ring& ring) {
+  if (ring.size() < 4) return 0;
+  const double x0 = ring[0].lon_deg, y0 = ring[0].lat_deg;
+  double twice = 0;
+  for (std::size_t i = 1; i + 1 < ring.size(); ++i) {
+    const double x1 = ring[i].lon_deg - x0, y1 = ring[i].lat_deg - y0;
+    const double x2 = ring[i + 1].lon_deg - x0, y2 = ring[i + 1].lat_deg - y0;
+    twice += x1 * y2 - x2 * y1;
+  }
+  return twice / 2;
+}
+
+double ellipsoid_area_m2(const MultiPolygon& polygons) {
+  const GeographicLib::Geodesic& geod = GeographicLib::Geodesic::WGS84();
+  const double whole = geod.EllipsoidArea();
+  // Signed area on the left of a ring, in (-whole/2, whole/2] from GeographicLib; a ring whose
+  // lon/lat area is large is a polygon larger than half the ellipsoid, not a negative sliver.
+  auto ring_area = [&](const Ring& ring, bool reverse) {
+    const double planar = std::fabs(planar_area_deg2(ring));
+    if (planar >= kWholeDeg2 * (1 - 1e-12)) return whole;
+    GeographicLib::PolygonArea pa(geod);
+    for (std::size_t i = 0; i + 1 < ring.size(); ++i) pa.AddPoint(ring[i].lat_deg, ring[i].lon_deg);
+    double perimeter = 0, area = 0;
+    pa.Compute(reverse, true, perimeter, area);
+    // A polygon of more than half the ellipsoid has more than 2 pi rad^2 = 20626 deg^2 in lon/lat.
+    if (area < 0 && planar > 10000) area += whole;
+    return area;
+  };
+  double total = 0;
+  for (const Polygon& poly : polygons) {
+    total += ring_area(poly.exterior, false);
+    for (const Ring& h : poly.holes) total -= ring_area(h, true);
+  }
+  return total;
 }
 
 }  // namespace geovor

@@ -1,4 +1,4 @@
-#include "geovor/voronoi/delaunay_geometry.hpp"
+#include "geovor/lonlat/delaunay_geometry.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/kernel/predicates.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
-#include "lonlat_boundary.hpp"
+#include "lonlat/boundary.hpp"
 
 namespace geovor {
 namespace {
