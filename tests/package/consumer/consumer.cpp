@@ -33,7 +33,9 @@ int main() {
       row.unit = p;
       table.sites.push_back(row);
     }
-    const auto writer = geovor::open_cell_layer_writer("/dev/null", table.columns, {});
+    geovor::WriterOptions options;
+    options.format = "GeoJSON";  // /dev/null has no extension
+    const auto writer = geovor::open_cell_layer_writer("/dev/null", table.columns, options);
     const geovor::CellLayerReport cells = geovor::write_cell_layer(*writer, table, report, dt);
     writer->finish();
     std::printf("cells: %zu\nunwritten: %zu\n", cells.cells_written, cells.unwritten.size());
