@@ -5,13 +5,13 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <future>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
+#include "geovor/core/parallel.hpp"
 #include "geovor/io/output_target.hpp"
 #include "cell_output.hpp"
 #include "output_file.hpp"
@@ -66,29 +66,31 @@ int run(CellsArgs& args) {
   args.sites.reader.threads = static_cast<unsigned>(args.out.threads);  // 0: one per core
   // The triangulation (one thread) starts on the positions while another core makes the rows'
   // strings (CSV input) and then the ids' GeoJSON text.
-  IdTexts ids;
+  CellIdTexts ids;
   StagedSiteInput input(args.sites, args.out.threads != 1, [&, geojson = writes_geojson(args.out)](const SiteTable& table) {
-    if (geojson) ids = make_id_texts(table, 1);
+    if (geojson) ids = make_cell_id_texts(table, 1);
   });
   const std::span<const Vec3> points = input.positions();
   // With --overwrite, an existing GeoJSON output (one regular file; the input is read by now) is
   // removed on another core while the triangulation is built: freeing a large file's blocks
   // takes tens of milliseconds that the final rename over it would otherwise spend.
-  std::future<void> removed;
+  TaskGroup removal;
   struct stat st;
   if (args.out.overwrite && args.out.output != "-" && writes_geojson(args.out) &&
       ::lstat(args.out.output.c_str(), &st) == 0 && S_ISREG(st.st_mode))
-    removed = std::async(std::launch::async, [path = args.out.output] { ::unlink(path.c_str()); });
+    removal.run([path = args.out.output] { ::unlink(path.c_str()); });
   BuildReport report;
   const SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
-  if (removed.valid()) removed.get();
+  removal.wait();
   const SiteTable& table = input.table();
   if (!args.out.quiet) report_merges(table, report);  // merged rows stay in the cells' ids and the report
-  std::vector<UnwrittenCell> unwritten;
   const int precision = writes_geojson(args.out) ? args.out.precision : kFullPrecision;
   const std::size_t written = write_cells(
       args.out, table, report, dt,
-      [&] { if (report_file) write_report(*report_file, table, report, unwritten, precision); }, &ids, &unwritten);
+      [&](const CellLayerReport& cells) {
+        if (report_file) write_report(*report_file, table, report, cells.unwritten, precision);
+      },
+      &ids).cells_written;
   if (report_file) report_file->commit();
   if (!args.out.quiet)
     std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s\n",

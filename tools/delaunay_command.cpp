@@ -1,7 +1,5 @@
 // geovor delaunay INPUT -o TRIANGLES [--edges EDGES]: the Delaunay triangulation of the sites as
 // GIS polygons (its triangles) and lines (its edges, with their great-circle length).
-#include <GeographicLib/Geodesic.hpp>
-
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -9,12 +7,11 @@
 
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
-#include "geovor/geo/site_encoder.hpp"
+#include "geovor/delaunay/site_rows.hpp"
 #include "geovor/io/feature_writer.hpp"
 #include "geovor/io/output_target.hpp"
+#include "geovor/layers/delaunay_layers.hpp"
 #include "geovor/lonlat/cell_geometry.hpp"
-#include "geovor/lonlat/delaunay_geometry.hpp"
-#include "geovor/lonlat/ellipsoid_area.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -52,8 +49,7 @@ int run(DelaunayArgs& args) {
   BuildReport report;
   const SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
   report_merges(table, report);
-  const auto rows = rows_of_sites(report, dt.site_capacity());
-  auto site_id = [&](SiteId s) -> const std::string& { return table.sites[rows[s].front()].id; };
+  const SiteRows rows = rows_of_sites(report, dt.site_capacity());
   DelaunayGeometryOptions geometry_options;
   geometry_options.densify_m = args.densify_m;
   // Positions as the text outputs (GeoJSON) write them; the binary formats store doubles, and
@@ -61,109 +57,50 @@ int run(DelaunayArgs& args) {
   const bool text = (!args.triangles.empty() && !output_needs_gdal(args.triangles, args.format)) ||
                     (!args.edges.empty() && !output_needs_gdal(args.edges, args.edges_format));
   geometry_options.precision = text ? args.precision : kFullPrecision;
-  std::vector<std::pair<TriId, WrittenStatus>> unwritten;
-  std::size_t collapsed_edges = 0;
   const DelaunayGeometry geometry(dt, geometry_options);
-  std::size_t triangles_written = 0, edges_written = 0;
   const std::size_t total = (args.triangles.empty() ? 0 : dt.num_triangles()) +
                             (args.edges.empty() ? 0 : dt.halfedges().size() / 2);
   Progress progress(total, args.quiet);
-
+  DelaunayLayerOptions layer_options;
+  layer_options.no_ghosts = args.no_ghosts;
+  TriangleLayerReport triangles;
+  EdgeLayerReport edges;
   if (!args.triangles.empty()) {
-    const std::vector<Field> schema = {
-        {"tri_index", FieldType::Integer}, {"kind", FieldType::String},      {"ghost", FieldType::Integer},
-        {"site_a", FieldType::Integer},    {"site_b", FieldType::Integer},   {"site_c", FieldType::Integer},
-        {"id_a", FieldType::String},       {"id_b", FieldType::String},      {"id_c", FieldType::String},
-        {"area_m2", FieldType::Real},      {"area_sr", FieldType::Real},     {"circumradius_m", FieldType::Real}};
-    const auto writer =
-        open_feature_writer(args.triangles, GeometryType::MultiPolygon, schema, writer_options(args, args.format, "triangles"));
-    MultiPolygon polygon;
-    std::vector<FieldValue> values(schema.size());
-    for (TriId t = 0; t < dt.num_triangles(); ++t) {
-      const FaceKind kind = geometry.kind(t);
-      const bool outer = geometry.is_outer(t);
-      if (outer && args.no_ghosts) continue;
-      const WrittenStatus status = geometry.triangle_polygon(t, polygon);
-      if (status != WrittenStatus::Written) unwritten.push_back({t, status});
-      const SiteId a = dt.tri_site(t, 0), b = dt.tri_site(t, 1), c = dt.tri_site(t, 2);
-      values[0] = static_cast<std::int64_t>(t);
-      values[1] = std::string(to_string(kind));
-      values[2] = static_cast<std::int64_t>(outer);
-      values[3] = static_cast<std::int64_t>(a);
-      values[4] = static_cast<std::int64_t>(b);
-      values[5] = static_cast<std::int64_t>(c);
-      values[6] = site_id(a);
-      values[7] = site_id(b);
-      values[8] = site_id(c);
-      values[9] = ellipsoid_area_m2(polygon);
-      values[10] = geometry.triangle_area_sr(t);
-      values[11] = geometry.circumradius_m(t);
-      writer->write(polygon, values);
-      ++triangles_written;
-      if (t % 4096 == 0) progress.advance(t);
-    }
+    const auto writer = open_triangle_layer_writer(args.triangles, writer_options(args, args.format, "triangles"));
+    layer_options.progress = [&](std::size_t t) { progress.advance(t); };
+    triangles = write_triangle_layer(*writer, table, rows, geometry, layer_options);
     writer->finish();
   }
-
   if (!args.edges.empty()) {
-    const std::vector<Field> schema = {
-        {"edge_index", FieldType::Integer}, {"site_a", FieldType::Integer},  {"site_b", FieldType::Integer},
-        {"id_a", FieldType::String},        {"id_b", FieldType::String},     {"length_m", FieldType::Real},
-        {"geodesic_m", FieldType::Real},    {"hull", FieldType::Integer},  {"ghost", FieldType::Integer}};
-    const auto writer =
-        open_feature_writer(args.edges, GeometryType::MultiLineString, schema, writer_options(args, args.edges_format, "edges"));
-    const GeographicLib::Geodesic& geod = GeographicLib::Geodesic::WGS84();
-    MultiLineString line;
-    std::vector<FieldValue> values(schema.size());
-    std::int64_t index = 0;
-    const auto halfedges = dt.halfedges();
-    for (HalfedgeId e = 0; e < halfedges.size(); ++e) {
-      if (halfedges[e] < e) continue;  // each edge once, from its first half-edge
-      const SiteId a = dt.tri_site(e / 3, static_cast<int>(e % 3));
-      const SiteId b = dt.tri_site(e / 3, static_cast<int>((e + 1) % 3));
-      const bool outer = geometry.is_outer_edge(e);
-      if (outer && args.no_ghosts) continue;
-      geometry.edge_line(e, line);
-      collapsed_edges += line.empty();
-      const LatLon la = SiteEncoder::to_lat_lon(dt.site(a)), lb = SiteEncoder::to_lat_lon(dt.site(b));
-      double geodesic_m = 0;
-      geod.Inverse(la.lat_deg, la.lon_deg, lb.lat_deg, lb.lon_deg, geodesic_m);
-      values[0] = index++;
-      values[1] = static_cast<std::int64_t>(a);
-      values[2] = static_cast<std::int64_t>(b);
-      values[3] = site_id(a);
-      values[4] = site_id(b);
-      values[5] = geometry.edge_length_m(e);
-      values[6] = geodesic_m;
-      values[7] = static_cast<std::int64_t>(geometry.is_hull_edge(e));
-      values[8] = static_cast<std::int64_t>(outer);
-      writer->write(line, values);
-      ++edges_written;
-      if (edges_written % 4096 == 0) progress.advance(triangles_written + edges_written);
-    }
+    const auto writer = open_edge_layer_writer(args.edges, writer_options(args, args.edges_format, "edges"));
+    layer_options.progress = [&](std::size_t e) { progress.advance(triangles.triangles_written + e); };
+    edges = write_edge_layer(*writer, table, rows, geometry, layer_options);
     writer->finish();
   }
   progress.finish();
   const std::string where =
       geometry_options.precision >= 0 ? "--precision " + std::to_string(geometry_options.precision) : "full precision";
+  const std::vector<UnwrittenTriangle>& unwritten = triangles.unwritten;
   if (!unwritten.empty()) {
     // Listed even with --quiet, as rejected rows are: a feature without geometry must not pass unseen.
     std::fprintf(stderr, "%zu triangle(s) written with an empty geometry: at %s they collapse or would not be valid polygons (raise --precision):\n",
                  unwritten.size(), where.c_str());
-    for (std::size_t i = 0; i < unwritten.size() && i < 20; ++i)
-      std::fprintf(stderr, "  triangle %u (sites %u, %u, %u): %s\n", unwritten[i].first, dt.tri_site(unwritten[i].first, 0),
-                   dt.tri_site(unwritten[i].first, 1), dt.tri_site(unwritten[i].first, 2), to_string(unwritten[i].second));
+    for (std::size_t i = 0; i < unwritten.size() && i < 20; ++i) {
+      const TriId t = unwritten[i].triangle;
+      std::fprintf(stderr, "  triangle %u (sites %u, %u, %u): %s\n", t, dt.tri_site(t, 0), dt.tri_site(t, 1),
+                   dt.tri_site(t, 2), to_string(unwritten[i].status));
+    }
     if (unwritten.size() > 20) std::fprintf(stderr, "  ... (%zu more)\n", unwritten.size() - 20);
   }
-  if (collapsed_edges > 0)
-    std::fprintf(stderr, "%zu edge(s) written with an empty geometry: their ends are one position at %s\n", collapsed_edges,
+  if (edges.collapsed > 0)
+    std::fprintf(stderr, "%zu edge(s) written with an empty geometry: their ends are one position at %s\n", edges.collapsed,
                  where.c_str());
   if (!args.quiet) {
     std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; triangles %zu (ghost %zu)",
                  table.source.c_str(), static_cast<unsigned long long>(table.rows_read), dt.num_sites(),
                  report.merges.size(), table.rejected.size(), dt.num_triangles(), dt.num_ghost_triangles());
-    if (!args.triangles.empty()) std::fprintf(stderr, ", %zu written to %s", triangles_written, args.triangles.c_str());
-    if (!args.edges.empty()) std::fprintf(stderr, "; edges %zu written to %s", edges_written, args.edges.c_str());
+    if (!args.triangles.empty()) std::fprintf(stderr, ", %zu written to %s", triangles.triangles_written, args.triangles.c_str());
+    if (!args.edges.empty()) std::fprintf(stderr, "; edges %zu written to %s", edges.edges_written, args.edges.c_str());
     std::fprintf(stderr, "\n");
   }
   return kOk;

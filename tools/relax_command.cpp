@@ -1,9 +1,6 @@
 // geovor relax INPUT -o OUTPUT --iterations N: Lloyd's iterations toward a spherical centroidal
 // Voronoi tessellation; writes the final cells as `geovor cells` does and, optionally, the sites.
 #include <algorithm>
-#include <cctype>
-#include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -12,11 +9,11 @@
 
 #include "cell_output.hpp"
 #include "commands.hpp"
-#include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
+#include "geovor/delaunay/site_rows.hpp"
 #include "geovor/geo/site_encoder.hpp"
-#include "geovor/io/feature_writer.hpp"
 #include "geovor/io/output_target.hpp"
+#include "geovor/layers/site_layer.hpp"
 #include "geovor/relax/lloyd.hpp"
 #include "site_input.hpp"
 
@@ -39,47 +36,16 @@ void check_writable(const std::string& path, bool overwrite) {
   if (std::filesystem::exists(path, ec)) throw Error(ErrorCode::Io, path + ": exists; use --overwrite");
 }
 
-// The final sites as points: our fields, then the input columns except the positions (which no
-// longer hold), renamed src_<name> on a clash.
+// The final sites as points (geovor/layers/site_layer.hpp).
 void write_sites(const RelaxArgs& args, const SiteTable& table, const BuildReport& report, const SphericalDelaunay& dt,
                  const std::vector<Vec3>& start) {
-  const auto rows = rows_of_sites(report, dt.site_capacity());
-  std::vector<Field> schema = {{"site_index", FieldType::Integer}, {"site_id", FieldType::String},
-                               {"lat_deg", FieldType::Real},       {"lon_deg", FieldType::Real},
-                               {"moved_m", FieldType::Real}};
-  std::vector<std::size_t> columns;  // input columns kept
-  for (std::size_t c = 0; c < table.columns.size(); ++c) {
-    const int ci = static_cast<int>(c);
-    if (ci == table.lat_column || ci == table.lon_column ||
-        std::find(table.ecef_columns.begin(), table.ecef_columns.end(), ci) != table.ecef_columns.end())
-      continue;
-    const bool clash = std::any_of(schema.begin(), schema.end(),
-                                   [&](const Field& f) { return ascii_iequals(f.name, table.columns[c]); });
-    schema.push_back({clash ? "src_" + table.columns[c] : table.columns[c], FieldType::String});
-    columns.push_back(c);
-  }
   WriterOptions options;
   options.format = "";
   options.layer = "sites";
   options.precision = args.cells.precision;
   options.overwrite = args.cells.overwrite;
-  options.id_field = "site_id";
-  const auto writer = open_feature_writer(args.sites_output, GeometryType::Point, schema, options);
-  std::vector<FieldValue> values(schema.size());
-  for (SiteId s = 0; s < dt.site_capacity(); ++s) {
-    if (!dt.is_live(s)) continue;
-    const InputSite& first = table.sites[rows[s].front()];
-    const LatLon ll = SiteEncoder::to_lat_lon(dt.site(s));
-    const Vec3 d = cross(start[s], dt.site(s));
-    values[0] = static_cast<std::int64_t>(s);
-    values[1] = first.id;
-    values[2] = ll.lat_deg;
-    values[3] = ll.lon_deg;
-    values[4] = std::atan2(std::sqrt(norm2(d)), dot(start[s], dt.site(s))) * SiteEncoder::kEarthRadiusM;
-    for (std::size_t k = 0; k < columns.size(); ++k)
-      values[5 + k] = columns[k] < first.fields.size() ? FieldValue(first.fields[columns[k]]) : FieldValue();
-    writer->write(LonLat{ll.lon_deg, ll.lat_deg}, values);
-  }
+  const auto writer = open_site_layer_writer(args.sites_output, table, options);
+  write_site_layer(*writer, table, rows_of_sites(report, dt.site_capacity()), dt, start);
   writer->finish();
 }
 
@@ -130,7 +96,7 @@ int run(RelaxArgs& args) {
     std::fprintf(stderr, "\n");
   }
 
-  const std::size_t written = write_cells(args.cells, table, report, dt);
+  const std::size_t written = write_cells(args.cells, table, report, dt).cells_written;
   if (!args.sites_output.empty()) write_sites(args, table, report, dt, start);
   if (!args.cells.quiet)
     std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s%s%s\n",

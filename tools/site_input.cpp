@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "geovor/core/error.hpp"
+#include "geovor/delaunay/site_rows.hpp"
 #include "geovor/geo/csv_site_scan.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
@@ -86,16 +87,21 @@ StagedSiteInput::StagedSiteInput(SiteInputArgs& args, bool in_background, std::f
   auto rest = [this, then = std::move(then)] {
     SiteTable table = scan_ ? std::move(*scan_).finish() : std::move(table_);
     if (then) then(table);
-    return table;
+    table_ = std::move(table);
   };
-  if (in_background)
-    pending_ = std::async(std::launch::async, std::move(rest));
-  else
-    table_ = rest();
+  if (in_background) {
+    pending_ = std::make_unique<TaskGroup>();
+    pending_->run(std::move(rest));
+  } else {
+    rest();
+  }
 }
 
 const SiteTable& StagedSiteInput::table() {
-  if (pending_.valid()) table_ = pending_.get();
+  if (pending_) {
+    const std::unique_ptr<TaskGroup> pending = std::move(pending_);
+    pending->wait();
+  }
   if (!listed_) list_rejected(table_);
   listed_ = true;
   return table_;
@@ -115,31 +121,13 @@ DelaunayOptions delaunay_options(const SiteInputArgs& args) {
   return options;
 }
 
-std::vector<std::vector<std::uint32_t>> rows_of_sites(const BuildReport& report, std::size_t num_sites) {
-  // The row a site was built from comes first; it is not always the lowest row, since points
-  // merge into whichever of them the build inserted first.
-  std::vector<char> merged(report.site_of_input.size(), 0);
-  for (const Merge& m : report.merges) merged[m.input] = 1;
-  std::vector<std::vector<std::uint32_t>> rows(num_sites);
-  for (std::uint32_t i = 0; i < report.site_of_input.size(); ++i)
-    if (report.site_of_input[i] < num_sites && !merged[i]) rows[report.site_of_input[i]].push_back(i);
-  for (std::uint32_t i = 0; i < report.site_of_input.size(); ++i)
-    if (report.site_of_input[i] < num_sites && merged[i]) rows[report.site_of_input[i]].push_back(i);
-  return rows;
-}
-
 void report_merges(const SiteTable& table, const BuildReport& report) {
   if (report.merges.empty()) return;
-  // The row each site was built from: its one input that is not merged.
-  std::vector<char> merged(report.site_of_input.size(), 0);
-  for (const Merge& m : report.merges) merged[m.input] = 1;
-  std::vector<std::uint32_t> built_from(report.site_of_input.size(), kNoIndex);
-  for (std::uint32_t i = 0; i < report.site_of_input.size(); ++i)
-    if (!merged[i] && report.site_of_input[i] < built_from.size() && built_from[report.site_of_input[i]] == kNoIndex)
-      built_from[report.site_of_input[i]] = i;
+  // The row each site was built from comes first among its rows.
+  const SiteRows rows = rows_of_sites(report, report.site_of_input.size());
   for (const Merge& m : report.merges) {
     const InputSite& row = table.sites[m.input];
-    const InputSite& kept = table.sites[built_from[m.site]];
+    const InputSite& kept = table.sites[rows.first(m.site)];
     char why[96];
     if (m.chord == 0)
       std::snprintf(why, sizeof why, "same position");

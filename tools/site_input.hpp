@@ -7,12 +7,12 @@
 
 #include <cstdio>
 #include <functional>
-#include <future>
 #include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "geovor/core/parallel.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/geo/csv_site_scan.hpp"
 #include "geovor/geo/site_reader.hpp"
@@ -52,9 +52,9 @@ class StagedSiteInput {
   std::unique_ptr<CsvSiteScan> scan_;
   std::vector<Vec3> points_;
   std::span<const Vec3> positions_;
-  std::future<SiteTable> pending_;
   SiteTable table_;
   bool listed_ = false;
+  std::unique_ptr<TaskGroup> pending_;  // the second stage in the background (joined first)
 };
 
 /// The unit vectors of the accepted rows, in order.
@@ -65,10 +65,6 @@ DelaunayOptions delaunay_options(const SiteInputArgs& args);
 
 /// Lists each merge on stderr with the merged row and the row its site was built from.
 void report_merges(const SiteTable& table, const BuildReport& report);
-
-/// For each site, the indices (into table.sites) of the rows in it: the row the site was built
-/// from first, then the rows merged into it.
-std::vector<std::vector<std::uint32_t>> rows_of_sites(const BuildReport& report, std::size_t num_sites);
 
 /// GDAL-style progress on stderr ("0...10...20...", "100 - done.") when stderr is a terminal and
 /// not quiet.

@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "geovor/core/error.hpp"
+#include "geovor/delaunay/site_rows.hpp"
 #include "geovor/io/output_target.hpp"
 
 namespace geovor {
@@ -386,23 +387,10 @@ SiteAttributes make_site_attributes(const SiteTable& table, const BuildReport& r
   a.id_column = table.id_column;
   a.rows_read = table.rows_read;
   a.rejected = table.rejected.size();
-  std::vector<char> merged(n, 0);
-  for (const Merge& m : report.merges)
-    if (m.input < n) merged[m.input] = 1;
-  // Rows per site, the site's own (not merged) row first, then the merged ones in input order.
-  std::vector<std::uint64_t> count(site_capacity + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const SiteId s = report.site_of_input[i];
+  for (const SiteId s : report.site_of_input)
     if (s >= site_capacity) throw Error(ErrorCode::InvalidArgument, "make_site_attributes: site id out of range");
-    ++count[s + 1];
-  }
-  a.site_rows.assign(site_capacity + 1, 0);
-  for (std::size_t s = 0; s < site_capacity; ++s) a.site_rows[s + 1] = a.site_rows[s] + count[s + 1];
-  std::vector<std::uint64_t> next(a.site_rows.begin(), a.site_rows.end() - 1);
-  std::vector<std::uint32_t> order(n);
-  for (int pass = 0; pass < 2; ++pass)
-    for (std::size_t i = 0; i < n; ++i)
-      if (merged[i] == pass) order[next[report.site_of_input[i]]++] = static_cast<std::uint32_t>(i);
+  // Rows per site, the site's own (not merged) row first, then the merged ones in input order.
+  const SiteRows site_rows = rows_of_sites(report, site_capacity);
   a.rows.reserve(n);
   a.text_offsets.reserve(n * (1 + a.columns.size()) + 1);
   std::size_t bytes = 0;
@@ -411,10 +399,8 @@ SiteAttributes make_site_attributes(const SiteTable& table, const BuildReport& r
     for (const auto& f : s.fields) bytes += f.size();
   }
   a.text.reserve(bytes);
-  const std::vector<std::uint64_t> site_rows = std::move(a.site_rows);
-  a.site_rows.assign(1, 0);
-  for (std::size_t r = 0; r < n; ++r) a.append_row(table.sites[order[r]]);
-  a.site_rows = site_rows;
+  for (const std::uint32_t row : site_rows.inputs) a.append_row(table.sites[row]);
+  a.site_rows.assign(site_rows.begin.begin(), site_rows.begin.end());
   return a;
 }
 

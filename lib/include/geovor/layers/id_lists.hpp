@@ -1,0 +1,45 @@
+/// \file id_lists.hpp
+/// \brief The text of site ids in the cell layer's `ids` and `neighbors` fields: JSON arrays of
+/// strings held in a string field (portable to every format, no list field types needed), and
+/// the same text made once per input row for the GeoJSON writer's fast path.
+///
+/// An element of a list is the id as a JSON string with '"' and '\\' escaped and every control
+/// character (below 0x20) written \u00XX (lowercase hex); every other byte is copied as it is.
+/// (This is the format the cell outputs have always had, which tests and readers pin; it differs
+/// from append_json_string() in geojson_writer.hpp, which writes \n, \t... and replaces bytes
+/// that are not UTF-8.)
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "geovor/geo/site_reader.hpp"
+
+namespace geovor {
+
+/// Appends `id` as an element of an ids/neighbors list, quotes included (the file comment).
+void append_id_list_element(std::string& out, std::string_view id);
+
+/// Appends the text append_id_list_element() makes of `id` as it stands inside a JSON string
+/// (escaped once more by append_json_string(), without its quotes): an element of a list as the
+/// GeoJSON writer writes the list's string. Escaping a list piece by piece gives the same bytes
+/// as escaping it whole, since every piece ("[", ",", "]", elements) starts and ends with an
+/// ASCII character.
+void append_escaped_id_list_element(std::string& out, std::string_view id);
+
+/// Each input row's id as the cell layer's GeoJSON output writes it: `text[row]`, the id as a
+/// JSON string (append_json_string(): site_id, the feature id), and `element[row]`,
+/// append_escaped_id_list_element() of the id. Views into `storage`, whose strings are on the
+/// heap, so moving a CellIdTexts keeps them valid.
+struct CellIdTexts {
+  std::vector<std::string> storage;
+  std::vector<std::string_view> text, element;
+};
+
+/// The CellIdTexts of table's rows, made on `threads` threads (0: one per core; one per 4,096
+/// rows at most). write_cell_layer() makes them itself when not given them: this is for making
+/// them earlier, e.g. while the triangulation is built.
+CellIdTexts make_cell_id_texts(const SiteTable& table, unsigned threads);
+
+}  // namespace geovor

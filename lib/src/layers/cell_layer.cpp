@@ -1,0 +1,327 @@
+#include "geovor/layers/cell_layer.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "geovor/core/ascii.hpp"
+#include "geovor/core/assert.hpp"
+#include "geovor/core/parallel.hpp"
+#include "geovor/delaunay/site_rows.hpp"
+#include "geovor/io/geojson_writer.hpp"
+#include "geovor/voronoi/voronoi_diagram.hpp"
+
+namespace geovor {
+namespace {
+
+constexpr std::array<const char*, 8> kOurFields = {"site_index", "site_id", "ids",        "n_rows",
+                                                   "area_m2",    "area_sr", "n_vertices", "neighbors"};
+constexpr std::array<FieldType, 8> kOurTypes = {FieldType::Integer, FieldType::String, FieldType::String,
+                                                FieldType::Integer, FieldType::Real,   FieldType::Real,
+                                                FieldType::Integer, FieldType::String};
+
+// What the cells' properties need besides the geometry, made from the table, the report and the
+// triangulation only (so while the diagram and the cells' geometry are built).
+struct SiteTexts {
+  SiteRows rows;
+  // Without an encoder: site s's id (its first row's) as a list element,
+  // element_text[element_end[s - 1] .. element_end[s]) (made once: the neighbour lists name
+  // every site about six times).
+  std::string element_text;
+  std::vector<std::size_t> element_end;
+  // With an encoder: site s's id as the encoder writes it (site_text) and as an escaped list
+  // element (site_element), so that a cell reaches its neighbours' text in one step.
+  CellIdTexts made;  // when the caller gave no id texts
+  std::vector<std::string_view> site_text, site_element;
+  std::vector<SiteId> order;  // the sites with a cell, in id order
+
+  std::string_view element(SiteId s) const {
+    const std::size_t from = s == 0 ? 0 : element_end[s - 1];
+    return std::string_view(element_text).substr(from, element_end[s] - from);
+  }
+};
+
+SiteTexts make_site_texts(const SiteTable& table, const BuildReport& report, const SphericalDelaunay& dt,
+                          bool encoded, const CellIdTexts* id_texts) {
+  const std::size_t num_sites = dt.site_capacity();
+  SiteTexts t;
+  t.rows = rows_of_sites(report, num_sites);
+  if (!encoded) {
+    t.element_end.resize(num_sites);
+    for (SiteId s = 0; s < num_sites; ++s) {
+      if (t.rows.first(s) != kNoIndex) append_id_list_element(t.element_text, table.sites[t.rows.first(s)].id);
+      t.element_end[s] = t.element_text.size();
+    }
+  } else {
+    if (id_texts == nullptr || id_texts->text.size() != table.sites.size()) {
+      t.made = make_cell_id_texts(table, 1);
+      id_texts = &t.made;
+    }
+    t.site_text.resize(num_sites);
+    t.site_element.resize(num_sites);
+    for (SiteId s = 0; s < num_sites; ++s)
+      if (t.rows.first(s) != kNoIndex) {
+        t.site_text[s] = id_texts->text[t.rows.first(s)];
+        t.site_element[s] = id_texts->element[t.rows.first(s)];
+      }
+  }
+  for (SiteId s = 0; s < num_sites; ++s)
+    if (dt.is_live(s)) t.order.push_back(s);  // VoronoiDiagram::has_cell
+  return t;
+}
+
+// Makes the features of the cells (const, so thread-safe: it only reads shared state).
+class CellFeatures {
+ public:
+  CellFeatures(const SiteTable& table, const SiteTexts& texts, const CellGeometry& cells, bool encoded)
+      : table_(table), texts_(texts), cells_(cells), diagram_(cells.diagram()), encoded_(encoded) {}
+
+  // The cell of s at the output's precision and its area; a cell not written valid goes to
+  // `unwritten`.
+  double geometry(SiteId s, MultiPolygon& polygon, std::vector<UnwrittenCell>& unwritten) const {
+    double area_m2 = 0;
+    const CellStatus status = cells_.polygon(s, polygon, area_m2);
+    if (status != CellStatus::Written)
+      unwritten.push_back({s, status});
+    else
+      GEOVOR_ASSERT(cell_areas_agree(area_m2, diagram_.cell_area_sr(s), polygon, cells_.options().densify_m,
+                                     cells_.options().precision));
+    return area_m2;
+  }
+
+  // The cell's properties as values, for writers without an encoder.
+  void values(SiteId s, double area_m2, std::vector<FieldValue>& values, std::string& buffer) const {
+    const std::span<const std::uint32_t> site_rows = texts_.rows.of(s);
+    const InputSite& first = table_.sites[site_rows.front()];
+    const auto neighbours = diagram_.cell_neighbors(s);
+    values.resize(kOurFields.size() + table_.columns.size());
+    values[0] = static_cast<std::int64_t>(s);
+    values[1] = first.id;
+    buffer.assign(1, '[');
+    buffer += texts_.element(s);
+    for (std::size_t k = 1; k < site_rows.size(); ++k) {
+      buffer += ',';
+      append_id_list_element(buffer, table_.sites[site_rows[k]].id);
+    }
+    buffer += ']';
+    values[2] = buffer;
+    values[3] = static_cast<std::int64_t>(site_rows.size());
+    values[4] = area_m2;
+    values[5] = diagram_.cell_area_sr(s);
+    values[6] = static_cast<std::int64_t>(diagram_.cell_vertices(s).size());
+    buffer.assign(1, '[');
+    for (std::size_t k = 0; k < neighbours.size(); ++k) {
+      if (k) buffer += ',';
+      buffer += texts_.element(neighbours[k]);
+    }
+    buffer += ']';
+    values[7] = buffer;
+    for (std::size_t c = 0; c < table_.columns.size(); ++c)
+      values[kOurFields.size() + c] = c < first.fields.size() ? FieldValue(first.fields[c]) : FieldValue();
+  }
+
+  // The same properties as the JSON text of each value, in one string (value i ends at
+  // ends[i]), for the encoder.
+  void json(SiteId s, double area_m2, std::string& text, std::vector<std::size_t>& ends) const {
+    const std::span<const std::uint32_t> site_rows = texts_.rows.of(s);
+    const InputSite& first = table_.sites[site_rows.front()];
+    const auto neighbours = diagram_.cell_neighbors(s);
+    text.clear();
+    ends.clear();
+    auto done = [&] { ends.push_back(text.size()); };
+    append_json_value(text, static_cast<std::int64_t>(s));
+    done();
+    text += texts_.site_text[s];
+    done();
+    text += "\"[";
+    text += texts_.site_element[s];
+    for (std::size_t k = 1; k < site_rows.size(); ++k) {
+      text += ',';
+      append_escaped_id_list_element(text, table_.sites[site_rows[k]].id);
+    }
+    text += "]\"";
+    done();
+    append_json_value(text, static_cast<std::int64_t>(site_rows.size()));
+    done();
+    append_json_value(text, area_m2);
+    done();
+    append_json_value(text, diagram_.cell_area_sr(s));
+    done();
+    append_json_value(text, static_cast<std::int64_t>(diagram_.cell_vertices(s).size()));
+    done();
+    text += "\"[";
+    for (std::size_t k = 0; k < neighbours.size(); ++k) {
+      if (k) text += ',';
+      text += texts_.site_element[neighbours[k]];
+    }
+    text += "]\"";
+    done();
+    const std::size_t id_column =
+        table_.id_column >= 0 ? static_cast<std::size_t>(table_.id_column) : table_.columns.size();
+    for (std::size_t c = 0; c < table_.columns.size(); ++c) {
+      if (c >= first.fields.size())
+        text += "null";
+      else if (c == id_column && first.fields[c] == first.id)
+        text += texts_.site_text[s];
+      else
+        append_json_string(text, first.fields[c]);
+      done();
+    }
+  }
+
+  // Input order is not the cells' storage order: their data is scattered, so it is requested in
+  // stages some cells ahead (each stage reads what the one before brought in), with the site's
+  // row and its fields' text. `i` indexes texts_.order.
+  void prefetch_ahead(std::size_t i) const {
+    constexpr std::size_t kLists = 12, kVertices = 8, kPoints = 4;
+    const std::vector<SiteId>& order = texts_.order;
+    if (i + kLists < order.size()) cells_.prefetch(order[i + kLists], 0);
+    if (i + kVertices < order.size()) {
+      const SiteId s = order[i + kVertices];
+      cells_.prefetch(s, 1);
+      const InputSite* first = &table_.sites[texts_.rows.first(s)];
+      __builtin_prefetch(first);
+      __builtin_prefetch(reinterpret_cast<const char*>(first + 1) - 1);
+      if (encoded_)
+        for (const SiteId w : diagram_.cell_neighbors(s)) __builtin_prefetch(&texts_.site_element[w]);
+    }
+    if (i + kPoints < order.size()) {
+      const SiteId s = order[i + kPoints];
+      cells_.prefetch(s, 2);
+      for (const std::string& f : table_.sites[texts_.rows.first(s)].fields) __builtin_prefetch(f.data());
+      if (encoded_)
+        for (const SiteId w : diagram_.cell_neighbors(s)) __builtin_prefetch(texts_.site_element[w].data());
+    }
+  }
+
+ private:
+  const SiteTable& table_;
+  const SiteTexts& texts_;
+  const CellGeometry& cells_;
+  const VoronoiDiagram& diagram_;
+  bool encoded_;
+};
+
+// A block of consecutive cells (of SiteTexts::order), computed by a worker and written in order.
+struct CellBlock {
+  std::size_t begin = 0, end = 0;
+  std::vector<MultiPolygon> polygons;           // without an encoder
+  std::vector<std::vector<FieldValue>> values;  // without an encoder
+  EncodedFeatures text;                         // with an encoder: the block's features as text
+  std::vector<UnwrittenCell> unwritten;
+};
+
+// A worker's reused memory.
+struct Scratch {
+  std::string buffer;
+  MultiPolygon polygon;
+  std::vector<std::size_t> ends;
+  std::vector<std::string_view> json_values;
+};
+
+void compute_block(const CellFeatures& features, const std::vector<SiteId>& order, const FeatureEncoder* encoder,
+                   CellBlock& block, Scratch& scratch) {
+  block.unwritten.clear();
+  if (encoder) {
+    block.text.clear();
+    for (std::size_t i = block.begin; i < block.end; ++i) {
+      features.prefetch_ahead(i);
+      const double area_m2 = features.geometry(order[i], scratch.polygon, block.unwritten);
+      features.json(order[i], area_m2, scratch.buffer, scratch.ends);
+      scratch.json_values.clear();
+      for (std::size_t k = 0, from = 0; k < scratch.ends.size(); from = scratch.ends[k++])
+        scratch.json_values.push_back(std::string_view(scratch.buffer).substr(from, scratch.ends[k] - from));
+      encoder->encode_json(scratch.polygon, scratch.json_values, i + 1, block.text);
+    }
+    return;
+  }
+  block.polygons.resize(block.end - block.begin);
+  block.values.resize(block.end - block.begin);
+  for (std::size_t i = block.begin; i < block.end; ++i) {
+    features.prefetch_ahead(i);
+    const double area_m2 = features.geometry(order[i], block.polygons[i - block.begin], block.unwritten);
+    features.values(order[i], area_m2, block.values[i - block.begin], scratch.buffer);
+  }
+}
+
+}  // namespace
+
+std::vector<Field> cell_layer_schema(const std::vector<std::string>& input_columns) {
+  std::vector<Field> schema;
+  for (std::size_t i = 0; i < kOurFields.size(); ++i) schema.push_back({kOurFields[i], kOurTypes[i]});
+  for (const std::string& column : input_columns) {
+    const bool clash = std::any_of(kOurFields.begin(), kOurFields.end(),
+                                   [&](const char* ours) { return ascii_iequals(ours, column); });
+    schema.push_back({clash ? "src_" + column : column, FieldType::String});
+  }
+  return schema;
+}
+
+std::unique_ptr<FeatureWriter> open_cell_layer_writer(const std::string& path,
+                                                      const std::vector<std::string>& input_columns,
+                                                      WriterOptions options) {
+  options.id_field = "site_id";
+  return open_feature_writer(path, GeometryType::MultiPolygon, cell_layer_schema(input_columns), options);
+}
+
+CellLayerReport write_cell_layer(FeatureWriter& writer, const SiteTable& table, const BuildReport& report,
+                                 const SphericalDelaunay& dt, const CellLayerOptions& options) {
+  const unsigned threads = thread_count(options.threads);
+  const FeatureEncoder* encoder = writer.encoder();
+  // The sites' texts on another thread while the diagram and the cells' geometry are built (it
+  // fills their sequential stretches).
+  SiteTexts texts;
+  TaskGroup background;
+  auto prepare = [&] { texts = make_site_texts(table, report, dt, encoder != nullptr, options.id_texts); };
+  if (threads > 1)
+    background.run(prepare);
+  else
+    prepare();
+  const VoronoiDiagram diagram(dt, threads);
+  CellGeometryOptions geometry_options;
+  geometry_options.densify_m = options.densify_m;
+  geometry_options.threads = threads;
+  geometry_options.precision = encoder ? options.precision : kFullPrecision;
+  const CellGeometry cells(diagram, geometry_options);
+  background.wait();
+  const CellFeatures features(table, texts, cells, encoder != nullptr);
+
+  // Workers compute blocks of consecutive cells (and encode them when the format has an
+  // encoder) while this thread writes the finished blocks in order. The window is enough that
+  // the workers go on while a direct write blocks the writer (2-5 ms per 4 MiB); with 2 threads,
+  // 6 slots left the workers waiting 30-70 ms on the cities, 12 slots 4-10 ms. Past 32 slots, 2
+  // per thread (memory: a slot holds a block's cells).
+  constexpr std::size_t kBlock = 1024;
+  const std::size_t window =
+      std::max<std::size_t>(2 * std::size_t{threads} + 2, std::min<std::size_t>(4 * std::size_t{threads} + 4, 32));
+  const std::vector<SiteId>& order = texts.order;
+  std::vector<Scratch> scratch(threads);
+  std::size_t next = 0;
+  CellLayerReport result;
+  ordered_pipeline<CellBlock>(
+      threads, window,
+      [&](CellBlock& block) {
+        if (next >= order.size()) return false;
+        block.begin = next;
+        block.end = next = std::min(order.size(), next + kBlock);
+        return true;
+      },
+      [&](CellBlock& block, unsigned worker) { compute_block(features, order, encoder, block, scratch[worker]); },
+      [&](CellBlock& block) {
+        if (encoder) {
+          writer.write_encoded(block.text);
+        } else {
+          for (std::size_t i = 0; i < block.polygons.size(); ++i) writer.write(block.polygons[i], block.values[i]);
+        }
+        result.cells_written += block.end - block.begin;
+        result.unwritten.insert(result.unwritten.end(), block.unwritten.begin(), block.unwritten.end());
+        if (options.progress) options.progress(result.cells_written);
+      });
+  return result;
+}
+
+}  // namespace geovor
