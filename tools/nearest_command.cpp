@@ -71,7 +71,7 @@ int run(NearestArgs& args) {
       if (o->count() > 0)
         throw Error(ErrorCode::InvalidArgument, o->get_name() + " applies to a site table; " + sites_path +
                                                     " is an index (its columns were chosen by geovor index)");
-    index = load_index(sites_path);
+    index = load_index(sites_path, static_cast<unsigned>(args.threads));
   } else {
     index = build_index_from_table(args.sites, nullptr);
   }

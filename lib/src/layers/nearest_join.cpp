@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -81,6 +82,7 @@ struct Worker {
   std::vector<Query> batch;
   std::vector<std::string> quoted_ids;  // ids of the batch that were quoted fields
   std::vector<NearestResult> results, k_results;
+  bool prepared = false;  // has the packed copy built in the background
 
   Worker(const DelaunayHierarchy& h, const LocatorOptions& o, const QueryFormat& f) : locator(h, o), parser(f) {}
 };
@@ -306,6 +308,31 @@ NearestJoinReport nearest_join(const SiteIndex& index, std::FILE* queries, const
 
   const unsigned cores = thread_count(0);
   const unsigned threads = std::min(thread_count(options.threads), kMaxThreadsPerCore * cores);
+  // With several workers the packed copy of the hierarchy (LocatorOptions::packed) is built by a
+  // task beside them once the stream has shown it is long (rebuild_after queries, as a Locator
+  // would), while they go on walking the hierarchy; each takes the copy at its next block. A
+  // worker building it itself would keep the others waiting for it (WalkGraph::shared).
+  const bool background = threads > 1 && options.locator.packed;
+  LocatorOptions worker_options = options.locator;
+  if (background) worker_options.rebuild_after = std::numeric_limits<std::uint64_t>::max();
+  const std::uint64_t build_after =
+      options.locator.rebuild_after > 0 ? options.locator.rebuild_after
+                                        : std::max<std::uint64_t>(1024, index.hierarchy.base().num_sites() / 8);
+  std::atomic<std::uint64_t> answered{0};
+  std::atomic<bool> build_started{false}, built{false};
+  std::unique_ptr<Locator> owner;  // holds the packed copy once built
+  TaskGroup build;
+  auto build_in_background = [&](std::uint64_t queries) {
+    if (answered.fetch_add(queries, std::memory_order_relaxed) + queries < build_after) return;
+    if (build_started.exchange(true)) return;
+    build.run([&] {
+      auto locator = std::make_unique<Locator>(index.hierarchy, options.locator);
+      locator->prepare();
+      owner = std::move(locator);
+      built.store(true, std::memory_order_release);
+    });
+  };
+
   std::vector<std::unique_ptr<Worker>> workers(threads);  // made by their own thread, at first use
   std::atomic<bool> stop{false};  // a strict stop: read no further
   NearestJoinReport report;
@@ -313,9 +340,15 @@ NearestJoinReport nearest_join(const SiteIndex& index, std::FILE* queries, const
       threads, 2 * std::size_t{threads},
       [&](Block& b) { return !stop.load(std::memory_order_relaxed) && reader.next(b); },
       [&](Block& b, unsigned w) {
-        if (!workers[w]) workers[w] = std::make_unique<Worker>(index.hierarchy, options.locator, ctx.format);
-        answer_block(ctx, *workers[w], b);
+        if (!workers[w]) workers[w] = std::make_unique<Worker>(index.hierarchy, worker_options, ctx.format);
+        Worker& worker = *workers[w];
+        if (background && !worker.prepared && built.load(std::memory_order_acquire)) {
+          worker.locator.prepare();  // the copy `owner` holds: nothing is built
+          worker.prepared = true;
+        }
+        answer_block(ctx, worker, b);
         if (b.stopped) stop.store(true, std::memory_order_relaxed);
+        if (background) build_in_background(b.answered);
       },
       [&](Block& b) {
         if (report.stopped) return;  // blocks read after the stop
@@ -326,6 +359,7 @@ NearestJoinReport nearest_join(const SiteIndex& index, std::FILE* queries, const
           for (const MalformedQuery& m : b.errors) on_malformed(m);
         report.stopped = b.stopped;
       });
+  build.wait();
   return report;
 }
 
