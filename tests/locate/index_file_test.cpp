@@ -211,15 +211,22 @@ void expect_same_answers(const DelaunayHierarchy& a, const DelaunayHierarchy& b,
 }
 
 // Loads `path` expecting Error(BadData); returns its message.
-std::string load_error(const std::string& path) {
+std::string load_error(const std::string& path, unsigned threads) {
   try {
-    const SiteIndex index = load_index(path);
+    const SiteIndex index = load_index(path, threads);
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::BadData) << e.what();
     return e.what();
   }
   ADD_FAILURE() << path << " loaded";
   return "";
+}
+
+// The same, and the same message when the attributes are read on a second thread.
+std::string load_error(const std::string& path) {
+  const std::string serial = load_error(path, 1);
+  EXPECT_EQ(load_error(path, 2), serial);
+  return serial;
 }
 
 class IndexFile : public ::testing::Test {
@@ -310,6 +317,12 @@ TEST_F(IndexFile, RoundTripIsIdentical) {
   std::remove(again.c_str());
   save_index(again, loaded.hierarchy, loaded.attributes);
   EXPECT_EQ(read_bytes(again), *bytes_);
+}
+
+TEST_F(IndexFile, TwoThreadsLoadTheSame) {
+  const SiteIndex loaded = load_index(*path_, 2);
+  expect_same_hierarchy(index_->hierarchy, loaded.hierarchy);
+  expect_same_attributes(index_->attributes, loaded.attributes);
 }
 
 TEST_F(IndexFile, LoadedIndexStaysDynamic) {

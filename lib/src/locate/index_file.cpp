@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <memory>
 #include <span>
 #include <string>
@@ -17,6 +18,7 @@
 #include <utility>
 
 #include "geovor/core/error.hpp"
+#include "geovor/core/parallel.hpp"
 #include "geovor/delaunay/site_rows.hpp"
 #include "geovor/io/output_target.hpp"
 
@@ -188,16 +190,19 @@ class Reader {
     actual_size_ = static_cast<std::uint64_t>(st.st_size);
   }
 
-  // Reads `size` bytes at `offset` (both already checked against the file size).
+  // Reads `size` bytes at `offset` (both already checked against the file size). Positional
+  // reads: the levels and the attributes may be read by two threads at once.
   void read_at(std::uint64_t offset, void* into, std::size_t size) {
-    if (size == 0) return;
-    if (fseeko(file_.get(), static_cast<off_t>(offset), SEEK_SET) != 0)
-      throw Error(ErrorCode::Io, path_ + ": cannot seek: " + sys_reason());
-    const std::size_t got = std::fread(into, 1, size, file_.get());
-    if (got != size) {
-      if (std::ferror(file_.get())) throw Error(ErrorCode::Io, path_ + ": read error: " + sys_reason());
-      bad("truncated while reading: expected " + std::to_string(offset + size) + " bytes, found " +
-          std::to_string(offset + got));
+    std::size_t got = 0;
+    while (got < size) {
+      const ssize_t n = ::pread(fileno(file_.get()), static_cast<char*>(into) + got, size - got,
+                                static_cast<off_t>(offset + got));
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) throw Error(ErrorCode::Io, path_ + ": read error: " + sys_reason());
+      if (n == 0)
+        bad("truncated while reading: expected " + std::to_string(offset + size) + " bytes, found " +
+            std::to_string(offset + got));
+      got += static_cast<std::size_t>(n);
     }
   }
 
@@ -556,7 +561,7 @@ bool is_index_file(const std::string& path) {
   return std::fread(magic, 1, 8, f.get()) == 8 && std::memcmp(magic, kIndexMagic, 8) == 0;
 }
 
-SiteIndex load_index(const std::string& path) {
+SiteIndex load_index(const std::string& path, unsigned threads) {
   Reader in(path);
   in.open();
   in.read_header();
@@ -617,44 +622,61 @@ SiteIndex load_index(const std::string& path) {
     if (p != names.size()) in.bad("names: " + std::to_string(names.size() - p) + " bytes too many");
   }
 
-  // The levels.
-  std::vector<SphericalDelaunay> dts;
-  std::vector<std::vector<SiteId>> up(levels), down(levels);
-  for (std::uint32_t l = 0; l < levels; ++l) {
-    SphericalDelaunay::Arrays ar;
-    ar.sites = in.read_array<Vec3>(in.find(kSites, l));
-    const std::size_t n = ar.sites.size();
-    ar.triangles = in.read_array<SiteId>(in.find(kTriangles, l), std::string::npos, 3);
-    ar.halfedges = in.read_array<HalfedgeId>(in.find(kHalfedges, l), ar.triangles.size());
-    ar.site_edge = in.read_array<HalfedgeId>(in.find(kSiteEdge, l), n);
-    up[l] = in.read_array<SiteId>(in.find(kUp, l), n);
-    if (l > 0) down[l] = in.read_array<SiteId>(in.find(kDown, l), n);
+  // The attributes, independent of the levels: read beside them when threads > 1. Errors are
+  // reported in the serial order (the levels' first).
+  auto load_attributes = [&] {
+    const std::size_t fields = 1 + std::size_t{num_columns};
+    if (num_rows > in.entry(in.find(kRows, 0)).size / sizeof(SiteAttributes::Row))
+      in.bad("meta: " + std::to_string(num_rows) + " rows, the rows section is smaller");
+    a.site_rows = in.read_array<std::uint64_t>(in.find(kSiteRows, 0), static_cast<std::size_t>(num_sites) + 1);
+    a.rows = in.read_array<SiteAttributes::Row>(in.find(kRows, 0), static_cast<std::size_t>(num_rows));
+    const std::size_t offsets_i = in.find(kTextOffsets, 0);
+    if (in.entry(offsets_i).size / 8 / fields < num_rows) in.bad(in.section_name(offsets_i) + ": too small for the rows");
+    a.text_offsets = in.read_array<std::uint64_t>(offsets_i, static_cast<std::size_t>(num_rows) * fields + 1);
+    a.text = in.read_bytes(in.find(kText, 0));
+    if (!offsets_ok(a.site_rows, num_rows)) in.bad("site rows: offsets out of order or range");
+    if (!offsets_ok(a.text_offsets, a.text.size())) in.bad("text offsets: out of order or range");
+  };
+  TaskGroup beside;
+  if (threads > 1) beside.run(load_attributes);
+  std::exception_ptr levels_error;
+  try {
+    std::vector<SphericalDelaunay> dts;
+    std::vector<std::vector<SiteId>> up(levels), down(levels);
+    for (std::uint32_t l = 0; l < levels; ++l) {
+      SphericalDelaunay::Arrays ar;
+      ar.sites = in.read_array<Vec3>(in.find(kSites, l));
+      const std::size_t n = ar.sites.size();
+      ar.triangles = in.read_array<SiteId>(in.find(kTriangles, l), std::string::npos, 3);
+      ar.halfedges = in.read_array<HalfedgeId>(in.find(kHalfedges, l), ar.triangles.size());
+      ar.site_edge = in.read_array<HalfedgeId>(in.find(kSiteEdge, l), n);
+      up[l] = in.read_array<SiteId>(in.find(kUp, l), n);
+      if (l > 0) down[l] = in.read_array<SiteId>(in.find(kDown, l), n);
+      try {
+        dts.push_back(SphericalDelaunay::from_arrays(std::move(ar), dopt));
+      } catch (const Error& e) {
+        in.bad("level " + std::to_string(l) + ": " + e.what());
+      }
+    }
+    if (dts[0].site_capacity() != num_sites)
+      in.bad("meta: " + std::to_string(num_sites) + " sites, level 0 has " + std::to_string(dts[0].site_capacity()));
     try {
-      dts.push_back(SphericalDelaunay::from_arrays(std::move(ar), dopt));
+      index.hierarchy = DelaunayHierarchy::from_parts(hopt, std::move(dts), std::move(up), std::move(down));
     } catch (const Error& e) {
-      in.bad("level " + std::to_string(l) + ": " + e.what());
+      in.bad(e.what());
+    }
+  } catch (...) {
+    levels_error = std::current_exception();
+  }
+  if (threads > 1) {
+    try {
+      beside.wait();
+    } catch (...) {
+      if (!levels_error) throw;
     }
   }
-  if (dts[0].site_capacity() != num_sites)
-    in.bad("meta: " + std::to_string(num_sites) + " sites, level 0 has " + std::to_string(dts[0].site_capacity()));
-  try {
-    index.hierarchy = DelaunayHierarchy::from_parts(hopt, std::move(dts), std::move(up), std::move(down));
-  } catch (const Error& e) {
-    in.bad(e.what());
-  }
-
-  // The attributes.
-  const std::size_t fields = 1 + std::size_t{num_columns};
-  if (num_rows > in.entry(in.find(kRows, 0)).size / sizeof(SiteAttributes::Row))
-    in.bad("meta: " + std::to_string(num_rows) + " rows, the rows section is smaller");
-  a.site_rows = in.read_array<std::uint64_t>(in.find(kSiteRows, 0), static_cast<std::size_t>(num_sites) + 1);
-  a.rows = in.read_array<SiteAttributes::Row>(in.find(kRows, 0), static_cast<std::size_t>(num_rows));
-  const std::size_t offsets_i = in.find(kTextOffsets, 0);
-  if (in.entry(offsets_i).size / 8 / fields < num_rows) in.bad(in.section_name(offsets_i) + ": too small for the rows");
-  a.text_offsets = in.read_array<std::uint64_t>(offsets_i, static_cast<std::size_t>(num_rows) * fields + 1);
-  a.text = in.read_bytes(in.find(kText, 0));
-  if (!offsets_ok(a.site_rows, num_rows)) in.bad("site rows: offsets out of order or range");
-  if (!offsets_ok(a.text_offsets, a.text.size())) in.bad("text offsets: out of order or range");
+  if (levels_error) std::rethrow_exception(levels_error);
+  if (threads <= 1) load_attributes();
   const SphericalDelaunay& base = index.hierarchy.base();
   for (SiteId s = 0; s < base.site_capacity(); ++s)
     if (base.is_live(s) && a.site_rows[s] == a.site_rows[s + 1])

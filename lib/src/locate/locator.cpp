@@ -7,10 +7,10 @@
 #include <cmath>
 #include <numbers>
 #include <queue>
-#include <thread>
 #include <unordered_set>
 
 #include "geovor/core/error.hpp"
+#include "geovor/core/parallel.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/kernel/predicates.hpp"
 
@@ -447,29 +447,35 @@ NearestResult Locator::nearest(const Vec3& q) {
 std::vector<NearestResult> Locator::k_nearest(const Vec3& q, std::size_t k) {
   std::vector<NearestResult> out;
   if (k == 0) return out;
-  const NearestResult first = nearest(q);
-  if (first.site == kNoIndex) return out;
-  const SphericalDelaunay& base = h_->base();
-  NearestFirst queue(base, q, first.site);
-  while (out.size() < k && !queue.empty()) {
-    const SiteId s = queue.pop();
-    out.push_back({s, great_circle_m(q, base.site(s))});
-  }
+  nearest_first(q, [&](SiteId s, const Vec3& p) {
+    out.push_back({s, great_circle_m(q, p)});
+    return out.size() < k;
+  });
   return out;
 }
 
 std::vector<NearestResult> Locator::within(const Vec3& q, double radius_m) {
   std::vector<NearestResult> out;
+  if (!(radius_m >= 0)) return out;
+  nearest_first(q, [&](SiteId s, const Vec3& p) {
+    const double d = great_circle_m(q, p);
+    if (d > radius_m) return false;  // sites come nearest first: all the others are farther
+    out.push_back({s, d});
+    return true;
+  });
+  return out;
+}
+
+void Locator::nearest_first(const Vec3& q, const std::function<bool(SiteId, const Vec3&)>& visit) {
   const NearestResult first = nearest(q);
-  if (first.site == kNoIndex || !(radius_m >= 0)) return out;
+  if (first.site == kNoIndex) return;
   const SphericalDelaunay& base = h_->base();
   NearestFirst queue(base, q, first.site);
   while (!queue.empty()) {
-    const double d = great_circle_m(q, base.site(queue.top()));
-    if (d > radius_m) break;  // sites come nearest first: all the others are farther
-    out.push_back({queue.pop(), d});
+    const SiteId s = queue.top();
+    if (!visit(s, base.site(s))) return;
+    queue.pop();
   }
-  return out;
 }
 
 NearestResult Locator::nearest_geodesic(double lat_deg, double lon_deg) {
@@ -507,22 +513,11 @@ void nearest_batch(const DelaunayHierarchy& hierarchy, std::span<const Vec3> que
   const std::uint64_t after =
       options.rebuild_after > 0 ? options.rebuild_after : std::max<std::uint64_t>(1024, hierarchy.base().num_sites() / 8);
   if (queries.size() >= after) prototype.prepare();
-  auto run = [&](std::size_t begin, std::size_t end) {
+  // Contiguous slices keep each thread's stream coherent.
+  parallel_for(queries.size(), static_cast<unsigned>(threads), [&](unsigned, std::size_t begin, std::size_t end) {
     Locator locator = prototype;
     for (std::size_t i = begin; i < end; ++i) out[i] = locator.nearest(queries[i]);
-  };
-  if (threads == 1) {
-    run(0, queries.size());
-    return;
-  }
-  // Contiguous blocks keep each thread's stream coherent.
-  std::vector<std::thread> pool;
-  const std::size_t block = (queries.size() + threads - 1) / threads;
-  for (int t = 0; t < threads; ++t) {
-    const std::size_t begin = std::min(queries.size(), block * t), end = std::min(queries.size(), begin + block);
-    pool.emplace_back(run, begin, end);
-  }
-  for (auto& th : pool) th.join();
+  });
 }
 
 }  // namespace geovor

@@ -134,9 +134,11 @@ inline constexpr std::uint32_t kIndexVersion = 1;
 void save_index(const std::string& path, const DelaunayHierarchy& hierarchy,
                 const SiteAttributes& attributes, bool overwrite = false);
 
-/// Loads an index saved by save_index, with the checks described in the file comment.
+/// Loads an index saved by save_index, with the checks described in the file comment. With
+/// threads > 1 the attributes are read and checked on a second thread beside the levels
+/// (core/parallel.hpp); the result and the error reported are the same.
 /// @exception Error(Io) if the file cannot be read; Error(BadData) if it is not a valid index.
-SiteIndex load_index(const std::string& path);
+SiteIndex load_index(const std::string& path, unsigned threads = 1);
 
 /// True if the file at `path` starts with kIndexMagic (false if it cannot be read).
 bool is_index_file(const std::string& path);

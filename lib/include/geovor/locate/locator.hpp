@@ -40,6 +40,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -122,6 +123,11 @@ class Locator {
   std::vector<NearestResult> k_nearest(const Vec3& q, std::size_t k);
   /// Every site within radius_m metres (great circle), nearest first.
   std::vector<NearestResult> within(const Vec3& q, double radius_m);
+  /// Visits the sites in order of nearness to q (the exact order, ties to the lower id), from
+  /// nearest(q) on, until visit(site, its unit vector) returns false or every site was visited:
+  /// a best-first search on the Delaunay graph (the sites nearer to q than any given site form a
+  /// connected part of it). What k_nearest, within and locate/knn.hpp are made of.
+  void nearest_first(const Vec3& q, const std::function<bool(SiteId, const Vec3&)>& visit);
   /// The nearest site on the WGS84 ellipsoid (geodesic distance, GeographicLib), ties to the
   /// lowest id. Sites are taken in order of their spherical angle to q until the lower bound
   /// 2 b sin(angle / 2) of the geodesic distance of every site not yet seen (b: polar radius;
@@ -180,8 +186,8 @@ class Locator {
   LocatorStats stats_;
 };
 
-/// nearest() for every query, split over `threads` threads each with its own Locator; the
-/// results are identical to one thread's (every answer is exact).
+/// nearest() for every query, split over `threads` threads (core/parallel.hpp: contiguous slices,
+/// each with its own Locator); the results are identical to one thread's (every answer is exact).
 void nearest_batch(const DelaunayHierarchy& hierarchy, std::span<const Vec3> queries,
                    std::span<NearestResult> out, int threads, const LocatorOptions& options = {});
 
