@@ -7,5 +7,6 @@ namespace geovor::python {
 
 void bind_spherical_voronoi(pybind11::module_& m);
 void bind_index(pybind11::module_& m);
+void bind_layers(pybind11::module_& m);
 
 }  // namespace geovor::python

@@ -18,22 +18,12 @@
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/locate/index_file.hpp"
 #include "geovor/locate/locator.hpp"
+#include "site_arrays.hpp"
 
 namespace py = pybind11;
 
 namespace geovor::python {
 namespace {
-
-using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
-// A 1-D array of n doubles, or ValueError naming it.
-const double* column(const Doubles& a, const char* name, std::size_t n) {
-  if (a.ndim() != 1) throw Error(ErrorCode::InvalidArgument, std::string(name) + " must be one-dimensional");
-  if (static_cast<std::size_t>(a.shape(0)) != n)
-    throw Error(ErrorCode::InvalidArgument, std::string(name) + " has " + std::to_string(a.shape(0)) +
-                                                " values, lat has " + std::to_string(n));
-  return a.data();
-}
 
 // The unit vector of (lat, lon), or ValueError naming the row.
 Vec3 encode(double lat_deg, double lon_deg, const char* what, std::size_t row) {
@@ -46,24 +36,7 @@ Vec3 encode(double lat_deg, double lon_deg, const char* what, std::size_t row) {
 class Index {
  public:
   Index(const Doubles& lat, const Doubles& lon, std::optional<std::vector<std::string>> ids) {
-    const std::size_t n = static_cast<std::size_t>(lat.ndim() == 1 ? lat.shape(0) : 0);
-    const double* la = column(lat, "lat", n);
-    const double* lo = column(lon, "lon", n);
-    if (ids && ids->size() != n)
-      throw Error(ErrorCode::InvalidArgument, "ids has " + std::to_string(ids->size()) + " values, lat has " + std::to_string(n));
-    SiteTable table;
-    table.source = "<arrays>";
-    table.rows_read = n;
-    table.sites.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      InputSite& s = table.sites[i];
-      s.row = i + 1;
-      s.lat_deg = la[i], s.lon_deg = lo[i];
-      const std::string problem = normalize_lat_lon(s.lat_deg, s.lon_deg);
-      if (!problem.empty()) throw Error(ErrorCode::BadData, "site " + std::to_string(i) + ": " + problem);
-      s.unit = SiteEncoder::from_lat_lon(s.lat_deg, s.lon_deg);
-      s.id = ids ? std::move((*ids)[i]) : std::to_string(i);
-    }
+    const SiteTable table = site_table_from_arrays(lat, lon, std::move(ids));
     py::gil_scoped_release unlocked;
     index_ = build_site_index(table);
   }
@@ -130,9 +103,9 @@ class Index {
     if (max_distance_m && !(*max_distance_m >= 0))
       throw Error(ErrorCode::InvalidArgument, "max_distance_m must be a number >= 0");
     const bool geodesic = metric == "geodesic";
-    const std::size_t n = static_cast<std::size_t>(lat.ndim() == 1 ? lat.shape(0) : 0);
-    const double* la = column(lat, "lat", n);
-    const double* lo = column(lon, "lon", n);
+    std::size_t n = static_cast<std::size_t>(-1);
+    const double* la = column_data(lat, "lat", n);
+    const double* lo = column_data(lon, "lon", n);
     std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(n)};
     if (k > 1) shape.push_back(static_cast<py::ssize_t>(k));
     py::array_t<std::int64_t> site(shape);

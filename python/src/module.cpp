@@ -31,4 +31,5 @@ PYBIND11_MODULE(_geovor, m) {
   });
   geovor::python::bind_spherical_voronoi(m);
   geovor::python::bind_index(m);
+  geovor::python::bind_layers(m);
 }

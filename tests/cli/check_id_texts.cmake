@@ -30,8 +30,8 @@ if(NOT rc EQUAL 0)
   message(FATAL_ERROR "geovor cells ${INPUT} -o - failed (${rc})")
 endif()
 id_fields(${OUT}/tricky_ids.gpkg cells expected)
-# Sanity: the values GDAL reads from the GeoPackage are the ids as written by append_json.
-foreach(piece "q\\\"uote" "back\\\\slash" "tab\\u0009id" "new\\u000aline" "Zürich" "dup\\\"2\\\\\"")
+# Sanity: the values GDAL reads from the GeoPackage are the ids as append_json_string writes them.
+foreach(piece "q\\\"uote" "back\\\\slash" "tab\\tid" "new\\nline" "Zürich" "dup\\\"2\\\\\"")
   string(FIND "${expected}" "${piece}" at)
   if(at EQUAL -1)
     message(FATAL_ERROR "${piece} not in the GeoPackage's id fields:\n${expected}")

@@ -19,21 +19,21 @@ std::string escaped_element(std::string_view id) {
   return out;
 }
 
-TEST(IdLists, ElementEscapesQuoteBackslashAndEveryControlCharacterAsU00XX) {
+TEST(IdLists, ElementIsTheIdAsAJsonString) {
   EXPECT_EQ(element("KSEA"), R"("KSEA")");
   EXPECT_EQ(element("q\"uote"), R"("q\"uote")");
   EXPECT_EQ(element("back\\slash"), R"("back\\slash")");
-  EXPECT_EQ(element("tab\tid"), R"("tab\u0009id")");
-  EXPECT_EQ(element("new\nline\x1f"), R"("new\u000aline\u001f")");
+  EXPECT_EQ(element("tab\tid"), R"("tab\tid")");
+  EXPECT_EQ(element("new\nline\x1f"), R"("new\nline\u001f")");
   EXPECT_EQ(element("Z\xc3\xbcrich"), "\"Z\xc3\xbcrich\"");  // UTF-8 as it is
-  EXPECT_EQ(element("bad\xff"), "\"bad\xff\"");              // any other byte too
+  EXPECT_EQ(element("bad\xff"), "\"bad\xef\xbf\xbd\"");  // not UTF-8: U+FFFD, as in site_id
   EXPECT_EQ(element(""), R"("")");
 }
 
 TEST(IdLists, EscapedElementIsTheElementInsideAJsonString) {
   EXPECT_EQ(escaped_element("KSEA"), R"(\"KSEA\")");
   EXPECT_EQ(escaped_element("q\"uote"), R"(\"q\\\"uote\")");
-  EXPECT_EQ(escaped_element("tab\tid"), R"(\"tab\\u0009id\")");
+  EXPECT_EQ(escaped_element("tab\tid"), R"(\"tab\\tid\")");
   EXPECT_EQ(escaped_element("back\\slash"), R"(\"back\\\\slash\")");
 }
 
@@ -56,7 +56,7 @@ TEST(IdLists, CellIdTextsOfEveryRow) {
   EXPECT_EQ(texts.text[1], R"("q\"uote")");
   EXPECT_EQ(texts.element[1], R"(\"q\\\"uote\")");
   EXPECT_EQ(texts.text[2], R"("tab\tid")");  // the feature's own string: append_json_string
-  EXPECT_EQ(texts.element[2], R"(\"tab\\u0009id\")");
+  EXPECT_EQ(texts.element[2], R"(\"tab\\tid\")");
   EXPECT_EQ(texts.text[3], "\"bad\xef\xbf\xbd\"");  // GeoJSON is UTF-8: U+FFFD
   EXPECT_EQ(texts.element[3], "\\\"bad\xef\xbf\xbd\\\"");
 }

@@ -1,15 +1,15 @@
 #include "geovor/layers/id_lists.hpp"
 
 #include <algorithm>
-#include <cstdio>
 
 #include "geovor/core/parallel.hpp"
-#include "geovor/io/geojson_writer.hpp"
+#include "geovor/io/json_text.hpp"
 
 namespace geovor {
 namespace {
 
-// Whether append_id_list_element() only adds quotes around `id`.
+// Whether append_json_string() escapes nothing in `id` (it may replace bytes that are not UTF-8,
+// which need no second escaping either).
 bool plain_element(std::string_view id) {
   return std::none_of(id.begin(), id.end(),
                       [](char c) { return c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20; });
@@ -17,26 +17,7 @@ bool plain_element(std::string_view id) {
 
 }  // namespace
 
-void append_id_list_element(std::string& out, std::string_view id) {
-  out += '"';
-  std::size_t plain = 0;  // copy runs of ordinary characters at once
-  for (std::size_t i = 0; i < id.size(); ++i) {
-    const unsigned char c = static_cast<unsigned char>(id[i]);
-    if (c != '"' && c != '\\' && c >= 0x20) continue;
-    out.append(id, plain, i - plain);
-    if (c < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", c);
-      out += buf;
-    } else {
-      out += '\\';
-      out += static_cast<char>(c);
-    }
-    plain = i + 1;
-  }
-  out.append(id.substr(plain));
-  out += '"';
-}
+void append_id_list_element(std::string& out, std::string_view id) { append_json_string(out, id); }
 
 void append_escaped_id_list_element(std::string& out, std::string_view id) {
   std::string element, escaped;

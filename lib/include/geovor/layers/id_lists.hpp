@@ -3,11 +3,9 @@
 /// strings held in a string field (portable to every format, no list field types needed), and
 /// the same text made once per input row for the GeoJSON writer's fast path.
 ///
-/// An element of a list is the id as a JSON string with '"' and '\\' escaped and every control
-/// character (below 0x20) written \u00XX (lowercase hex); every other byte is copied as it is.
-/// (This is the format the cell outputs have always had, which tests and readers pin; it differs
-/// from append_json_string() in geojson_writer.hpp, which writes \n, \t... and replaces bytes
-/// that are not UTF-8.)
+/// An element of a list is the id as append_json_string() (io/json_text.hpp) writes it: the one
+/// JSON string escaper of geovor, so the lists are valid JSON (UTF-8, bytes that are not replaced
+/// by U+FFFD) in every format.
 #pragma once
 
 #include <string>

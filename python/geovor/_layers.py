@@ -1,0 +1,127 @@
+"""geovor.cells, geovor.delaunay, geovor.relax: the command's layers as GeoDataFrames."""
+import warnings
+
+import numpy as np
+
+from . import _geovor
+from ._frames import ID_NAMES, find_column, frame_coordinates
+
+__all__ = ["cells", "delaunay", "relax", "GeometryWarning"]
+
+
+class GeometryWarning(UserWarning):
+    """Some features could not be written valid and have an empty geometry (listed)."""
+
+
+def _sites(data, lat, lon, ids):
+    """(lat, lon, ids, carried columns frame or None) from a frame or from arrays."""
+    if data is None:
+        if lat is None or lon is None:
+            raise ValueError("give a DataFrame/GeoDataFrame, or lat= and lon= arrays")
+        ids = None if ids is None else [str(i) for i in ids]
+        return np.asarray(lat, dtype=np.float64), np.asarray(lon, dtype=np.float64), ids, None
+    lat_deg, lon_deg = frame_coordinates(data, lat, lon)
+    id_col = find_column(data, ID_NAMES, ids, "id")
+    ids_list = None if id_col is None else data[id_col].astype(str).tolist()
+    # Every column is carried, the coordinates included (as the command does); not the geometry.
+    geometry_name = getattr(data, "_geometry_column_name", None)
+    carried = data.drop(columns=[geometry_name]) if geometry_name in data.columns else data
+    return lat_deg, lon_deg, ids_list, carried
+
+
+def _frame(features, carried=None, first_rows=None):
+    """A GeoDataFrame (EPSG:4326) of features from _geovor, with the carried columns of each
+    feature's site's first row (renamed src_<name> where they clash with ours, as `geovor cells`)."""
+    import geopandas as gpd
+    import pandas as pd
+
+    names = list(features["fields"])
+    frame = pd.DataFrame({name: features[name] for name in names})
+    if carried is not None and len(frame):
+        rows = first_rows[frame["site_index"].to_numpy()]
+        taken = carried.iloc[rows].reset_index(drop=True)
+        ours = {n.lower() for n in names}
+        taken.columns = [f"src_{c}" if str(c).lower() in ours else c for c in taken.columns]
+        frame = pd.concat([frame, taken], axis=1)
+    geometry = gpd.GeoSeries.from_wkb(features["geometry"], crs="EPSG:4326")
+    return gpd.GeoDataFrame(frame, geometry=geometry, crs="EPSG:4326")
+
+
+def _warn_unwritten(unwritten, what):
+    if unwritten:
+        listed = ", ".join(f"{i} ({why})" for i, why in unwritten[:20])
+        warnings.warn(f"{len(unwritten)} {what} have an empty geometry (they would not be valid polygons): {listed}",
+                      GeometryWarning, stacklevel=3)
+
+
+def cells(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, merge_m=0.0, threads=None):
+    """The Voronoi cell of every site, as `geovor cells` writes them, in a GeoDataFrame.
+
+    Parameters
+    ----------
+    data : GeoDataFrame of points or DataFrame, optional
+        The sites. A DataFrame's coordinate columns are found as the command finds them
+        (lat/latitude/lat_deg/y and lon/lng/long/longitude/lon_deg/x) or named by `lat`/`lon`;
+        the id column is id/icao/code/name or `ids`. Its other columns are carried, typed as
+        they are, from each site's first row.
+    lat, lon : array_like or str
+        Without `data`: latitudes and longitudes in degrees. With `data`: column names.
+    ids : sequence of str or str, optional
+        Without `data`: one id per site (default "0", "1", ...). With `data`: the id column.
+    densify_m : float
+        Largest distance in metres between a written edge and the true great-circle arc.
+    merge_m : float
+        Merge sites closer than this (metres); at least 0.38 m always.
+    threads : int, optional
+        Threads (default: one per core); the result does not depend on it.
+
+    Returns
+    -------
+    GeoDataFrame in EPSG:4326, one row per site, in site order: site_index, site_id, ids (JSON
+    text: the ids of every row of the site), n_rows, area_m2 (WGS84 ellipsoid, of the polygon as
+    stored), area_sr (the exact cell on the unit sphere), n_vertices, neighbors (JSON text), the
+    carried columns, and geometry: MultiPolygons cut at +-180 (RFC 7946), valid for GEOS. A
+    cell that cannot be stored valid gets an empty geometry and a GeometryWarning lists it.
+    `attrs["merged"]` lists (input row, row it was merged into).
+    """
+    lat_deg, lon_deg, id_list, carried = _sites(data, lat, lon, ids)
+    out = _geovor.cells(lat_deg, lon_deg, id_list, float(densify_m), float(merge_m), 0 if threads is None else int(threads))
+    _warn_unwritten(out["unwritten"], "cells (by site index)")
+    frame = _frame(out, carried, out["site_first_row"])
+    frame.attrs["merged"] = list(out["merged"])
+    return frame
+
+
+def delaunay(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, no_ghosts=False, merge_m=0.0):
+    """The Delaunay triangles and edges, as `geovor delaunay` writes them: a pair of
+    GeoDataFrames (EPSG:4326), triangles (MultiPolygons with kind, ghost, areas, circumradius)
+    and edges (MultiLineStrings with their great-circle and WGS84 geodesic lengths). Sites as in
+    cells(). no_ghosts leaves out the outer faces and edges (sites in one hemisphere)."""
+    lat_deg, lon_deg, id_list, _ = _sites(data, lat, lon, ids)
+    triangles, edges = _geovor.delaunay(lat_deg, lon_deg, id_list, float(densify_m), bool(no_ghosts), float(merge_m))
+    _warn_unwritten(triangles["unwritten"], "triangles (by triangle id)")
+    t = _frame(triangles)
+    t.attrs["merged"] = list(triangles["merged"])
+    return t, _frame(edges)
+
+
+def relax(data=None, *, lat=None, lon=None, ids=None, iterations=10, tolerance_rad=0.0, relocation="filtered",
+          densify_m=100.0, merge_m=0.0, threads=None):
+    """Lloyd's iterations (`geovor relax`): every site moves to its cell's centroid, `iterations`
+    times (or until no site moves more than tolerance_rad). Returns (cells, sites): the final
+    cells as cells() gives them, and a GeoDataFrame of the final sites (site_index, site_id,
+    Point geometry); `cells.attrs["energy"]` holds the energy at the start of each iteration,
+    `cells.attrs["final_energy"]` the last."""
+    import geopandas as gpd
+
+    lat_deg, lon_deg, id_list, carried = _sites(data, lat, lon, ids)
+    out = _geovor.relax(lat_deg, lon_deg, id_list, int(iterations), float(tolerance_rad), str(relocation),
+                        float(densify_m), float(merge_m), 0 if threads is None else int(threads))
+    _warn_unwritten(out["unwritten"], "cells (by site index)")
+    cells_frame = _frame(out, carried, out["site_first_row"])
+    cells_frame.attrs.update(merged=list(out["merged"]), energy=list(out["energy"]),
+                             max_move_m=list(out["max_move_m"]), final_energy=out["final_energy"])
+    live = cells_frame["site_index"].to_numpy()
+    sites = gpd.GeoDataFrame({"site_index": live, "site_id": cells_frame["site_id"].to_numpy()},
+                             geometry=gpd.points_from_xy(out["site_lon"][live], out["site_lat"][live]), crs="EPSG:4326")
+    return cells_frame, sites

@@ -1,0 +1,169 @@
+// cells(), delaunay(), relax(): the library's layers (geovor/layers/) written to memory for
+// geovor.cells / geovor.delaunay / geovor.relax, which make GeoDataFrames of them.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bindings.hpp"
+#include "geovor/core/coordinate_grid.hpp"
+#include "geovor/core/error.hpp"
+#include "geovor/delaunay/site_rows.hpp"
+#include "geovor/delaunay/spherical_delaunay.hpp"
+#include "geovor/geo/site_encoder.hpp"
+#include "geovor/layers/cell_layer.hpp"
+#include "geovor/layers/delaunay_layers.hpp"
+#include "geovor/lonlat/delaunay_geometry.hpp"
+#include "geovor/relax/lloyd.hpp"
+#include "memory_writer.hpp"
+#include "site_arrays.hpp"
+
+namespace py = pybind11;
+
+namespace geovor::python {
+namespace {
+
+using Ids = std::optional<std::vector<std::string>>;
+
+// The triangulation of a table's sites, with what became of each input.
+struct Built {
+  SiteTable table;
+  BuildReport report;
+  SphericalDelaunay dt;
+};
+
+Built build(const Doubles& lat, const Doubles& lon, Ids ids, double merge_m) {
+  Built b{site_table_from_arrays(lat, lon, std::move(ids)), {}, {}};
+  DelaunayOptions options;
+  if (merge_m > 0) options.merge_distance = std::max(SphericalDelaunay::kMinSeparation, merge_m / SiteEncoder::kEarthRadiusM);
+  std::vector<Vec3> points(b.table.sites.size());
+  for (std::size_t i = 0; i < points.size(); ++i) points[i] = b.table.sites[i].unit;
+  py::gil_scoped_release unlocked;
+  b.dt = SphericalDelaunay::build(points, options, &b.report);
+  return b;
+}
+
+// Input index -> the input index of the site it went into (itself when not merged).
+py::array_t<std::int64_t> site_first_rows(const Built& b, const SiteRows& rows) {
+  py::array_t<std::int64_t> out(static_cast<py::ssize_t>(b.dt.site_capacity()));
+  for (std::size_t s = 0; s < b.dt.site_capacity(); ++s) {
+    const auto r = rows.of(static_cast<SiteId>(s));
+    out.mutable_data()[s] = r.empty() ? -1 : static_cast<std::int64_t>(rows.first(static_cast<SiteId>(s)));
+  }
+  return out;
+}
+
+py::list merged_pairs(const Built& b, const SiteRows& rows) {
+  py::list out;
+  for (const Merge& m : b.report.merges)
+    out.append(py::make_tuple(m.input, m.site == kNoIndex ? -1 : static_cast<std::int64_t>(rows.first(m.site))));
+  return out;
+}
+
+py::dict cell_layer(const Built& b, double densify_m, unsigned threads) {
+  MemoryFeatureWriter writer(cell_layer_schema(b.table.columns));
+  CellLayerOptions options;
+  options.densify_m = densify_m;
+  options.threads = threads;
+  CellLayerReport report;
+  {
+    py::gil_scoped_release unlocked;
+    report = write_cell_layer(writer, b.table, b.report, b.dt, options);
+  }
+  py::dict out = writer.to_python();
+  py::list unwritten;
+  for (const UnwrittenCell& u : report.unwritten) unwritten.append(py::make_tuple(u.site, to_string(u.status)));
+  out["unwritten"] = unwritten;
+  return out;
+}
+
+py::dict cells(const Doubles& lat, const Doubles& lon, Ids ids, double densify_m, double merge_m, unsigned threads) {
+  const Built b = build(lat, lon, std::move(ids), merge_m);
+  const SiteRows rows = rows_of_sites(b.report, b.dt.site_capacity());
+  py::dict out = cell_layer(b, densify_m, threads);
+  out["site_first_row"] = site_first_rows(b, rows);
+  out["merged"] = merged_pairs(b, rows);
+  return out;
+}
+
+py::tuple delaunay(const Doubles& lat, const Doubles& lon, Ids ids, double densify_m, bool no_ghosts, double merge_m) {
+  const Built b = build(lat, lon, std::move(ids), merge_m);
+  const SiteRows rows = rows_of_sites(b.report, b.dt.site_capacity());
+  MemoryFeatureWriter triangles(triangle_layer_schema()), edges(edge_layer_schema());
+  TriangleLayerReport triangle_report;
+  {
+    py::gil_scoped_release unlocked;
+    DelaunayGeometryOptions geometry_options;
+    geometry_options.densify_m = densify_m;
+    geometry_options.precision = kFullPrecision;
+    const DelaunayGeometry geometry(b.dt, geometry_options);
+    DelaunayLayerOptions options;
+    options.no_ghosts = no_ghosts;
+    triangle_report = write_triangle_layer(triangles, b.table, rows, geometry, options);
+    write_edge_layer(edges, b.table, rows, geometry, options);
+  }
+  py::dict t = triangles.to_python(), e = edges.to_python();
+  py::list unwritten;
+  for (const UnwrittenTriangle& u : triangle_report.unwritten) unwritten.append(py::make_tuple(u.triangle, to_string(u.status)));
+  t["unwritten"] = unwritten;
+  t["merged"] = merged_pairs(b, rows);
+  return py::make_tuple(t, e);
+}
+
+py::dict relax(const Doubles& lat, const Doubles& lon, Ids ids, int iterations, double tolerance_rad,
+               const std::string& relocation, double densify_m, double merge_m, unsigned threads) {
+  Built b = build(lat, lon, std::move(ids), merge_m);
+  LloydOptions options;
+  options.iterations = iterations;
+  options.tolerance_rad = tolerance_rad;
+  options.threads = threads;
+  if (relocation == "filtered") options.relocation = Relocation::Filtered;
+  else if (relocation == "naive") options.relocation = Relocation::Naive;
+  else if (relocation == "rebuild") options.relocation = Relocation::Rebuild;
+  else throw Error(ErrorCode::InvalidArgument, "relocation must be 'filtered', 'naive' or 'rebuild', not '" + relocation + "'");
+  LloydReport report;
+  {
+    py::gil_scoped_release unlocked;
+    report = lloyd(b.dt, options);
+  }
+  const SiteRows rows = rows_of_sites(b.report, b.dt.site_capacity());
+  py::dict out = cell_layer(b, densify_m, threads);
+  // The sites' final positions, by site id.
+  const std::size_t n = b.dt.site_capacity();
+  py::array_t<double> site_lat(static_cast<py::ssize_t>(n)), site_lon(static_cast<py::ssize_t>(n));
+  for (std::size_t s = 0; s < n; ++s) {
+    const LatLon p = SiteEncoder::to_lat_lon(b.dt.site(static_cast<SiteId>(s)));
+    site_lat.mutable_data()[s] = p.lat_deg;
+    site_lon.mutable_data()[s] = p.lon_deg;
+  }
+  out["site_lat"] = site_lat;
+  out["site_lon"] = site_lon;
+  out["site_first_row"] = site_first_rows(b, rows);
+  out["merged"] = merged_pairs(b, rows);
+  py::list energy, max_move_m;
+  for (const LloydIteration& it : report.iterations) {
+    energy.append(it.energy);
+    max_move_m.append(it.max_move_m);
+  }
+  out["energy"] = energy;
+  out["max_move_m"] = max_move_m;
+  out["final_energy"] = report.final_energy;
+  return out;
+}
+
+}  // namespace
+
+void bind_layers(py::module_& m) {
+  m.def("cells", &cells, py::arg("lat"), py::arg("lon"), py::arg("ids"), py::arg("densify_m"), py::arg("merge_m"),
+        py::arg("threads"));
+  m.def("delaunay", &delaunay, py::arg("lat"), py::arg("lon"), py::arg("ids"), py::arg("densify_m"),
+        py::arg("no_ghosts"), py::arg("merge_m"));
+  m.def("relax", &relax, py::arg("lat"), py::arg("lon"), py::arg("ids"), py::arg("iterations"),
+        py::arg("tolerance_rad"), py::arg("relocation"), py::arg("densify_m"), py::arg("merge_m"), py::arg("threads"));
+}
+
+}  // namespace geovor::python
