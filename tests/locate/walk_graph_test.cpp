@@ -110,6 +110,32 @@ TEST(WalkGraph, IsACopyOfTheHierarchy) {
   EXPECT_GT(bytes_per_site, 56.0);
 }
 
+// Built on several threads (keys, sorted runs merged, degrees, records): the same graph, record
+// for record, as on one.
+TEST(WalkGraph, TheSameOnAnyNumberOfThreads) {
+  const DelaunayHierarchy h = DelaunayHierarchy::build(testing::uniform_on_sphere(40000, 72));
+  const WalkGraph one(h, 1);
+  for (const unsigned threads : {2u, 3u, 7u}) {
+    const WalkGraph many(h, threads);
+    expect_copy_of(many, h);
+    ASSERT_EQ(many.num_levels(), one.num_levels());
+    for (int l = 0; l < one.num_levels(); ++l) {
+      const std::vector<std::uint32_t> nodes = nodes_in_order(one, l);
+      ASSERT_EQ(nodes, nodes_in_order(many, l));
+      for (const std::uint32_t v : nodes) {
+        ASSERT_EQ(one.point(l, v), many.point(l, v));
+        ASSERT_EQ(one.up(l, v), many.up(l, v));
+        ASSERT_EQ(one.down(l, v), many.down(l, v));
+        std::vector<std::uint32_t> a, b;
+        one.for_each_neighbour(l, v, [&](std::uint32_t w, const Vec3&) { a.push_back(w); });
+        many.for_each_neighbour(l, v, [&](std::uint32_t w, const Vec3&) { b.push_back(w); });
+        ASSERT_EQ(a, b);
+      }
+    }
+    for (const Vec3& q : testing::uniform_on_sphere(200, 73)) ASSERT_EQ(one.curve_start(q), many.curve_start(q));
+  }
+}
+
 // curve_start gives a base node, usually near q: within 8 mean spacings for most queries.
 TEST(WalkGraph, CurveStartIsANearNodeMostOfTheTime) {
   const std::size_t n = 50000;

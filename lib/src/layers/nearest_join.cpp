@@ -326,6 +326,7 @@ NearestJoinReport nearest_join(const SiteIndex& index, std::FILE* queries, const
     if (answered.fetch_add(queries, std::memory_order_relaxed) + queries < build_after) return;
     if (build_started.exchange(true)) return;
     build.run([&] {
+      index.hierarchy.walk_graph(threads);  // on every core: the workers walk slowly meanwhile
       auto locator = std::make_unique<Locator>(index.hierarchy, options.locator);
       locator->prepare();
       owner = std::move(locator);

@@ -225,10 +225,10 @@ MoveStats DelaunayHierarchy::move_all(std::span<const Vec3> positions, const Rel
   return st;
 }
 
-std::shared_ptr<const WalkGraph> DelaunayHierarchy::walk_graph() const {
+std::shared_ptr<const WalkGraph> DelaunayHierarchy::walk_graph(unsigned threads) const {
   const std::lock_guard<std::mutex> lock(walk_graph_.mutex);  // a second caller waits for the build
   if (walk_graph_.graph == nullptr || !walk_graph_.graph->matches(*this))
-    walk_graph_.graph = std::make_shared<const WalkGraph>(*this);
+    walk_graph_.graph = std::make_shared<const WalkGraph>(*this, threads);
   return walk_graph_.graph;
 }
 

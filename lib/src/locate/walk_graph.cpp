@@ -7,6 +7,7 @@
 #include <sys/mman.h>
 
 #include "geovor/core/error.hpp"
+#include "geovor/core/parallel.hpp"
 #include "geovor/delaunay/spatial_sort.hpp"
 
 namespace geovor {
@@ -33,7 +34,7 @@ T* WalkGraph::HugePageAllocator<T>::allocate(std::size_t n) {
 }
 template struct WalkGraph::HugePageAllocator<std::uint64_t>;
 
-WalkGraph::WalkGraph(const DelaunayHierarchy& h) : source_(&h) {
+WalkGraph::WalkGraph(const DelaunayHierarchy& h, unsigned threads) : source_(&h) {
   const int num_levels = h.num_levels();
   levels_.resize(static_cast<std::size_t>(num_levels));
   revisions_.resize(static_cast<std::size_t>(num_levels));
@@ -54,10 +55,22 @@ WalkGraph::WalkGraph(const DelaunayHierarchy& h) : source_(&h) {
     std::vector<std::uint32_t> order;
     std::vector<std::uint64_t> keys;
     if (l == 0) {
-      std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(pts.size());
-      for (std::uint32_t i = 0; i < pts.size(); ++i) keyed[i] = {hilbert_key(pts[i]), i};
-      std::sort(keyed.begin(), keyed.end());
-      for (const auto& [key, i] : keyed) order.push_back(i), keys.push_back(key);
+      using Keyed = std::pair<std::uint64_t, std::uint32_t>;
+      std::vector<Keyed> keyed(pts.size());
+      // Keys and sorted runs on every thread, then the runs merged: the same order (the pairs
+      // are distinct) whatever the number of threads.
+      std::vector<std::size_t> run_end;
+      parallel_for(pts.size(), threads, [&](unsigned, std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) keyed[i] = {hilbert_key(pts[i]), static_cast<std::uint32_t>(i)};
+        std::sort(keyed.begin() + static_cast<std::ptrdiff_t>(begin), keyed.begin() + static_cast<std::ptrdiff_t>(end));
+      });
+      const std::size_t runs = std::min<std::size_t>(thread_count(threads), std::max<std::size_t>(pts.size(), 1));
+      for (std::size_t r = 1; r < runs; ++r)
+        std::inplace_merge(keyed.begin(), keyed.begin() + static_cast<std::ptrdiff_t>(pts.size() * r / runs),
+                           keyed.begin() + static_cast<std::ptrdiff_t>(pts.size() * (r + 1) / runs));
+      order.resize(keyed.size());
+      keys.resize(keyed.size());
+      for (std::size_t i = 0; i < keyed.size(); ++i) keys[i] = keyed[i].first, order[i] = keyed[i].second;
     } else {
       order = hilbert_order(pts);
     }
@@ -65,21 +78,29 @@ WalkGraph::WalkGraph(const DelaunayHierarchy& h) : source_(&h) {
     std::vector<std::uint32_t>& nodes = node_of[static_cast<std::size_t>(l)];
     sites.resize(live.size());
     nodes.assign(dt.site_capacity(), kNoIndex);
-    std::uint64_t offset = 0;
-    for (std::uint32_t i = 0; i < order.size(); ++i) {
-      const SiteId s = live[order[i]];
-      sites[i] = s;
-      nodes[s] = static_cast<std::uint32_t>(offset);
-      const std::uint64_t degree = dt.num_triangles() == 0 ? live.size() - 1 : [&] {
-        std::uint64_t d = 0;
+    // The degrees on every thread (scattered reads), then the records' offsets in one pass.
+    std::vector<std::uint32_t> degree(order.size());
+    parallel_for(order.size(), threads, [&](unsigned, std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const SiteId s = live[order[i]];
+        sites[i] = s;
+        if (dt.num_triangles() == 0) {
+          degree[i] = static_cast<std::uint32_t>(live.size() - 1);
+          continue;
+        }
+        std::uint32_t d = 0;
         const HalfedgeId e0 = dt.site_edge(s);
         HalfedgeId e = e0;
         do ++d, e = dt.next_around_site(e);
         while (e != e0);
-        return d;
-      }();
+        degree[i] = d;
+      }
+    });
+    std::uint64_t offset = 0;
+    for (std::uint32_t i = 0; i < order.size(); ++i) {
+      nodes[sites[i]] = static_cast<std::uint32_t>(offset);
       if (l == 0 && i % kCurveSample == 0) curve_keys_.push_back(keys[i]), curve_nodes_.push_back(static_cast<std::uint32_t>(offset));
-      offset += (36 + 4 * degree + 7) / 8;
+      offset += (36 + 4 * std::uint64_t{degree[i]} + 7) / 8;
     }
     if (offset >= kNoIndex) throw Error(ErrorCode::InvalidArgument, "walk graph: too many sites");
     levels_[static_cast<std::size_t>(l)].words.assign(offset, 0);
@@ -90,7 +111,10 @@ WalkGraph::WalkGraph(const DelaunayHierarchy& h) : source_(&h) {
     const std::vector<SiteId>& sites = site_of[static_cast<std::size_t>(l)];
     const std::vector<std::uint32_t>& nodes = node_of[static_cast<std::size_t>(l)];
     unsigned char* words = reinterpret_cast<unsigned char*>(levels_[static_cast<std::size_t>(l)].words.data());
-    for (const SiteId s : sites) {
+    // Each record is written by one thread: disjoint bytes.
+    parallel_for(sites.size(), threads, [&](unsigned, std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const SiteId s = sites[k];
       unsigned char* rec = words + 8 * std::size_t{nodes[s]};
       const Vec3 p = dt.site(s);
       std::memcpy(rec, &p.x, 8);
@@ -117,6 +141,7 @@ WalkGraph::WalkGraph(const DelaunayHierarchy& h) : source_(&h) {
       }
       std::memcpy(rec + 24, fields, 12);
     }
+    });
   }
   if (num_levels > 0) node_of_ = std::move(node_of[0]);
 }

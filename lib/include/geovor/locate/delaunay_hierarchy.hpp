@@ -89,8 +89,9 @@ class DelaunayHierarchy {
   /// The packed copy of the hierarchy as it is now, for the Locators' walks: built at the first
   /// call after a change (O(n log n), about one build; the caller waits, so does a concurrent
   /// one), then shared by every caller until the next change, which drops the hierarchy's hold
-  /// (a Locator keeps its copy until it sees the change). Thread-safe among const callers.
-  std::shared_ptr<const WalkGraph> walk_graph() const;
+  /// (a Locator keeps its copy until it sees the change). Thread-safe among const callers. A
+  /// build runs on `threads` threads (0: one per core); the graph does not depend on it.
+  std::shared_ptr<const WalkGraph> walk_graph(unsigned threads = 1) const;
   ///@}
 
   /// validate() of every level, plus the links: up and down are inverse, every copy is the same

@@ -38,8 +38,9 @@ namespace geovor {
 
 class WalkGraph {
  public:
-  /// Builds the packed copy of every level of `h`: O(n log n) (one Hilbert sort per level).
-  explicit WalkGraph(const DelaunayHierarchy& h);
+  /// Builds the packed copy of every level of `h`: O(n log n) (one Hilbert sort per level), on
+  /// `threads` threads (0: one per core); the graph does not depend on it.
+  explicit WalkGraph(const DelaunayHierarchy& h, unsigned threads = 1);
 
   /// True iff the graph is a copy of `h` as it is now: the same object with the same revision()
   /// on every level. O(levels).
