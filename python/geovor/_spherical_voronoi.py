@@ -72,9 +72,7 @@ class SphericalVoronoi:
         diagram = _geovor.spherical_voronoi(unit)
         self._unit_vertices = diagram["vertices"]
         self.vertices = self._unit_vertices * self.radius + self.center
-        offsets = diagram["region_offsets"]
-        flat = diagram["region_vertices"]
-        self.regions = [flat[offsets[i]:offsets[i + 1]].tolist() for i in range(len(self.points))]
+        self.regions = diagram["regions"]
         self.merged = diagram["merged"]
         self._areas_sr = diagram["areas_sr"]
         self._site_of_input = diagram["site_of_input"]
