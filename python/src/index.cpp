@@ -39,12 +39,15 @@ class Index {
     const SiteTable table = site_table_from_arrays(lat, lon, std::move(ids));
     py::gil_scoped_release unlocked;
     index_ = build_site_index(table);
+    index_.hierarchy.walk_graph(0);  // the packed copy the queries walk, now, on every core
   }
   explicit Index(SiteIndex index) : index_(std::move(index)) {}
 
   static Index load(const std::string& path) {
     py::gil_scoped_release unlocked;
-    return Index(load_index(path));
+    Index index(load_index(path, 0));
+    index.index_.hierarchy.walk_graph(0);  // as at construction
+    return index;
   }
   void save(const std::string& path, bool overwrite) const {
     py::gil_scoped_release unlocked;
