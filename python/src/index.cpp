@@ -17,6 +17,7 @@
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/locate/index_file.hpp"
+#include "geovor/locate/knn.hpp"
 #include "geovor/locate/locator.hpp"
 #include "site_arrays.hpp"
 
@@ -25,12 +26,10 @@ namespace py = pybind11;
 namespace geovor::python {
 namespace {
 
-// The unit vector of (lat, lon), or ValueError naming the row.
-Vec3 encode(double lat_deg, double lon_deg, const char* what, std::size_t row) {
+// (lat, lon) normalised, or ValueError naming the row.
+void normalize(double& lat_deg, double& lon_deg, std::size_t row) {
   const std::string problem = normalize_lat_lon(lat_deg, lon_deg);
-  if (!problem.empty())
-    throw Error(ErrorCode::BadData, std::string(what) + " " + std::to_string(row) + ": " + problem);
-  return SiteEncoder::from_lat_lon(lat_deg, lon_deg);
+  if (!problem.empty()) throw Error(ErrorCode::BadData, "query " + std::to_string(row) + ": " + problem);
 }
 
 class Index {
@@ -119,21 +118,22 @@ class Index {
     {
       py::gil_scoped_release unlocked;
       // Bad queries are found before any work: the error names the first.
+      std::vector<double> lat_deg(la, la + n), lon_deg(lo, lo + n);
       std::vector<Vec3> unit(n);
-      for (std::size_t i = 0; i < n; ++i) unit[i] = encode(la[i], lo[i], "query", i);
+      for (std::size_t i = 0; i < n; ++i) {
+        normalize(lat_deg[i], lon_deg[i], i);
+        unit[i] = SiteEncoder::from_lat_lon(lat_deg[i], lon_deg[i]);
+      }
       Locator prototype(index_.hierarchy);
       if (n >= 1024) prototype.prepare();
       parallel_for(n, threads, [&](unsigned, std::size_t begin, std::size_t end) {
         Locator locator = prototype;
+        std::vector<NearestResult> found;
         for (std::size_t i = begin; i < end; ++i) {
-          std::vector<NearestResult> found;
-          if (geodesic) {
-            if (k == 1) found.push_back(locator.nearest_geodesic(la[i], lo[i]));
-            else throw Error(ErrorCode::InvalidArgument, "k > 1 with metric='geodesic' is not supported yet");
-          } else if (k == 1) {
-            found.push_back(locator.nearest(unit[i]));
+          if (!geodesic && k == 1) {
+            found.assign(1, locator.nearest(unit[i]));  // the fast path: Keep, Jump & Climb
           } else {
-            found = locator.k_nearest(unit[i], k);
+            k_nearest(locator, lat_deg[i], lon_deg[i], k, geodesic ? Metric::Geodesic : Metric::Sphere, found);
           }
           for (std::size_t j = 0; j < k; ++j) {
             const bool ok = j < found.size() && found[j].site != kNoIndex && found[j].dist_m <= limit;

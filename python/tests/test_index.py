@@ -95,10 +95,15 @@ def test_geodesic_metric():
     qlat, qlon = queries(6, 120)
     site, dist = index.nearest(qlat, qlon, metric="geodesic")
     geod = Geodesic.WGS84
+    site3, dist3 = index.nearest(qlat, qlon, k=3, metric="geodesic", max_distance_m=2e6)
     for i in range(len(qlat)):
         d = np.array([geod.Inverse(qlat[i], qlon[i], a, b)["s12"] for a, b in zip(slat, slon)])
         assert dist[i] == pytest.approx(d.min(), rel=1e-12, abs=1e-6)
         assert d[site[i]] <= d.min() + 1e-6
+        best3 = np.sort(d)[:3]
+        within = best3 <= 2e6
+        np.testing.assert_allclose(dist3[i][within], best3[within], rtol=1e-12, atol=1e-6)
+        assert np.all(site3[i][~within] == -1) and np.all(np.isinf(dist3[i][~within]))
 
 
 def test_ids_merges_and_sites_table():
