@@ -12,7 +12,7 @@
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
-#include "geovor/io/output_target.hpp"
+#include "geovor/core/output_target.hpp"
 #include "cell_output.hpp"
 #include "output_file.hpp"
 #include "site_input.hpp"

@@ -9,7 +9,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/delaunay/site_rows.hpp"
 #include "geovor/io/feature_writer.hpp"
-#include "geovor/io/output_target.hpp"
+#include "geovor/core/output_target.hpp"
 #include "geovor/layers/delaunay_layers.hpp"
 #include "geovor/lonlat/cell_geometry.hpp"
 #include "site_input.hpp"

@@ -17,7 +17,7 @@
 #include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/io/feature_writer.hpp"
-#include "geovor/io/output_target.hpp"
+#include "geovor/core/output_target.hpp"
 
 namespace geovor::tools {
 namespace {

@@ -8,7 +8,7 @@
 #include <filesystem>
 
 #include "geovor/core/error.hpp"
-#include "geovor/io/output_target.hpp"
+#include "geovor/core/output_target.hpp"
 
 namespace geovor::tools {
 

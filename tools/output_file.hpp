@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <string>
 
-#include "geovor/io/output_target.hpp"
+#include "geovor/core/output_target.hpp"
 
 namespace geovor::tools {
 
@@ -14,7 +14,7 @@ class OutputFile {
   /// Opens `path` for writing: "-" is stdout; an existing regular file is refused (Error(Io))
   /// unless `overwrite`; an existing device or FIFO (/dev/null, /dev/stdout) is written in place,
   /// since renaming over it would replace it; anything else gets a temporary file in the target's
-  /// directory (geovor/io/output_target.hpp: a short name, removed on errors and on SIGINT,
+  /// directory (geovor/core/output_target.hpp: a short name, removed on errors and on SIGINT,
   /// SIGTERM and SIGHUP).
   OutputFile(const std::string& path, bool overwrite);
   /// Removes the temporary file unless commit() succeeded.

@@ -12,7 +12,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/delaunay/site_rows.hpp"
 #include "geovor/geo/site_encoder.hpp"
-#include "geovor/io/output_target.hpp"
+#include "geovor/core/output_target.hpp"
 #include "geovor/layers/site_layer.hpp"
 #include "geovor/relax/lloyd.hpp"
 #include "site_input.hpp"

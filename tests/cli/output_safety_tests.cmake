@@ -1,5 +1,5 @@
 # Output safety (issue 15): every file geovor writes goes through one primitive
-# (lib/include/geovor/io/output_target.hpp). Each test below failed before it.
+# (lib/include/geovor/core/output_target.hpp). Each test below failed before it.
 set(safe_out ${CMAKE_CURRENT_BINARY_DIR}/safe_outputs)
 file(MAKE_DIRECTORY ${safe_out} ${safe_out}/sub)
 set(safe_fixtures ${PROJECT_SOURCE_DIR}/datasets/fixtures)

@@ -40,7 +40,7 @@
 #include "geovor/core/error.hpp"
 #include "support/temp_dir.hpp"
 #include "geovor/io/geojson_writer.hpp"
-#include "geovor/io/output_target.hpp"
+#include "geovor/core/output_target.hpp"
 
 namespace geovor {
 namespace {
@@ -1034,54 +1034,6 @@ TEST(SafeOutput, SignalsRemoveTemporaries) {
     EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << status;
     EXPECT_TRUE(dir.entries().empty()) << dir.entries().front();
   }
-}
-
-// The commit: without overwrite an existing name is left alone (EEXIST), with overwrite replaced.
-TEST(SafeOutput, RenameIntoPlace) {
-  TempDir dir;
-  spit(dir / "new", "new");
-  spit(dir / "old", "old");
-  EXPECT_EQ(rename_into_place(dir / "new", dir / "old", false), EEXIST);
-  EXPECT_EQ(slurp(dir / "old"), "old");
-  EXPECT_EQ(rename_into_place(dir / "new", dir / "fresh", false), 0);
-  EXPECT_EQ(slurp(dir / "fresh"), "new");
-  EXPECT_EQ(rename_into_place(dir / "fresh", dir / "old", true), 0);
-  EXPECT_EQ(slurp(dir / "old"), "new");
-  EXPECT_EQ(dir.entries(), std::vector<std::string>{"old"});
-  // A temporary: short name in the target's folder, gone once committed or discarded.
-  {
-    TemporaryOutput t(dir / std::string(250, 'x'), TemporaryOutput::Kind::File);
-    EXPECT_LE(fs::path(t.path()).filename().string().size(), 30u) << t.path();
-    EXPECT_EQ(fs::path(t.path()).parent_path(), fs::path(dir / "old").parent_path());
-    EXPECT_EQ(dir.entries().size(), 2u);
-  }
-  EXPECT_EQ(dir.entries(), std::vector<std::string>{"old"});
-  TemporaryOutput t(dir / "old", TemporaryOutput::Kind::File);
-  const Error e = error_of([&] { t.commit(dir / "old", false); });
-  EXPECT_TRUE(contains(e.what(), "old: exists; use --overwrite to replace it")) << e.what();
-  EXPECT_EQ(dir.entries(), std::vector<std::string>{"old"});
-}
-
-// The same-file test behind every command's outputs.
-TEST(SafeOutput, SameOutputFile) {
-  TempDir dir;
-  const std::string a = dir / "a.geojson";
-  EXPECT_TRUE(same_output_file("-", "-"));
-  EXPECT_TRUE(same_output_file(a, a));  // neither exists
-  fs::create_directory(dir / "sub");
-  EXPECT_TRUE(same_output_file(a, dir / "sub/../a.geojson"));
-  EXPECT_FALSE(same_output_file(a, dir / "b.geojson"));
-  EXPECT_FALSE(same_output_file(a, "-"));
-  spit(a, "x");
-  EXPECT_TRUE(same_output_file(a, dir / "./a.geojson"));
-  fs::create_hard_link(a, dir / "hard");
-  fs::create_symlink(a, dir / "soft");
-  EXPECT_TRUE(same_output_file(a, dir / "hard"));
-  EXPECT_TRUE(same_output_file(dir / "soft", a));
-  EXPECT_FALSE(same_output_file("/dev/null", "/dev/null"));  // a device, written in place
-  const Error e = error_of([&] { check_distinct_outputs({{"--output", a}, {"--report", ""}, {"--edges", dir / "hard"}}); });
-  EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
-  EXPECT_TRUE(contains(e.what(), "--output") && contains(e.what(), "--edges")) << e.what();
 }
 
 TEST(SafeOutput, MissingDirectoryIsAnIoError) {

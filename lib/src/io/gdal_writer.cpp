@@ -26,7 +26,7 @@
 #include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/io/geojson_writer.hpp"
-#include "geovor/io/output_target.hpp"
+#include "geovor/core/output_target.hpp"
 
 namespace geovor::gdal_detail {
 namespace {

@@ -18,7 +18,7 @@
 #include <utility>
 
 #include "geovor/core/error.hpp"
-#include "geovor/io/output_target.hpp"
+#include "geovor/core/output_target.hpp"
 #include "io/direct_output.hpp"
 
 namespace geovor {

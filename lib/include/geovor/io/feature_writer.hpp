@@ -106,7 +106,7 @@ class FeatureEncoder {
 
 /// Streams features to a file. The output appears under its final name only when finish()
 /// succeeds (written to a temporary file or directory with a short name next to it, then
-/// renamed: geovor/io/output_target.hpp); a failure, or destruction without finish(), removes
+/// renamed: geovor/core/output_target.hpp); a failure, or destruction without finish(), removes
 /// the temporary files, so no partial output is ever left, and so do SIGINT, SIGTERM and SIGHUP
 /// once install_output_cleanup() was called (the geovor tool does). Without options.overwrite the
 /// final rename never replaces a file, not even one that appeared while writing (Error(Io)).

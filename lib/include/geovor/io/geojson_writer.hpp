@@ -39,7 +39,7 @@ enum class GeoJsonFraming {
 
 /// Opens a native GeoJSON writer; open_feature_writer() calls it for "GeoJSON" / "GeoJSONSeq".
 /// `path` "-" writes to stdout (no temporary file: a failure there cannot be undone). Otherwise
-/// the features go to a temporary file in the same directory (geovor/io/output_target.hpp: a
+/// the features go to a temporary file in the same directory (geovor/core/output_target.hpp: a
 /// short name, removed on signals once install_output_cleanup() was called), renamed to `path` by
 /// finish() without replacing a file that appeared meanwhile unless options.overwrite; the
 /// temporary file is removed on any failure and by the destructor when finish() was not called. The temporary file is written with direct I/O (O_DIRECT, whole 4 KiB

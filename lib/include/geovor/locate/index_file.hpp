@@ -124,7 +124,7 @@ inline constexpr char kIndexMagic[8] = {'G', 'E', 'O', 'V', 'O', 'R', 'I', 'X'};
 inline constexpr std::uint32_t kIndexVersion = 1;
 
 /// Saves an index to `path`: writes a temporary file in the same directory and renames it
-/// (geovor/io/output_target.hpp: a short name, removed on errors and signals; without overwrite
+/// (geovor/core/output_target.hpp: a short name, removed on errors and signals; without overwrite
 /// the rename never replaces a file that appeared meanwhile), so `path` is either untouched or
 /// complete. Empty levels at the top of the hierarchy (after
 /// removals) are not saved. With overwrite false, an existing `path` is refused.

@@ -1,4 +1,4 @@
-#include "geovor/io/output_target.hpp"
+#include "geovor/core/output_target.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
