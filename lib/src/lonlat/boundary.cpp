@@ -328,7 +328,10 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
   const std::size_t m = ring.size();
   for (std::size_t i = 1; i < m; ++i) ring[i].k = next_sheet(ring[i - 1], ring[i]);
   const int winding = next_sheet(ring[m - 1], ring[0]) - ring[0].k;
-  GEOVOR_ASSERT(winding >= -1 && winding <= 1);
+  if (winding < -1 || winding > 1) {  // rounded positions wound it twice around a pole (fuzz_cells)
+    if (info) info->winding = winding, info->tangled = true;
+    return;
+  }
 
   std::vector<RP>& piece = sc.piece;
   bool polar = winding != 0;

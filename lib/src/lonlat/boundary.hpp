@@ -88,6 +88,8 @@ struct PoleOwner {
 struct LoopInfo {
   int winding = 0;
   bool near_pole = false;
+  /// The rounded loop winds around a pole more than once: no ring, nothing was written.
+  bool tangled = false;
 };
 void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox = nullptr,
                       int precision = kFullPrecision, LoopInfo* info = nullptr, PoleOwner pole_owner = {});

@@ -321,7 +321,13 @@ CellStatus CellGeometry::check_near_pole(SiteId s, bool near_pole, MultiPolygon&
   return CellStatus::Unwritable;
 }
 
-CellStatus CellGeometry::finish(SiteId s, int winding, MultiPolygon& out, BBox* bbox) const {
+CellStatus CellGeometry::finish(SiteId s, const lonlat::LoopInfo& info, MultiPolygon& out, BBox* bbox) const {
+  const int winding = info.winding;
+  if (info.tangled) {
+    out.clear();
+    if (bbox) *bbox = BBox{};
+    return CellStatus::Unwritable;
+  }
   if (out.empty()) return CellStatus::Collapsed;
   if (winding != 0 || s == north_owner_ || s == south_owner_) {
     auto unwritable = [&] {
@@ -468,7 +474,7 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
     }
     lonlat::LoopInfo info;
     lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &info, pole_owner(s));
-    const CellStatus status = finish(s, info.winding, out, bbox);
+    const CellStatus status = finish(s, info, out, bbox);
     if (area_m2 && status == CellStatus::Written) {
       // The edges' sums are the ring's when the ring is the loop itself (same positions, same
       // order): not cut, no pole. Otherwise GeographicLib on the written rings.
@@ -484,7 +490,7 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
 
   lonlat::LoopInfo info;
   lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &info, pole_owner(s));
-  const CellStatus status = finish(s, info.winding, out, bbox);
+  const CellStatus status = finish(s, info, out, bbox);
   if (!area_m2 || status != CellStatus::Written) return status;
   *area_m2 = ellipsoid_area_m2(out);
   return check_near_pole(s, info.near_pole, out, bbox, *area_m2);

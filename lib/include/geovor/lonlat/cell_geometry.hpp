@@ -51,6 +51,10 @@
 
 namespace geovor {
 
+namespace lonlat {
+struct LoopInfo;  // lib/src/lonlat/boundary.hpp (private)
+}
+
 /// Options of the lon/lat cell geometry; every default is documented.
 struct CellGeometryOptions {
   /// Largest distance (metres, on the sphere of radius SiteEncoder::kEarthRadiusM) between a
@@ -167,9 +171,9 @@ class CellGeometry {
   };
   std::vector<std::vector<BoundaryPoint>> points_;  // one part per construction thread
   CellStatus build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
-  // Cleans and checks `out` as built for site s, whose ring encloses the pole `winding` says
-  // (loop_to_polygons); empties it unless valid.
-  CellStatus finish(SiteId s, int winding, MultiPolygon& out, BBox* bbox) const;
+  // Cleans and checks `out` as built for site s, whose ring encloses the pole info.winding says
+  // (loop_to_polygons, lonlat/boundary.hpp); empties it unless valid.
+  CellStatus finish(SiteId s, const lonlat::LoopInfo& info, MultiPolygon& out, BBox* bbox) const;
   // The area check of a written cell reaching within 0.01 degree of a pole or cut at +-180
   // (see polygon()): Unwritable, `out` emptied and `area_m2` 0, if it fails.
   CellStatus check_near_pole(SiteId s, bool near_pole, MultiPolygon& out, BBox* bbox, double& area_m2) const;
