@@ -36,6 +36,7 @@ class SphericalVoronoi:
         regions[i]: the vertices of point i's cell, counter-clockwise seen from outside the
         sphere (already sorted). Empty for a merged point, and with fewer than 3 distinct points
         (one point: the whole sphere; two: two hemispheres, whose boundary has no vertex).
+        Made on first use (construction and areas do not pay for a million Python lists).
     merged : ndarray of int, shape (nmerged, 2)
         Rows (i, j): input point i was merged into input point j (a duplicate, or closer than
         2**-24 of the radius); point i's region is empty and its area 0.
@@ -70,12 +71,32 @@ class SphericalVoronoi:
                     f"{norms[worst] * self.radius!r} from the center, radius is {self.radius!r}")
         unit = relative / norms[:, None] if len(norms) else relative
         diagram = _geovor.spherical_voronoi(unit)
-        self._unit_vertices = diagram["vertices"]
-        self.vertices = self._unit_vertices * self.radius + self.center
-        self.regions = diagram["regions"]
+        unit_vertices = diagram["vertices"]
+        if self.radius == 1 and not self.center.any():
+            self.vertices = unit_vertices
+        else:
+            self.vertices = unit_vertices * self.radius + self.center
+        self._region_offsets = diagram["region_offsets"]
+        self._region_vertices = diagram["region_vertices"]
+        self._regions = None
         self.merged = diagram["merged"]
         self._areas_sr = diagram["areas_sr"]
         self._site_of_input = diagram["site_of_input"]
+
+    @property
+    def regions(self):
+        """list of lists of int: regions[i], the vertices of point i's cell (see the class doc).
+
+        Made on first use from flat arrays (a million Python lists cost more than the diagram),
+        then kept: the same list object every time, which may be modified or replaced as scipy's.
+        """
+        if self._regions is None:
+            self._regions = _geovor.regions_lists(self._region_offsets, self._region_vertices)
+        return self._regions
+
+    @regions.setter
+    def regions(self, value):
+        self._regions = value
 
     def sort_vertices_of_regions(self):
         """Does nothing: the regions are counter-clockwise (seen from outside) from the start."""

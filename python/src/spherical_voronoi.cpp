@@ -69,36 +69,32 @@ py::dict spherical_voronoi(const py::array_t<double, py::array::c_style | py::ar
     for (std::size_t i = 0; i < n; ++i)
       region_offset[i + 1] = region_offset[i] + (is_merged[i] || site[i] < 0 ? 0 : static_cast<std::int64_t>(
                                                      vd.cell_vertices(static_cast<SiteId>(site[i])).size()));
+  }
+  // The regions' vertices, flat; regions_lists makes scipy's lists of them when they are asked for.
+  py::array_t<std::uint32_t> region_vertices(static_cast<py::ssize_t>(region_offset[n]));
+  {
+    py::gil_scoped_release unlocked;
+    // The areas in the diagram's storage order, whose neighbouring cells share vertices (in cache),
+    // not in input order (random points: a cache miss per vertex).
+    const std::span<const SiteId> order = vd.storage_order();
+    std::vector<double> area_of_site(dt.site_capacity(), 0.0);
+    parallel_for(order.size(), threads, [&](unsigned, std::size_t begin, std::size_t end) {
+      for (std::size_t j = begin; j < end; ++j) area_of_site[order[j]] = vd.cell_area_sr(order[j]);
+    });
+    const std::int64_t* site = site_of_input.data();
+    std::uint32_t* flat = region_vertices.mutable_data();
     double* area = areas.mutable_data();
     parallel_for(n, threads, [&](unsigned, std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i)
-        area[i] = is_merged[i] || site[i] < 0 ? 0.0 : vd.cell_area_sr(static_cast<SiteId>(site[i]));
+      for (std::size_t i = begin; i < end; ++i) {
+        if (is_merged[i] || site[i] < 0) {
+          area[i] = 0.0;
+          continue;
+        }
+        const SiteId s = static_cast<SiteId>(site[i]);
+        std::copy_n(vd.cell_vertices(s).begin(), region_offset[i + 1] - region_offset[i], flat + region_offset[i]);
+        area[i] = area_of_site[s];
+      }
     });
-  }
-  // regions as scipy has them: a list of lists of ints, made here (much faster than in Python).
-  // Without the cyclic collector meanwhile (a million new lists would run it again and again),
-  // and one int object per vertex, shared by the (three or more) regions that hold it.
-  struct CollectorPause {
-    int was_on = PyGC_Disable();
-    ~CollectorPause() {
-      if (was_on) PyGC_Enable();
-    }
-  } pause;
-  std::vector<py::object> vertex_ints(nv);
-  py::list regions(n);
-  const std::int64_t* site = site_of_input.data();
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t size = static_cast<std::size_t>(region_offset[i + 1] - region_offset[i]);
-    PyObject* list = PyList_New(static_cast<Py_ssize_t>(size));
-    if (list == nullptr) throw py::error_already_set();
-    PyList_SET_ITEM(regions.ptr(), static_cast<Py_ssize_t>(i), list);
-    if (size == 0) continue;
-    const std::span<const TriId> cell = vd.cell_vertices(static_cast<SiteId>(site[i]));
-    for (std::size_t k = 0; k < size; ++k) {
-      py::object& value = vertex_ints[cell[k]];
-      if (!value) value = py::int_(cell[k]);
-      PyList_SET_ITEM(list, static_cast<Py_ssize_t>(k), value.inc_ref().ptr());
-    }
   }
   py::array_t<std::int64_t> merged_array({static_cast<py::ssize_t>(merged.size() / 2), py::ssize_t{2}});
   std::copy(merged.begin(), merged.end(), merged_array.mutable_data());
@@ -106,10 +102,49 @@ py::dict spherical_voronoi(const py::array_t<double, py::array::c_style | py::ar
   out["site_of_input"] = site_of_input;
   out["vertices"] = vertices;
   out["region_offsets"] = offsets;
-  out["regions"] = regions;
+  out["region_vertices"] = region_vertices;
   out["areas_sr"] = areas;
   out["merged"] = merged_array;
   return out;
+}
+
+// regions_lists(offsets, flat): [flat[offsets[i]:offsets[i + 1]] as a list of ints for each i],
+// made here (much faster than in Python): without the cyclic collector meanwhile (a million new
+// lists would run it again and again), and one int object per distinct vertex, shared by the
+// (three or more) regions that hold it.
+py::list regions_lists(const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& offsets,
+                       const py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>& flat) {
+  if (offsets.ndim() != 1 || offsets.shape(0) < 1 || flat.ndim() != 1)
+    throw Error(ErrorCode::InvalidArgument, "regions_lists: offsets (n + 1,) and flat (m,) arrays expected");
+  const std::size_t n = static_cast<std::size_t>(offsets.shape(0)) - 1;
+  const std::int64_t* offset = offsets.data();
+  const std::uint32_t* value = flat.data();
+  const std::int64_t m = flat.shape(0);
+  std::uint32_t largest = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (offset[i] < 0 || offset[i] > offset[i + 1] || offset[i + 1] > m)
+      throw Error(ErrorCode::InvalidArgument, "regions_lists: offsets not increasing within flat");
+  for (std::int64_t k = 0; k < m; ++k) largest = std::max(largest, value[k]);
+  struct CollectorPause {
+    int was_on = PyGC_Disable();
+    ~CollectorPause() {
+      if (was_on) PyGC_Enable();
+    }
+  } pause;
+  std::vector<py::object> ints(m > 0 ? std::size_t{largest} + 1 : 0);
+  py::list regions(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int64_t size = offset[i + 1] - offset[i];
+    PyObject* list = PyList_New(static_cast<Py_ssize_t>(size));
+    if (list == nullptr) throw py::error_already_set();
+    PyList_SET_ITEM(regions.ptr(), static_cast<Py_ssize_t>(i), list);
+    for (std::int64_t k = 0; k < size; ++k) {
+      py::object& shared = ints[value[offset[i] + k]];
+      if (!shared) shared = py::int_(value[offset[i] + k]);
+      PyList_SET_ITEM(list, static_cast<Py_ssize_t>(k), shared.inc_ref().ptr());
+    }
+  }
+  return regions;
 }
 
 }  // namespace
@@ -117,6 +152,8 @@ py::dict spherical_voronoi(const py::array_t<double, py::array::c_style | py::ar
 void bind_spherical_voronoi(py::module_& m) {
   m.def("spherical_voronoi", &spherical_voronoi, py::arg("points"), py::arg("threads") = 0,
         "The exact Voronoi diagram of unit vectors (n, 3): a dict of flat arrays by input point.");
+  m.def("regions_lists", &regions_lists, py::arg("offsets"), py::arg("flat"),
+        "[flat[offsets[i]:offsets[i + 1]] as a list of ints for each i].");
 }
 
 }  // namespace geovor::python

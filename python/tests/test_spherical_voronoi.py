@@ -8,6 +8,7 @@ from scipy.spatial import SphericalVoronoi as ScipyVoronoi
 from scipy.spatial import distance
 
 import geovor
+from geovor import _geovor
 
 
 def sphere_points(n, seed):
@@ -154,6 +155,30 @@ def test_regions_are_counter_clockwise_from_outside():
     before = [list(r) for r in sv.regions]
     sv.sort_vertices_of_regions()
     assert sv.regions == before
+
+
+def test_regions_are_one_list_object_kept_like_scipys():
+    """regions is made on first use, then the same list: edits and assignment stick, as in scipy."""
+    points = sphere_points(50, 4)
+    sv = geovor.SphericalVoronoi(points)
+    ref = ScipyVoronoi(points)
+    ref.sort_vertices_of_regions()
+    regions = sv.regions
+    assert regions is sv.regions
+    assert all(type(r) is list and all(type(v) is int for v in r) for r in regions)
+    assert sorted(map(len, regions)) == sorted(map(len, ref.regions))
+    regions[0].append(-1)
+    assert sv.regions[0][-1] == -1
+    sv.regions = [[1, 2, 3]]
+    assert sv.regions == [[1, 2, 3]]
+
+
+def test_regions_lists_checks_its_arrays():
+    assert _geovor.regions_lists(np.array([0, 2, 2, 3]), np.array([7, 8, 7], dtype=np.uint32)) == [[7, 8], [], [7]]
+    with pytest.raises(ValueError):
+        _geovor.regions_lists(np.array([0, 3, 2]), np.array([1, 2, 3], dtype=np.uint32))
+    with pytest.raises(ValueError):
+        _geovor.regions_lists(np.array([0, 4]), np.array([1, 2, 3], dtype=np.uint32))
 
 
 @pytest.mark.parametrize("bad,message", [
