@@ -30,9 +30,10 @@ def main():
         rates = {}
         for workers in (1, 2):
             with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                          dashboard_address=None) as cluster, distributed.Client(cluster):
+                                          dashboard_address=None) as cluster, distributed.Client(cluster) as client:
                 ddf = dd.from_pandas(queries, npartitions=16).persist()
-                geovor.dask.nearest(ddf.head(10, compute=False), path).compute()  # load the index everywhere
+                distributed.wait(ddf)
+                client.run(lambda p: geovor.dask._load(p) and None, path)  # every worker loads the index first
                 start = time.perf_counter()
                 n = len(geovor.dask.nearest(ddf, path).compute())
                 rates[workers] = n / (time.perf_counter() - start)
