@@ -356,6 +356,26 @@ TEST(VoronoiDiagram, ArcMidpointHandles180DegreeArcs) {
   EXPECT_NEAR(VoronoiDiagram::triangle_area_sr({1, 0, 0}, {0, 0, 1}, {0, 1, 0}), -kPi / 2, 1e-15);
 }
 
+// Tiny triangles and the slivers of a cell's fan keep their digits. The expected values are the
+// solid angles of the stored doubles from exact rational det and denominator (Python fractions),
+// then one atan.
+TEST(VoronoiDiagram, TriangleAreaOfTinyTrianglesAndSlivers) {
+  // (-30, 20), (-30, 20.000001), (-29.999999, 20.0000005) degrees: 1.3e-16 sr.
+  const Vec3 a{0x1.a0aa16f5e991bp-1, 0x1.2f4e9034c7357p-2, -0x1.fffffffffffffp-2};
+  const Vec3 b{0x1.a0aa16c9816d2p-1, 0x1.2f4e9128caa35p-2, -0x1.fffffffffffffp-2};
+  const Vec3 c{0x1.a0aa1726264a8p-1, 0x1.2f4e90e20fb93p-2, -0x1.fffffefc538ccp-2};
+  const double tiny = 1.319032123889599e-16;  // a . (b x c) gave 1.3308e-16: 1% off
+  EXPECT_NEAR(VoronoiDiagram::triangle_area_sr(a, b, c), tiny, 1e-12 * tiny);
+  EXPECT_NEAR(VoronoiDiagram::triangle_area_sr(b, c, a), tiny, 1e-12 * tiny);
+  EXPECT_NEAR(VoronoiDiagram::triangle_area_sr(c, a, b), tiny, 1e-12 * tiny);
+  EXPECT_NEAR(VoronoiDiagram::triangle_area_sr(a, c, b), -tiny, 1e-12 * tiny);
+  // A fan triangle: the apex at (10, 10), a Voronoi edge of 1e-6 degrees 45 degrees away.
+  const Vec3 apex{0x1.f08fb2129168dp-1, 0x1.5e3a8748a0bf4p-3, 0x1.63a1a7e0b7389p-3};
+  const double fan = 5.477570588633589e-09;  // a . (b x c) gave 5.4775705895e-09: 1.6e-10 off
+  EXPECT_NEAR(VoronoiDiagram::triangle_area_sr(apex, a, b), fan, 1e-13 * fan);
+  EXPECT_NEAR(VoronoiDiagram::triangle_area_sr(b, apex, a), fan, 1e-13 * fan);
+}
+
 // Built on several threads, the same diagram: vertices, cell lists and neighbours, bit for bit.
 TEST(VoronoiDiagram, ThreadsGiveTheSameDiagram) {
   const SphericalDelaunay dt = SphericalDelaunay::build(testing::uniform_on_sphere(100000, 31));

@@ -51,7 +51,18 @@ Vec3 VoronoiDiagram::arc_midpoint(const Vec3& a, const Vec3& b, const Vec3& axis
 double VoronoiDiagram::triangle_area_sr(const Vec3& a, const Vec3& b, const Vec3& c) {
   // tan(omega / 2) = det(a, b, c) / (1 + a.b + b.c + c.a): atan2 keeps the full range (-2pi, 2pi);
   // the small triangles of most cells take the polynomial instead (same value within an ulp).
-  const double det = dot(a, cross(b, c));
+  // det(a, b, c) = p . ((q - p) x (r - p)) for the corner p opposite the longest side: the two
+  // sides there are exact differences for a small triangle and not nearly parallel for a
+  // sliver, so det keeps its digits (a . (b x c) lost them all below 1e-15 sr).
+  const Vec3 ab = b - a, bc = c - b, ca = a - c;
+  const double lab = norm2(ab), lbc = norm2(bc), lca = norm2(ca);
+  double det;
+  if (lbc >= lab && lbc >= lca)
+    det = dot(a, cross(ab, -1.0 * ca));
+  else if (lca >= lab)
+    det = dot(b, cross(bc, -1.0 * ab));
+  else
+    det = dot(c, cross(ca, -1.0 * bc));
   const double den = 1 + dot(a, b) + dot(b, c) + dot(c, a);
   if (den > 0 && std::fabs(det) <= kSmallAngleMax * den) return 2 * atan_small(det / den);
   return 2 * std::atan2(det, den);
