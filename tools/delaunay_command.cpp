@@ -12,6 +12,7 @@
 #include "geovor/core/output_target.hpp"
 #include "geovor/layers/delaunay_layers.hpp"
 #include "geovor/lonlat/cell_geometry.hpp"
+#include "numeric_options.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -48,7 +49,7 @@ int run(DelaunayArgs& args) {
   const std::vector<Vec3> points = site_points(table);
   BuildReport report;
   const SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
-  report_merges(table, report);
+  if (!args.quiet) report_merges(table, report);  // merged rows stay in the counts
   const SiteRows rows = rows_of_sites(report, dt.site_capacity());
   DelaunayGeometryOptions geometry_options;
   geometry_options.densify_m = args.densify_m;
@@ -120,14 +121,14 @@ Command add_delaunay_command(CLI::App& app) {
   cmd->add_option("--edges-format", args->edges_format, "OGR driver of the edges file, overriding its extension");
   cmd->add_option("--densify-m", args->densify_m,
                   "Largest distance in metres between a written segment and the true great-circle arc (default 100)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_above(0, false));
   cmd->add_option("--precision", args->precision, "Decimals of coordinates in GeoJSON (default 7, about 1 cm; binary formats store doubles): positions are computed, checked valid and measured as written; what collapses or cannot be written valid gets an empty geometry and is reported")
-      ->check(CLI::Range(1, 17));
+      ->check(integer_in(1, 17));
   cmd->add_flag("--no-ghosts", args->no_ghosts,
                 "Leave out the faces and edges with ghost = 1 (outside the sites' convex hull: only when all sites lie "
                 "in one hemisphere); the other triangles tile the sites' convex hull");
   cmd->add_flag("--overwrite", args->overwrite, "Replace existing output files");
-  cmd->add_flag("-q,--quiet", args->quiet, "No progress and no summary on stderr");
+  cmd->add_flag("-q,--quiet", args->quiet, "No progress, no summary and no list of merged rows on stderr");
   cmd->footer(
       "At least one of -o and --edges. Triangles carry: tri_index, kind (proper, ghost or great_circle),\n"
       "ghost (1 for a face outside the triangulation of the sites' convex hull: a ghost face, whose\n"

@@ -15,6 +15,7 @@
 #include "geovor/core/output_target.hpp"
 #include "geovor/layers/site_layer.hpp"
 #include "geovor/relax/lloyd.hpp"
+#include "numeric_options.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -71,7 +72,7 @@ int run(RelaxArgs& args) {
   const std::vector<Vec3> points = site_points(table);
   BuildReport report;
   SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
-  report_merges(table, report);
+  if (!args.cells.quiet) report_merges(table, report);  // merged rows stay in the cells' ids
   const std::vector<Vec3> start(dt.sites().begin(), dt.sites().end());
 
   // Site ids never change (no site is removed), so the build's row report still names the rows.
@@ -118,27 +119,27 @@ Command add_relax_command(CLI::App& app) {
                   "extension: .geojson, .geojsons/.geojsonl, .gpkg, .fgb, .shp, .csv")
       ->required();
   cmd->add_option("-n,--iterations", args->iterations, "Number of Lloyd iterations (default 10)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, 1000000000));
   cmd->add_option("--relocation", args->relocation,
                   "How the triangulation follows the sites: filtered (default: tolerance filter, then flips), "
                   "naive (remove + insert) or rebuild (from scratch); the result is the same");
   cmd->add_option("--tolerance-m", args->tolerance_m,
                   "Stop early once no site moves more than this many metres in an iteration (default 0: never)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_above(0, true));
   cmd->add_option("--sites-output", args->sites_output,
                   "Also write the final sites as points (site_index, site_id, lat_deg, lon_deg, moved_m, then the "
                   "input columns but the positions), in any format --output takes");
   cmd->add_option("--format", args->cells.format, "OGR driver name of --output, overriding the extension");
   cmd->add_option("--densify-m", args->cells.densify_m,
                   "Largest distance in metres between a written edge and the true great-circle arc (default 100)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_above(0, false));
   cmd->add_option("--precision", args->cells.precision, "Decimals of coordinates in GeoJSON (default 7, about 1 cm; binary formats store doubles): positions are computed, checked valid and measured as written; what collapses or cannot be written valid gets an empty geometry and is reported")
-      ->check(CLI::Range(1, 17));
+      ->check(integer_in(1, 17));
   cmd->add_flag("--overwrite", args->cells.overwrite, "Replace existing output files");
-  cmd->add_flag("-q,--quiet", args->cells.quiet, "No per-iteration lines, progress or summary on stderr");
+  cmd->add_flag("-q,--quiet", args->cells.quiet, "No per-iteration lines, progress, summary or list of merged rows on stderr");
   cmd->add_option("--threads", args->cells.threads,
                   "Threads computing the centroids and the cells (default: one per core); the output is the same")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, kMaxThreads));
   cmd->footer(
       "Each iteration moves every site to the centroid of its spherical Voronoi cell (the mass centre\n"
       "projected to the sphere), toward a centroidal Voronoi tessellation. It prints on stderr the energy\n"
