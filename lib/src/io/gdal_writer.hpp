@@ -44,6 +44,10 @@ class ErrorCapture {
 /// @exception Error(InvalidArgument) naming the candidates when several drivers do.
 std::string driver_for_extension(const std::string& path);
 
+/// Whether the GDAL driver named `driver` holds several vector layers in one data source
+/// (DCAP_MULTIPLE_VECTOR_LAYERS); false for a driver GDAL does not know.
+bool driver_holds_layers(const std::string& driver);
+
 /// Field names as the Shapefile format allows them: at most 10 bytes (cut at a UTF-8 character
 /// boundary), unique case-insensitively. A name that collides once cut gets a suffix "_1", "_2",
 /// ... in schema order, its stem shortened to keep 10 bytes: "population_2020" ->
