@@ -96,7 +96,8 @@ class GdalWriter final : public FeatureWriter {
     temp_ = TemporaryOutput(path_, TemporaryOutput::Kind::Directory);
     temp_dir_ = temp_.path();
     try {
-      if (updating_) open_copy(target);
+      // --overwrite of a file that is no data source of the format replaces the file.
+      if (updating_ && !open_copy(target, options.update)) updating_ = false;
       create(driver, target.filename().string(), schema, options);
     } catch (...) {
       discard();
@@ -244,8 +245,9 @@ class GdalWriter final : public FeatureWriter {
   }
 
   // The existing data source, copied into the temporary directory and opened there for update:
-  // the original is only replaced, whole, by move_into_place().
-  void open_copy(const fs::path& target) {
+  // the original is only replaced, whole, by move_into_place(). False, the copy removed, when
+  // GDAL cannot open it as a data source of the format and `required` is false.
+  bool open_copy(const fs::path& target, bool required) {
     ErrorCapture capture;
     const fs::path copy = temp_dir_ / target.filename();
     std::error_code ec;
@@ -254,9 +256,13 @@ class GdalWriter final : public FeatureWriter {
     if (file_state(target) != original_) fail("changed while it was being copied; not updated");
     const char* const drivers[] = {driver_.c_str(), nullptr};
     dataset_ = GDALDataset::Open(copy.c_str(), GDAL_OF_VECTOR | GDAL_OF_UPDATE, drivers, nullptr, nullptr);
-    if (dataset_ == nullptr)
+    if (dataset_ != nullptr) return true;
+    if (required)
       fail("exists, and GDAL cannot open it as a " + driver_ + " data source to update" + capture.detail() +
            "; remove it, or write elsewhere");
+    fs::remove(copy, ec);
+    capture.clear();
+    return false;
   }
 
   // What identifies a version of a file: device, inode, size, modification time.
