@@ -59,6 +59,9 @@ std::vector<std::string> shapefile_field_names(const std::vector<Field>& schema)
 /// ".NAME.tmp-PID-N/" next to `path`, under its final file name; finish() closes it and renames
 /// every file it produced (NAME and its sidecars STEM.*, e.g. .shx/.dbf/.prj/.cpg) into place,
 /// the main file last. Any failure, or destruction without finish(), removes the directory.
+/// Updating an existing multi-layer data source (WriterOptions::update, or overwrite of one
+/// layer), the file is copied into that directory, opened there for update, and renamed over
+/// the original by finish() if the original is unchanged since the copy.
 /// @exception Error(InvalidArgument) unknown driver or "-" as path; Error(Io) as
 ///   open_feature_writer().
 std::unique_ptr<FeatureWriter> open_gdal_writer(const std::string& path, const std::string& driver,

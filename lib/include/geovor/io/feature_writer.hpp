@@ -9,7 +9,7 @@
 ///   (RS-separated) for ".geojsons" and newline-delimited otherwise.
 /// - GDAL drivers: EPSG:4326 with the traditional GIS axis order (longitude first), layer type
 ///   wkbPoint / wkbMultiLineString / wkbMultiPolygon, Integer fields as Integer64, one
-///   transaction when the driver has them (GPKG). Coordinates are stored as doubles (the CSV
+///   transaction per layer when the driver has them (GPKG). Coordinates are stored as doubles (the CSV
 ///   driver writes WKT with GDAL's own 15 significant digits; precision does not apply).
 ///   - ESRI Shapefile: field names cut to 10 bytes and made unique ("population_2020" ->
 ///     "population", "population_2021" -> "populati_1"), UTF-8 with a .cpg, widths shrunk to
