@@ -25,6 +25,9 @@ struct CellOutputArgs {
   int threads = 0;  // 0: one per core
 };
 
+/// The writer options of the cells file (layer `cells` unless --nln).
+WriterOptions cell_writer_options(const CellOutputArgs& args);
+
 /// Whether args.output is GeoJSON or GeoJSONSeq (the formats written natively, which use CellIdTexts).
 bool writes_geojson(const CellOutputArgs& args);
 

@@ -53,13 +53,18 @@ int run(DelaunayArgs& args) {
   output.triangles = writer_options(args, args.format, args.model.layer.empty() ? "triangles" : args.model.layer);
   output.edges_path = args.edges;
   output.edges = writer_options(args, args.edges_format, args.edges_layer);
-  // --update concerns the outputs whose format holds several layers; an edges file of another is created.
-  if (!args.edges.empty() && !one_data_source(output) && !format_holds_layers(args.edges, output.edges.format))
-    output.edges.update = false;
+  // --update concerns the outputs whose format holds several layers, --lco/--dsco those GDAL
+  // writes; an edges file of another format is created as it would be without them.
+  if (!args.edges.empty() && !one_data_source(output)) {
+    if (!output_needs_gdal(args.edges, args.edges_format)) output.edges.layer_options.clear(), output.edges.dataset_options.clear();
+    if (!format_holds_layers(args.edges, output.edges.format)) output.edges.update = false;
+  }
   // Two outputs that are one file (a path, an alias, a link; `-` twice) are refused before any
   // work, unless it is one data source that holds both layers (GPKG, ...).
   if (!(one_data_source(output) && format_holds_layers(args.triangles, output.triangles.format)))
     check_distinct_outputs({{"--output", args.triangles}, {"--edges", args.edges}});
+  if (!args.triangles.empty()) check_writer_options(args.triangles, output.triangles);  // before any work
+  if (!args.edges.empty()) check_writer_options(args.edges, output.edges);
   const SiteTable table = read_site_input(args.sites);
   const std::vector<Vec3> points = site_points(table);
   BuildReport report;

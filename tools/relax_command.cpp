@@ -69,9 +69,11 @@ int run(RelaxArgs& args) {
   const bool one_source = !args.sites_output.empty() && same_output_file(args.cells.output, args.sites_output) &&
                           format_holds_layers(args.cells.output, args.cells.format);
   if (!one_source) check_distinct_outputs({{"--output", args.cells.output}, {"--sites-output", args.sites_output}});
-  const bool replace = args.cells.overwrite || args.cells.model.update;
-  check_writable(args.cells.output, replace);
-  if (!one_source) check_writable(args.sites_output, replace);
+  check_writer_options(args.cells.output, cell_writer_options(args.cells));  // before the iterations
+  check_writable(args.cells.output, args.cells.overwrite || args.cells.model.update);
+  if (!one_source)
+    check_writable(args.sites_output, args.cells.overwrite || (args.cells.model.update && !args.sites_output.empty() &&
+                                                               format_holds_layers(args.sites_output, "")));
 
   const SiteTable table = read_site_input(args.sites);
   const std::vector<Vec3> points = site_points(table);

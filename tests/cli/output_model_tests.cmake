@@ -84,3 +84,8 @@ geovor_cli_expect(cli.output_model.geojson_lco 2 STDERR "c\\.geojson: --lco and 
   COMMAND cells ${hemi} -o ${om}/c.geojson --lco RFC7946=YES -q)
 geovor_cli_expect(cli.output_model.shapefile_update 2 STDERR "--update adds a layer to a data source that holds several [^\n]*ESRI Shapefile holds one"
   COMMAND cells ${hemi} -o ${om}/c.shp --update -q)
+# delaunay's options concern the outputs they can: --update and --lco the GeoPackage of the
+# triangles, not the GeoJSON edges beside it (written as without them).
+geovor_cli_expect(cli.output_model.delaunay_mixed_outputs 0
+  STDOUT "^1: triangles \\(Multi Polygon\\)\n.*Geometry Column = shape\n.*Feature Count: 54\n" SCRIPT
+  "rm -f ${om}/mixed.gpkg ${om}/mixed_edges.geojson && \"$0\" delaunay ${hemi} -o ${om}/mixed.gpkg --edges ${om}/mixed_edges.geojson --update --lco GEOMETRY_NAME=shape -q && ogrinfo -ro -q ${om}/mixed.gpkg && ogrinfo -ro -so ${om}/mixed.gpkg triangles && ogrinfo -ro -so -al ${om}/mixed_edges.geojson")

@@ -60,6 +60,10 @@ void check_output_model(const std::string& path, const std::string& format, cons
 
 }  // namespace
 
+void check_writer_options(const std::string& path, const WriterOptions& options) {
+  check_output_model(path, resolve_format(path, options.format), options);
+}
+
 bool format_holds_layers(const std::string& path, const std::string& format) {
   const std::string f = resolve_format(path, format);
   return !is_native(f) && gdal_detail::driver_holds_layers(f);

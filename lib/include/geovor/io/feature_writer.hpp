@@ -178,6 +178,13 @@ std::unique_ptr<FeatureWriter> open_feature_writer(const std::string& path, Geom
                                                    const std::vector<Field>& schema,
                                                    const WriterOptions& options = {});
 
+/// The checks open_feature_writer() makes on `options` before it opens anything, so that a caller
+/// can refuse them before long work: the format known from `options.format` or the extension,
+/// creation options of the form NAME=VALUE, neither update nor creation options with GeoJSON or
+/// GeoJSONSeq. (GDAL formats that hold one layer refuse update when opened.)
+/// @exception Error(InvalidArgument) as open_feature_writer().
+void check_writer_options(const std::string& path, const WriterOptions& options);
+
 /// Whether the format of `path` (`format`, or the one its extension names, as open_feature_writer()
 /// chooses it) holds several layers in one data source (GDAL's DCAP_MULTIPLE_VECTOR_LAYERS: GPKG,
 /// SQLite, ...); false for GeoJSON, GeoJSONSeq, FlatGeobuf, Shapefile, CSV.
