@@ -11,15 +11,20 @@ namespace geovor::tools {
 
 bool writes_geojson(const CellOutputArgs& args) { return !output_needs_gdal(args.output, args.format); }
 
-CellLayerReport write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
-                            const SphericalDelaunay& dt, const std::function<void(const CellLayerReport&)>& before_finish,
-                            const CellIdTexts* id_texts) {
+WriterOptions cell_writer_options(const CellOutputArgs& args) {
   WriterOptions writer_options;
   writer_options.format = args.format;
   writer_options.layer = "cells";
   writer_options.precision = args.precision;
   writer_options.overwrite = args.overwrite;
-  const auto writer = open_cell_layer_writer(args.output, table.columns, writer_options);
+  apply_output_model(args.model, writer_options);
+  return writer_options;
+}
+
+CellLayerReport write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
+                            const SphericalDelaunay& dt, const std::function<void(const CellLayerReport&)>& before_finish,
+                            const CellIdTexts* id_texts) {
+  const auto writer = open_cell_layer_writer(args.output, table.columns, cell_writer_options(args));
   Progress progress(dt.num_sites(), args.quiet);
   CellLayerOptions options;
   options.densify_m = args.densify_m;

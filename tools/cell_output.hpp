@@ -8,20 +8,25 @@
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/geo/site_reader.hpp"
 #include "geovor/layers/cell_layer.hpp"
+#include "output_model.hpp"
 
 namespace geovor::tools {
 
 /// The output options of the cells (the --output, --format, --densify-m, --precision, --overwrite,
-/// --quiet and --threads options of `geovor cells`).
+/// --quiet and --threads options of `geovor cells`, and its --nln, --update, --lco, --dsco).
 struct CellOutputArgs {
   std::string output;
   std::string format;
+  OutputModelArgs model;
   double densify_m = 100;
   int precision = 7;
   bool overwrite = false;
   bool quiet = false;
   int threads = 0;  // 0: one per core
 };
+
+/// The writer options of the cells file (layer `cells` unless --nln).
+WriterOptions cell_writer_options(const CellOutputArgs& args);
 
 /// Whether args.output is GeoJSON or GeoJSONSeq (the formats written natively, which use CellIdTexts).
 bool writes_geojson(const CellOutputArgs& args);

@@ -14,6 +14,7 @@
 #include "geovor/core/parallel.hpp"
 #include "geovor/core/output_target.hpp"
 #include "cell_output.hpp"
+#include "numeric_options.hpp"
 #include "output_file.hpp"
 #include "site_input.hpp"
 
@@ -60,6 +61,7 @@ void write_report(OutputFile& out, const SiteTable& table, const BuildReport& re
 int run(CellsArgs& args) {
   // Two outputs that are one file (a path, an alias, a link; `-` twice): refused before any work.
   check_distinct_outputs({{"--output", args.out.output}, {"--report", args.report}});
+  check_writer_options(args.out.output, cell_writer_options(args.out));  // --update or --lco with GeoJSON: before any work
   // Opened first, so that an existing report is refused before any work; renamed into place last.
   std::unique_ptr<OutputFile> report_file;
   if (!args.report.empty()) report_file = std::make_unique<OutputFile>(args.report, args.out.overwrite);
@@ -109,16 +111,15 @@ Command add_cells_command(CLI::App& app) {
                   "Output file (- for GeoJSON on stdout); the format follows the extension: .geojson, "
                   ".geojsons/.geojsonl, .gpkg, .fgb, .shp, .csv")
       ->required();
-  cmd->add_option("--format", args->out.format, "OGR driver name, overriding the extension (GeoJSON, GeoJSONSeq, GPKG, FlatGeobuf, \"ESRI Shapefile\", CSV, ...)");
+  add_output_model_options(cmd, args->out.format, args->out.overwrite, args->out.model, "cells");
   cmd->add_option("--densify-m", args->out.densify_m, "Largest distance in metres between a written edge and the true great-circle arc (default 100)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_above(0, false));
   cmd->add_option("--precision", args->out.precision, "Decimals of coordinates in GeoJSON (default 7, about 1 cm; binary formats store doubles): the cells are computed, checked valid and measured (area_m2) as written; a cell that collapses or cannot be written valid at this precision gets an empty geometry and is reported")
-      ->check(CLI::Range(1, 17));
+      ->check(integer_in(1, 17));
   cmd->add_option("--report", args->report, "CSV file listing every input row: site, merged (with its site) or rejected (with the reason)");
-  cmd->add_flag("--overwrite", args->out.overwrite, "Replace existing output files");
   cmd->add_flag("-q,--quiet", args->out.quiet, "No progress, no summary and no list of merged rows on stderr (they stay in the cells' ids and --report); rejected rows and cells written with an empty geometry are still listed");
   cmd->add_option("--threads", args->out.threads, "Threads converting the coordinates and computing and formatting the cells (default: one per core); the output is the same")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, kMaxThreads));
   cmd->footer(
       "Each cell carries: site_index, site_id (also the feature id), ids (JSON array of the ids of every\n"
       "row merged into the site), n_rows, area_m2 (WGS84 ellipsoid, of the ring as written), area_sr\n"
@@ -126,7 +127,8 @@ Command add_cells_command(CLI::App& app) {
       "neighbors (JSON array of the neighbours' ids), then every input column.\n"
       "Examples:\n"
       "  geovor cells datasets/weather_stations.csv -o cells.geojson\n"
-      "  geovor cells stations.gpkg -o cells.fgb --densify-m 10 --report rows.csv");
+      "  geovor cells stations.gpkg -o cells.fgb --densify-m 10 --report rows.csv\n"
+      "  geovor cells stations.gpkg -o stations.gpkg --update --nln voronoi   (a layer beside the stations)");
   return {[args] { return run(*args); },
           [args] {
             return site_input_needs_gdal(args->sites) ||

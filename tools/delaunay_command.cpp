@@ -12,6 +12,8 @@
 #include "geovor/core/output_target.hpp"
 #include "geovor/layers/delaunay_layers.hpp"
 #include "geovor/lonlat/cell_geometry.hpp"
+#include "numeric_options.hpp"
+#include "output_model.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -23,6 +25,8 @@ struct DelaunayArgs {
   std::string edges;
   std::string format;
   std::string edges_format;
+  OutputModelArgs model;
+  std::string edges_layer = "edges";
   double densify_m = 100;
   int precision = 7;
   bool no_ghosts = false;
@@ -30,25 +34,42 @@ struct DelaunayArgs {
   bool quiet = false;
 };
 
-WriterOptions writer_options(const DelaunayArgs& args, const std::string& format, const char* layer) {
+// The options of one output: its format and layer, the output model's data-source options.
+WriterOptions writer_options(const DelaunayArgs& args, const std::string& format, const std::string& layer) {
   WriterOptions o;
   o.format = format;
-  o.layer = layer;
   o.precision = args.precision;
   o.overwrite = args.overwrite;
+  apply_output_model(args.model, o);
+  o.layer = layer;
   return o;
 }
 
 int run(DelaunayArgs& args) {
   if (args.triangles.empty() && args.edges.empty())
     throw Error(ErrorCode::InvalidArgument, "nothing to write: give -o TRIANGLES and/or --edges EDGES");
-  // Two outputs that are one file (a path, an alias, a link; `-` twice): refused before any work.
-  check_distinct_outputs({{"--output", args.triangles}, {"--edges", args.edges}});
+  DelaunayOutput output;
+  output.triangles_path = args.triangles;
+  output.triangles = writer_options(args, args.format, args.model.layer.empty() ? "triangles" : args.model.layer);
+  output.edges_path = args.edges;
+  output.edges = writer_options(args, args.edges_format, args.edges_layer);
+  // --update concerns the outputs whose format holds several layers, --lco/--dsco those GDAL
+  // writes; an edges file of another format is created as it would be without them.
+  if (!args.edges.empty() && !one_data_source(output)) {
+    if (!output_needs_gdal(args.edges, args.edges_format)) output.edges.layer_options.clear(), output.edges.dataset_options.clear();
+    if (!format_holds_layers(args.edges, output.edges.format)) output.edges.update = false;
+  }
+  // Two outputs that are one file (a path, an alias, a link; `-` twice) are refused before any
+  // work, unless it is one data source that holds both layers (GPKG, ...).
+  if (!(one_data_source(output) && format_holds_layers(args.triangles, output.triangles.format)))
+    check_distinct_outputs({{"--output", args.triangles}, {"--edges", args.edges}});
+  if (!args.triangles.empty()) check_writer_options(args.triangles, output.triangles);  // before any work
+  if (!args.edges.empty()) check_writer_options(args.edges, output.edges);
   const SiteTable table = read_site_input(args.sites);
   const std::vector<Vec3> points = site_points(table);
   BuildReport report;
   const SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
-  report_merges(table, report);
+  if (!args.quiet) report_merges(table, report);  // merged rows stay in the counts
   const SiteRows rows = rows_of_sites(report, dt.site_capacity());
   DelaunayGeometryOptions geometry_options;
   geometry_options.densify_m = args.densify_m;
@@ -63,20 +84,10 @@ int run(DelaunayArgs& args) {
   Progress progress(total, args.quiet);
   DelaunayLayerOptions layer_options;
   layer_options.no_ghosts = args.no_ghosts;
-  TriangleLayerReport triangles;
-  EdgeLayerReport edges;
-  if (!args.triangles.empty()) {
-    const auto writer = open_triangle_layer_writer(args.triangles, writer_options(args, args.format, "triangles"));
-    layer_options.progress = [&](std::size_t t) { progress.advance(t); };
-    triangles = write_triangle_layer(*writer, table, rows, geometry, layer_options);
-    writer->finish();
-  }
-  if (!args.edges.empty()) {
-    const auto writer = open_edge_layer_writer(args.edges, writer_options(args, args.edges_format, "edges"));
-    layer_options.progress = [&](std::size_t e) { progress.advance(triangles.triangles_written + e); };
-    edges = write_edge_layer(*writer, table, rows, geometry, layer_options);
-    writer->finish();
-  }
+  layer_options.progress = [&](std::size_t done) { progress.advance(done); };
+  const DelaunayLayersReport written = write_delaunay_layers(output, table, rows, geometry, layer_options);
+  const TriangleLayerReport& triangles = written.triangles;
+  const EdgeLayerReport& edges = written.edges;
   progress.finish();
   const std::string where =
       geometry_options.precision >= 0 ? "--precision " + std::to_string(geometry_options.precision) : "full precision";
@@ -116,18 +127,18 @@ Command add_delaunay_command(CLI::App& app) {
                   "Triangles file (- for GeoJSON on stdout); the format follows the extension: .geojson, "
                   ".geojsons/.geojsonl, .gpkg, .fgb, .shp, .csv");
   cmd->add_option("--edges", args->edges, "Edges file (lines), same formats");
-  cmd->add_option("--format", args->format, "OGR driver of the triangles file, overriding its extension");
+  add_output_model_options(cmd, args->format, args->overwrite, args->model, "triangles");
   cmd->add_option("--edges-format", args->edges_format, "OGR driver of the edges file, overriding its extension");
+  cmd->add_option("--edges-nln", args->edges_layer, "Layer name of the edges (default edges)");
   cmd->add_option("--densify-m", args->densify_m,
                   "Largest distance in metres between a written segment and the true great-circle arc (default 100)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_above(0, false));
   cmd->add_option("--precision", args->precision, "Decimals of coordinates in GeoJSON (default 7, about 1 cm; binary formats store doubles): positions are computed, checked valid and measured as written; what collapses or cannot be written valid gets an empty geometry and is reported")
-      ->check(CLI::Range(1, 17));
+      ->check(integer_in(1, 17));
   cmd->add_flag("--no-ghosts", args->no_ghosts,
                 "Leave out the faces and edges with ghost = 1 (outside the sites' convex hull: only when all sites lie "
                 "in one hemisphere); the other triangles tile the sites' convex hull");
-  cmd->add_flag("--overwrite", args->overwrite, "Replace existing output files");
-  cmd->add_flag("-q,--quiet", args->quiet, "No progress and no summary on stderr");
+  cmd->add_flag("-q,--quiet", args->quiet, "No progress, no summary and no list of merged rows on stderr");
   cmd->footer(
       "At least one of -o and --edges. Triangles carry: tri_index, kind (proper, ghost or great_circle),\n"
       "ghost (1 for a face outside the triangulation of the sites' convex hull: a ghost face, whose\n"
@@ -140,7 +151,8 @@ Command add_delaunay_command(CLI::App& app) {
       "edge between two faces with ghost = 1: not an edge of the hull's triangulation).\n"
       "Examples:\n"
       "  geovor delaunay datasets/weather_stations.csv -o triangles.geojson --edges edges.geojson\n"
-      "  geovor delaunay stations.gpkg -o tin.gpkg --edges edges.fgb --no-ghosts");
+      "  geovor delaunay stations.gpkg -o tin.gpkg --edges edges.fgb --no-ghosts\n"
+      "  geovor delaunay stations.csv -o tin.gpkg --edges tin.gpkg   (one GeoPackage, layers triangles and edges)");
   return {[args] { return run(*args); },
           [args] {
             return site_input_needs_gdal(args->sites) ||

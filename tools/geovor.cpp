@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -55,6 +56,38 @@ int hand_to_gdal_tool(char** argv) {
   return kInternal;
 }
 
+// Levenshtein distance, for "did you mean" on a mistyped command.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// "unknown command 'cels'; did you mean 'cells'?" (exit 2), or the list of commands when none is close.
+int unknown_command(const std::string& name, const std::vector<std::string>& commands) {
+  std::string best, all;
+  std::size_t best_distance = 3;  // at most two edits away, or a prefix
+  for (const std::string& c : commands) {
+    all += (all.empty() ? "" : ", ") + c;
+    const std::size_t d = c.starts_with(ascii_lower(name)) && !name.empty() ? 1 : edit_distance(ascii_lower(name), c);
+    if (d < best_distance) best_distance = d, best = c;
+  }
+  if (!best.empty())
+    std::fprintf(stderr, "geovor: unknown command '%s'; did you mean '%s'?\n", name.c_str(), best.c_str());
+  else
+    std::fprintf(stderr, "geovor: unknown command '%s'; the commands are %s (geovor --help)\n", name.c_str(), all.c_str());
+  return kUsage;
+}
+
 }  // namespace
 
 bool output_needs_gdal(const std::string& path, const std::string& format) {
@@ -80,8 +113,11 @@ int finish_command(int code) {
 namespace geovor::tools {
 
 int run_geovor(int argc, char** argv, bool has_gdal) {
-  CLI::App app{"geovor: Voronoi cells, Delaunay triangulations and nearest sites on the Earth"};
+  // Named, so that usage lines say "geovor", not the path it was run by.
+  CLI::App app{"geovor: Voronoi cells, Delaunay triangulations and nearest sites on the Earth", "geovor"};
+  app.set_version_flag("--version", "geovor " GEOVOR_VERSION, "Print the version and exit");
   app.footer(
+      "geovor help COMMAND is geovor COMMAND --help.\n"
       "Exit codes: 0 ok, 2 usage error, 3 bad input data, 4 I/O error, 70 internal error.\n"
       "Examples:\n"
       "  geovor info datasets/weather_stations.csv\n"
@@ -98,8 +134,26 @@ int run_geovor(int argc, char** argv, bool has_gdal) {
       {"index", add_index_command(app)},
       {"nearest", add_nearest_command(app)},
   };
+  std::vector<std::string> names;
+  for (const auto& command : commands) names.push_back(command.first);
+  auto known = [&](const std::string& name) { return std::find(names.begin(), names.end(), name) != names.end(); };
+  // `geovor help [COMMAND]` is `geovor [COMMAND] --help`; a first word that is no command is named.
+  std::vector<std::string> words(argv, argv + argc);
+  if (argc >= 2 && words[1] == "help") {
+    if (argc > 3) {
+      std::fprintf(stderr, "geovor: help takes one command, e.g. geovor help cells\n");
+      return kUsage;
+    }
+    if (argc == 3 && !known(words[2])) return unknown_command(words[2], names);
+    words = argc == 3 ? std::vector<std::string>{words[0], words[2], "--help"} : std::vector<std::string>{words[0], "--help"};
+  } else if (argc >= 2 && !words[1].empty() && words[1][0] != '-' && !known(words[1])) {
+    return unknown_command(words[1], names);
+  }
+  std::vector<char*> args;
+  for (std::string& w : words) args.push_back(w.data());
+  args.push_back(nullptr);
   try {
-    app.parse(argc, argv);
+    app.parse(static_cast<int>(words.size()), args.data());
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? kOk : kUsage;

@@ -64,7 +64,7 @@ SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary) {
   BuildReport report;
   SiteIndex index = build_site_index(table, delaunay_options(args), {}, &report);
   const double build_s = seconds_since(t0);
-  report_merges(table, report);
+  if (!args.quiet) report_merges(table, report);  // the merges stay in the index and its counts
   if (summary) {
     summary->source = table.source;
     summary->rows = table.rows_read;
@@ -84,6 +84,7 @@ Command add_index_command(CLI::App& app) {
   add_site_input_options(cmd, args->sites);
   cmd->add_option("-o,--output", args->output, "The index file to write (by convention *.gvi)")->required();
   cmd->add_flag("--overwrite", args->overwrite, "Replace an existing output file");
+  cmd->add_flag("-q,--quiet", args->sites.quiet, "No list of merged rows on stderr (rejected rows are still listed)");
   cmd->footer(
       "Reads the sites as `geovor info` does and saves the hierarchy and every row's attributes\n"
       "(id, fields, merged rows) in a checksummed binary file, written to a temporary file and\n"

@@ -45,7 +45,7 @@ int run(InfoArgs& args) {
   BuildReport report;
   const SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
   const double build_s = seconds_since(t0);
-  report_merges(table, report);
+  if (!args.sites.quiet) report_merges(table, report);  // counted in `merged` either way
   t0 = Clock::now();
   const Validation valid = dt.validate(&report, args.global_check);
   const double validate_s = seconds_since(t0);
@@ -74,6 +74,7 @@ Command add_info_command(CLI::App& app) {
       "info", "Read sites, build the Delaunay triangulation, validate it and print a summary");
   add_site_input_options(cmd, args->sites);
   cmd->add_flag("--global-check", args->global_check, "Also check every triangle against every site (O(n^2))");
+  cmd->add_flag("-q,--quiet", args->sites.quiet, "No list of merged rows on stderr (rejected rows are still listed)");
   cmd->footer(
       "Prints one 'key: value' line each: input, rows, sites, merged, rejected, triangles,\n"
       "ghost_triangles, degenerate, valid, read_seconds, build_seconds, validate_seconds.\n"

@@ -17,6 +17,7 @@
 #include "geovor/locate/index_file.hpp"
 #include "geovor/locate/knn.hpp"
 #include "geovor/locate/locator.hpp"
+#include "numeric_options.hpp"
 #include "output_file.hpp"
 #include "site_input.hpp"
 
@@ -98,7 +99,7 @@ int run(NearestArgs& args) {
   if (report.stopped)
     throw Error(ErrorCode::BadData, qname + ": stopped at the first malformed query (--strict); " +
                                         std::to_string(report.answered) + " queries answered before it");
-  if (report.malformed > 0)
+  if (report.malformed > 0 && !args.sites.quiet)
     std::fprintf(stderr, "geovor nearest: %llu queries answered, %llu malformed lines skipped\n",
                  static_cast<unsigned long long>(report.answered), static_cast<unsigned long long>(report.malformed));
   return kOk;
@@ -117,16 +118,20 @@ Command add_nearest_command(CLI::App& app) {
   cmd->add_flag("--overwrite", args->overwrite, "Replace an existing output file");
   cmd->add_option("--locator", args->locator,
                   "Strategy: walk, jump-walk, keep-jump-walk, hierarchy, climb or keep-jump-climb (default)");
-  args->k_option = cmd->add_option("--k", args->k, "The k nearest sites, one row each with a rank column");
+  args->k_option = cmd->add_option("--k", args->k, "The k nearest sites, one row each with a rank column")
+                      ->check(integer_in(1, 2147483647));
   cmd->add_option("--metric", args->metric, "sphere (great circle on the mean-radius sphere, default) or geodesic (WGS84)");
-  cmd->add_option("--threads", args->threads, "Threads (default 1); the output order is the input order");
+  cmd->add_option("--threads", args->threads, "Threads (default 1); the output order is the input order")
+      ->check(integer_in(1, kMaxThreads));
   cmd->add_flag("--strict", args->strict, "Stop at the first malformed query line (exit 3)");
+  cmd->add_flag("-q,--quiet", args->sites.quiet, "No list of merged site rows and no closing count on stderr (malformed lines are still listed)");
   args->site_options.push_back(cmd->add_option("--lat-field", args->sites.reader.lat_field, "Latitude column of the site table"));
   args->site_options.push_back(cmd->add_option("--lon-field", args->sites.reader.lon_field, "Longitude column of the site table"));
   args->site_options.push_back(cmd->add_option("--id-field", args->sites.reader.id_field,
                                                "Identifier column of the site table (default: id, icao, code or name; else the row number)"));
   args->site_options.push_back(cmd->add_option("--ecef-fields", args->sites.ecef_fields, "X,Y,Z ECEF columns of the site table"));
-  args->site_options.push_back(cmd->add_option("--merge-m", args->sites.merge_m, "Merge sites closer than this many metres"));
+  args->site_options.push_back(cmd->add_option("--merge-m", args->sites.merge_m, "Merge sites closer than this many metres")
+                                                   ->check(finite_above(0, true)));
   cmd->footer(
       "Writes CSV: query_id,site_index,site_id,distance_m (with --k: query_id,rank,site_index,site_id,\n"
       "distance_m, one row per neighbour, nearest first). query_id is the query's id column (query_id,\n"

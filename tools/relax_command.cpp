@@ -15,6 +15,7 @@
 #include "geovor/core/output_target.hpp"
 #include "geovor/layers/site_layer.hpp"
 #include "geovor/relax/lloyd.hpp"
+#include "numeric_options.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -38,12 +39,13 @@ void check_writable(const std::string& path, bool overwrite) {
 
 // The final sites as points (geovor/layers/site_layer.hpp).
 void write_sites(const RelaxArgs& args, const SiteTable& table, const BuildReport& report, const SphericalDelaunay& dt,
-                 const std::vector<Vec3>& start) {
+                 const std::vector<Vec3>& start, bool into_cells_source) {
   WriterOptions options;
-  options.format = "";
+  options.format = into_cells_source ? args.cells.format : "";
   options.layer = "sites";
   options.precision = args.cells.precision;
   options.overwrite = args.cells.overwrite;
+  options.update = into_cells_source || (args.cells.model.update && format_holds_layers(args.sites_output, ""));
   const auto writer = open_site_layer_writer(args.sites_output, table, options);
   write_site_layer(*writer, table, rows_of_sites(report, dt.site_capacity()), dt, start);
   writer->finish();
@@ -63,15 +65,21 @@ int run(RelaxArgs& args) {
   else
     throw Error(ErrorCode::InvalidArgument, "--relocation: expected filtered, naive or rebuild, got '" + args.relocation + "'");
   // Two outputs that are one file (a path, an alias, a link; `-` twice): refused before any work.
-  check_distinct_outputs({{"--output", args.cells.output}, {"--sites-output", args.sites_output}});
-  check_writable(args.cells.output, args.cells.overwrite);
-  check_writable(args.sites_output, args.cells.overwrite);
+  // The sites may be a second layer of the cells' data source (GPKG, ...), added once the cells are in place.
+  const bool one_source = !args.sites_output.empty() && same_output_file(args.cells.output, args.sites_output) &&
+                          format_holds_layers(args.cells.output, args.cells.format);
+  if (!one_source) check_distinct_outputs({{"--output", args.cells.output}, {"--sites-output", args.sites_output}});
+  check_writer_options(args.cells.output, cell_writer_options(args.cells));  // before the iterations
+  check_writable(args.cells.output, args.cells.overwrite || args.cells.model.update);
+  if (!one_source)
+    check_writable(args.sites_output, args.cells.overwrite || (args.cells.model.update && !args.sites_output.empty() &&
+                                                               format_holds_layers(args.sites_output, "")));
 
   const SiteTable table = read_site_input(args.sites);
   const std::vector<Vec3> points = site_points(table);
   BuildReport report;
   SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
-  report_merges(table, report);
+  if (!args.cells.quiet) report_merges(table, report);  // merged rows stay in the cells' ids
   const std::vector<Vec3> start(dt.sites().begin(), dt.sites().end());
 
   // Site ids never change (no site is removed), so the build's row report still names the rows.
@@ -97,7 +105,7 @@ int run(RelaxArgs& args) {
   }
 
   const std::size_t written = write_cells(args.cells, table, report, dt).cells_written;
-  if (!args.sites_output.empty()) write_sites(args, table, report, dt, start);
+  if (!args.sites_output.empty()) write_sites(args, table, report, dt, start, one_source);
   if (!args.cells.quiet)
     std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s%s%s\n",
                  table.source.c_str(), static_cast<unsigned long long>(table.rows_read), dt.num_sites(),
@@ -118,27 +126,27 @@ Command add_relax_command(CLI::App& app) {
                   "extension: .geojson, .geojsons/.geojsonl, .gpkg, .fgb, .shp, .csv")
       ->required();
   cmd->add_option("-n,--iterations", args->iterations, "Number of Lloyd iterations (default 10)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, 1000000000));
   cmd->add_option("--relocation", args->relocation,
                   "How the triangulation follows the sites: filtered (default: tolerance filter, then flips), "
                   "naive (remove + insert) or rebuild (from scratch); the result is the same");
   cmd->add_option("--tolerance-m", args->tolerance_m,
                   "Stop early once no site moves more than this many metres in an iteration (default 0: never)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_above(0, true));
   cmd->add_option("--sites-output", args->sites_output,
                   "Also write the final sites as points (site_index, site_id, lat_deg, lon_deg, moved_m, then the "
-                  "input columns but the positions), in any format --output takes");
-  cmd->add_option("--format", args->cells.format, "OGR driver name of --output, overriding the extension");
+                  "input columns but the positions), in any format --output takes; layer sites, which may be a "
+                  "second layer of --output's GeoPackage (or other multi-layer data source)");
+  add_output_model_options(cmd, args->cells.format, args->cells.overwrite, args->cells.model, "cells");
   cmd->add_option("--densify-m", args->cells.densify_m,
                   "Largest distance in metres between a written edge and the true great-circle arc (default 100)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_above(0, false));
   cmd->add_option("--precision", args->cells.precision, "Decimals of coordinates in GeoJSON (default 7, about 1 cm; binary formats store doubles): positions are computed, checked valid and measured as written; what collapses or cannot be written valid gets an empty geometry and is reported")
-      ->check(CLI::Range(1, 17));
-  cmd->add_flag("--overwrite", args->cells.overwrite, "Replace existing output files");
-  cmd->add_flag("-q,--quiet", args->cells.quiet, "No per-iteration lines, progress or summary on stderr");
+      ->check(integer_in(1, 17));
+  cmd->add_flag("-q,--quiet", args->cells.quiet, "No per-iteration lines, progress, summary or list of merged rows on stderr");
   cmd->add_option("--threads", args->cells.threads,
                   "Threads computing the centroids and the cells (default: one per core); the output is the same")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, kMaxThreads));
   cmd->footer(
       "Each iteration moves every site to the centroid of its spherical Voronoi cell (the mass centre\n"
       "projected to the sphere), toward a centroidal Voronoi tessellation. It prints on stderr the energy\n"

@@ -9,6 +9,7 @@
 #include "geovor/geo/csv_site_scan.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
+#include "numeric_options.hpp"
 
 namespace geovor::tools {
 
@@ -24,7 +25,8 @@ void add_site_input_options(CLI::App* cmd, SiteInputArgs& args) {
   cmd->add_option("--ecef-fields", args.ecef_fields, "X,Y,Z columns of ECEF metres instead of latitude/longitude");
   cmd->add_option("--layer", args.layer, "Layer of a multi-layer OGR input (GeoPackage, ...); not for CSV");
   cmd->add_option("--merge-m", args.merge_m,
-                  "Merge sites closer than this many metres (default and minimum: 2^-24 R = 0.38 m)");
+                  "Merge sites closer than this many metres (default and minimum: 2^-24 R = 0.38 m)")
+      ->check(finite_above(0, true));
 }
 
 namespace {

@@ -25,6 +25,7 @@ struct SiteInputArgs {
   std::string ecef_fields;  // "X,Y,Z"
   std::string layer;        // OGR layer; "" for the only one
   double merge_m = 0;       // 0: the minimum separation
+  bool quiet = false;       // -q where the command has no other output options: no list of merged rows
 };
 
 /// Adds INPUT and the column options to a subcommand.

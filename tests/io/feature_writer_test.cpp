@@ -972,6 +972,130 @@ TEST(SafeOutput, NothingLeftWhenNotFinished) {
   }
 }
 
+// ---------------------------------------------------------------------------------------------
+// ogr2ogr's output model: layers of one data source, update, overwrite of one layer
+
+// The layers of a data source and their feature counts, as GDAL reads them back.
+std::vector<std::pair<std::string, GIntBig>> layers_of(const std::string& path) {
+  std::unique_ptr<GDALDataset> ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  std::vector<std::pair<std::string, GIntBig>> out;
+  if (!ds) return out;
+  for (int i = 0; i < ds->GetLayerCount(); ++i) out.emplace_back(ds->GetLayer(i)->GetName(), ds->GetLayer(i)->GetFeatureCount());
+  return out;
+}
+
+WriterOptions layer_named(const std::string& name, bool update, bool overwrite) {
+  WriterOptions o;
+  o.layer = name;
+  o.update = update;
+  o.overwrite = overwrite;
+  return o;
+}
+
+using Layers = std::vector<std::pair<std::string, GIntBig>>;
+
+TEST(OutputModel, UpdateAddsALayerAndOverwriteReplacesOnlyItsLayer) {
+  TempDir dir;
+  const std::string path = dir / "two.gpkg";
+  write_cells(path, layer_named("a", false, false));
+  write_cells(path, layer_named("b", true, false));
+  EXPECT_EQ(layers_of(path), (Layers{{"a", 4}, {"b", 4}}));
+  // A layer of the same name needs overwrite; the file is left as it was.
+  const std::string before = slurp(path);
+  const Error e = error_of([&] { write_cells(path, layer_named("a", true, false)); });
+  EXPECT_EQ(e.code(), ErrorCode::Io);
+  EXPECT_TRUE(contains(e.what(), "has a layer 'a'; use --overwrite")) << e.what();
+  EXPECT_EQ(slurp(path), before);
+  // overwrite alone (ogr2ogr -overwrite) replaces layer a, with 1 feature now; b is kept.
+  auto w = open_feature_writer(path, GeometryType::MultiPolygon, cell_schema(), layer_named("a", false, true));
+  w->write(cells()[0].geometry, cells()[0].values);
+  w->finish();
+  EXPECT_EQ(layers_of(path), (Layers{{"b", 4}, {"a", 1}}));
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"two.gpkg"});
+}
+
+TEST(OutputModel, UpdateRefusedForOneLayerFormats) {
+  TempDir dir;
+  for (const std::string name : {"a.geojson", "a.geojsonl", "a.fgb", "a.shp", "a.csv"}) {
+    SCOPED_TRACE(name);
+    const Error e = error_of([&] { write_cells(dir / name, layer_named("cells", true, false)); });
+    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+    EXPECT_TRUE(contains(e.what(), "holds one")) << e.what();
+    EXPECT_FALSE(format_holds_layers(dir / name, ""));
+  }
+  EXPECT_TRUE(dir.entries().empty());
+  EXPECT_TRUE(format_holds_layers(dir / "a.gpkg", ""));
+  EXPECT_TRUE(format_holds_layers(dir / "a.db", "SQLite"));
+}
+
+TEST(OutputModel, CreationOptionsAreNameValueAndGdalOnly) {
+  TempDir dir;
+  WriterOptions bad;
+  bad.layer_options = {"GEOMETRY_NAME"};
+  EXPECT_EQ(error_of([&] { write_cells(dir / "a.gpkg", bad); }).code(), ErrorCode::InvalidArgument);
+  WriterOptions lco;
+  lco.layer_options = {"GEOMETRY_NAME=shape"};
+  EXPECT_EQ(error_of([&] { write_cells(dir / "a.geojson", lco); }).code(), ErrorCode::InvalidArgument);
+  // The same checks, without opening anything (callers refuse them before long work).
+  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.geojson", lco); }).code(), ErrorCode::InvalidArgument);
+  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.gpkg", bad); }).code(), ErrorCode::InvalidArgument);
+  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.geojsonl", layer_named("x", true, false)); }).code(),
+            ErrorCode::InvalidArgument);
+  check_writer_options(dir / "a.gpkg", lco);
+  EXPECT_TRUE(dir.entries().empty());
+  write_cells(dir / "a.gpkg", lco);
+  std::unique_ptr<GDALDataset> ds(GDALDataset::Open((dir / "a.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  ASSERT_TRUE(ds);
+  EXPECT_STREQ(ds->GetLayer(0)->GetGeometryColumn(), "shape");
+}
+
+// An update abandoned (an error, a crash of the caller) or overtaken by another program leaves
+// the data source as it is: the layer was written into a copy.
+TEST(OutputModel, UpdateNeverLeavesAHalfUpdatedDataSource) {
+  TempDir dir;
+  const std::string path = dir / "d.gpkg";
+  write_cells(path, layer_named("keep", false, false));
+  const std::string before = slurp(path);
+  {
+    auto w = open_feature_writer(path, GeometryType::MultiPolygon, cell_schema(), layer_named("keep", true, true));
+    for (const Cell& c : cells()) w->write(c.geometry, c.values);
+  }  // not finished
+  EXPECT_EQ(slurp(path), before);
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"d.gpkg"});
+  {
+    auto w = open_feature_writer(path, GeometryType::MultiPolygon, cell_schema(), layer_named("new", true, false));
+    for (const Cell& c : cells()) w->write(c.geometry, c.values);
+    spit(path, "changed by another program");
+    const Error e = error_of([&] { w->finish(); });
+    EXPECT_EQ(e.code(), ErrorCode::Io);
+    EXPECT_TRUE(contains(e.what(), "changed while geovor was updating it")) << e.what();
+  }
+  EXPECT_EQ(slurp(path), "changed by another program");
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"d.gpkg"});
+}
+
+TEST(OutputModel, NextLayerWritesSeveralLayersIntoOneDataSource) {
+  TempDir dir;
+  const std::string path = dir / "both.gpkg";
+  auto w = open_feature_writer(path, GeometryType::MultiPolygon, cell_schema(), layer_named("polygons", false, false));
+  for (const Cell& c : cells()) w->write(c.geometry, c.values);
+  const std::vector<Field> point_schema = {{"n", FieldType::Integer}};
+  EXPECT_EQ(error_of([&] { w->next_layer("POLYGONS", GeometryType::Point, point_schema); }).code(),
+            ErrorCode::InvalidArgument);  // one name per layer, case-insensitively
+  w->next_layer("points", GeometryType::Point, point_schema);
+  const std::vector<FieldValue> one = {std::int64_t{1}};
+  w->write(LonLat{1, 2}, one);
+  EXPECT_FALSE(fs::exists(path));  // both layers appear at once
+  w->finish();
+  EXPECT_EQ(layers_of(path), (Layers{{"polygons", 4}, {"points", 1}}));
+  // One-layer formats refuse a second layer.
+  for (const std::string name : {"one.fgb", "one.geojson"}) {
+    auto single = open_feature_writer(dir / name, GeometryType::MultiPolygon, cell_schema(), {});
+    EXPECT_EQ(error_of([&] { single->next_layer("points", GeometryType::Point, point_schema); }).code(),
+              ErrorCode::InvalidArgument);
+  }
+}
+
 // A file that appears at the target while the writer runs is never replaced without overwrite
 // (the commit is renameat2(RENAME_NOREPLACE), not a plain rename); with overwrite it is.
 TEST(SafeOutput, FileAppearingMeanwhileIsNotReplaced) {

@@ -1,6 +1,8 @@
 #include "geovor/layers/delaunay_layers.hpp"
 
 #include <GeographicLib/Geodesic.hpp>
+#include <gdal_priv.h>
+#include <ogrsf_frmts.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +12,9 @@
 #include <vector>
 
 #include "geovor/geo/site_encoder.hpp"
+#include "geovor/core/error.hpp"
 #include "support/recording_writer.hpp"
+#include "support/temp_dir.hpp"
 
 namespace geovor {
 namespace {
@@ -144,6 +148,55 @@ TEST(DelaunayLayers, NoGhostsLeavesOutTheOuterFaces) {
   EXPECT_GE(hull, 3u);
   EXPECT_EQ(inner_edges.features.size(), all_edges.features.size() - ghost);
   EXPECT_EQ(all_edges.features.size(), dt.halfedges().size() / 2);
+}
+
+// The layers of a data source and their feature counts, as GDAL reads them back.
+std::vector<std::pair<std::string, long long>> layers_of(const std::string& path) {
+  std::unique_ptr<GDALDataset> ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  std::vector<std::pair<std::string, long long>> out;
+  if (!ds) return out;
+  for (int i = 0; i < ds->GetLayerCount(); ++i) out.emplace_back(ds->GetLayer(i)->GetName(), ds->GetLayer(i)->GetFeatureCount());
+  return out;
+}
+
+// One GeoPackage named twice holds both layers (the octahedron: 8 triangles, 12 edges); a
+// one-layer format named twice is refused before anything is written; two files get one each.
+TEST(DelaunayLayers, TrianglesAndEdgesIntoOneDataSource) {
+  const std::vector<Vec3> points = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const SiteTable table = table_of(points);
+  BuildReport report;
+  const SphericalDelaunay dt = SphericalDelaunay::build(points, {}, &report);
+  const SiteRows rows = rows_of_sites(report, dt.site_capacity());
+  const DelaunayGeometry geometry(dt, {});
+  testing::TempDir dir("geovor_layers");
+  using Layers = std::vector<std::pair<std::string, long long>>;
+
+  DelaunayOutput one;
+  one.triangles_path = one.edges_path = dir / "tin.gpkg";
+  EXPECT_TRUE(one_data_source(one));
+  const DelaunayLayersReport written = write_delaunay_layers(one, table, rows, geometry);
+  EXPECT_EQ(written.triangles.triangles_written, 8u);
+  EXPECT_EQ(written.edges.edges_written, 12u);
+  EXPECT_EQ(layers_of(dir / "tin.gpkg"), (Layers{{"triangles", 8}, {"edges", 12}}));
+
+  DelaunayOutput fgb;
+  fgb.triangles_path = fgb.edges_path = dir / "tin.fgb";
+  try {
+    write_delaunay_layers(fgb, table, rows, geometry);
+    ADD_FAILURE() << "a FlatGeobuf file cannot hold two layers";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+  }
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"tin.gpkg"});
+
+  DelaunayOutput two;
+  two.triangles_path = dir / "t.gpkg";
+  two.edges_path = dir / "e.fgb";
+  two.edges.layer = "lines";
+  EXPECT_FALSE(one_data_source(two));
+  write_delaunay_layers(two, table, rows, geometry);
+  EXPECT_EQ(layers_of(dir / "t.gpkg"), (Layers{{"triangles", 8}}));
+  EXPECT_EQ(layers_of(dir / "e.fgb"), (Layers{{"lines", 12}}));
 }
 
 }  // namespace

@@ -29,7 +29,54 @@ void check_schema(const std::vector<Field>& schema) {
   }
 }
 
+// The format open_feature_writer() writes `path` in: `format`, else the extension's.
+std::string resolve_format(const std::string& path, const std::string& format) {
+  if (!format.empty()) return format;
+  std::string f = path == "-" ? "GeoJSON" : format_from_extension(path);
+  if (f.empty()) f = gdal_detail::driver_for_extension(path);
+  if (f.empty()) throw Error(ErrorCode::InvalidArgument, path + ": cannot tell the output format from the extension; use --format");
+  return f;
+}
+
+bool is_native(const std::string& format) {
+  const std::string f = ascii_lower(format);
+  return f == "geojson" || f == "geojsonseq";
+}
+
+// GDAL creation options are NAME=VALUE; the natively written formats take none, and hold one layer.
+void check_output_model(const std::string& path, const std::string& format, const WriterOptions& options) {
+  for (const auto* list : {&options.layer_options, &options.dataset_options})
+    for (const std::string& o : *list)
+      if (o.find('=') == std::string::npos || o.front() == '=')
+        throw Error(ErrorCode::InvalidArgument, path + ": creation option '" + o + "' is not of the form NAME=VALUE");
+  if (!is_native(format)) return;
+  if (options.update)
+    throw Error(ErrorCode::InvalidArgument, path + ": --update adds a layer to a data source that holds several (GPKG, SQLite, ...); " +
+                                                format + " holds one: use --overwrite to replace the file");
+  if (!options.layer_options.empty() || !options.dataset_options.empty())
+    throw Error(ErrorCode::InvalidArgument, path + ": --lco and --dsco are GDAL creation options; " + format +
+                                                " is written by geovor itself (its option: --precision)");
+}
+
 }  // namespace
+
+void check_writer_options(const std::string& path, const WriterOptions& options) {
+  check_output_model(path, resolve_format(path, options.format), options);
+}
+
+bool format_holds_layers(const std::string& path, const std::string& format) {
+  const std::string f = resolve_format(path, format);
+  return !is_native(f) && gdal_detail::driver_holds_layers(f);
+}
+
+void FeatureWriter::next_layer(const std::string& layer, GeometryType geometry_type, const std::vector<Field>& schema) {
+  check_schema(schema);
+  start_layer(layer, geometry_type, schema);
+}
+
+void FeatureWriter::start_layer(const std::string& layer, GeometryType, const std::vector<Field>&) {
+  throw Error(ErrorCode::InvalidArgument, "layer '" + layer + "': this output format holds one layer; write it to another file, or to a format that holds several (GPKG, SQLite, ...)");
+}
 
 std::string format_from_extension(const std::string& path) {
   const std::string ext = extension(path);
@@ -47,15 +94,8 @@ std::unique_ptr<FeatureWriter> open_feature_writer(const std::string& path, Geom
                                                    const WriterOptions& options) {
   if (path.empty()) throw Error(ErrorCode::InvalidArgument, "empty output path");
   check_schema(schema);
-  std::string format = options.format;
-  if (format.empty()) {
-    format = path == "-" ? "GeoJSON" : format_from_extension(path);
-    if (format.empty()) format = gdal_detail::driver_for_extension(path);
-    if (format.empty()) {
-      throw Error(ErrorCode::InvalidArgument,
-                  path + ": cannot tell the output format from the extension; use --format");
-    }
-  }
+  const std::string format = resolve_format(path, options.format);
+  check_output_model(path, format, options);
   const std::string f = ascii_lower(format);
   if (f == "geojson") {
     return open_geojson_writer(path, GeoJsonFraming::FeatureCollection, geometry_type, schema,

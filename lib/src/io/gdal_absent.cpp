@@ -25,6 +25,8 @@ namespace gdal_detail {
 
 std::string driver_for_extension(const std::string& path) { absent(path, "choosing a GDAL driver"); }
 
+bool driver_holds_layers(const std::string& driver) { absent(driver, "asking a GDAL driver"); }
+
 std::unique_ptr<FeatureWriter> open_gdal_writer(const std::string& path, const std::string& driver,
                                                 GeometryType, const std::vector<Field>&, const WriterOptions&) {
   absent(path, ("writing " + driver).c_str());

@@ -61,7 +61,8 @@ class GdalWriter final : public FeatureWriter {
       : path_(path),
         geometry_type_(geometry_type),
         field_count_(schema.size()),
-        overwrite_(options.overwrite) {
+        overwrite_(options.overwrite),
+        options_(options) {
     register_gdal();
     ErrorCapture capture;
     GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name.c_str());
@@ -78,13 +79,25 @@ class GdalWriter final : public FeatureWriter {
     }
     const fs::path target(path_);
     if (!target.has_filename()) throw Error(ErrorCode::InvalidArgument, path_ + ": not a file name");
-    check_targets(target, options.overwrite);
+    layered_ = driver->GetMetadataItem(GDAL_DCAP_MULTIPLE_VECTOR_LAYERS) != nullptr;
+    if (options.update && !layered_)
+      throw Error(ErrorCode::InvalidArgument, path_ + ": --update adds a layer to a data source that holds several (GPKG, SQLite, ...); " +
+                                                  driver_ + " holds one: use --overwrite to replace the file");
+    // ogr2ogr's model: an existing data source of a multi-layer format keeps its other layers.
+    std::error_code ec;
+    updating_ = layered_ && (options.update || options.overwrite) && fs::exists(fs::symlink_status(target, ec));
+    if (updating_)
+      check_updatable(target);
+    else
+      check_targets(target, options.overwrite);
 
     // The private temporary directory, next to the target (same file system: rename works), with
     // a short name (output_target.hpp), removed on errors and signals.
     temp_ = TemporaryOutput(path_, TemporaryOutput::Kind::Directory);
     temp_dir_ = temp_.path();
     try {
+      // --overwrite of a file that is no data source of the format replaces the file.
+      if (updating_ && !open_copy(target, options.update)) updating_ = false;
       create(driver, target.filename().string(), schema, options);
     } catch (...) {
       discard();
@@ -151,6 +164,29 @@ class GdalWriter final : public FeatureWriter {
     ++count_;
   }
 
+  void start_layer(const std::string& layer, GeometryType geometry_type, const std::vector<Field>& schema) override {
+    if (failed_) throw Error(ErrorCode::Io, path_ + ": the writer failed earlier");
+    if (finished_) throw Error(ErrorCode::InvalidArgument, path_ + ": next_layer() after finish()");
+    if (!layered_)
+      throw Error(ErrorCode::InvalidArgument, path_ + ": " + driver_ + " holds one layer; layer '" + layer +
+                                                  "' needs another file, or a format that holds several (GPKG, SQLite, ...)");
+    if (std::find_if(written_layers_.begin(), written_layers_.end(),
+                     [&](const std::string& n) { return ascii_iequals(n, layer); }) != written_layers_.end())
+      throw Error(ErrorCode::InvalidArgument, path_ + ": two layers named '" + layer + "'; name them apart");
+    ErrorCapture capture;
+    // The layer written so far is complete; each layer is one transaction.
+    if (transaction_ && dataset_->CommitTransaction() != OGRERR_NONE) fail("cannot commit" + capture.detail());
+    transaction_ = false;
+    feature_.reset();
+    field_index_.clear();
+    geometry_type_ = geometry_type;
+    field_count_ = schema.size();
+    count_ = 0;
+    WriterOptions options = options_;
+    options.layer = layer;
+    create(nullptr, "", schema, options);
+  }
+
   void finish() override {
     if (failed_) throw Error(ErrorCode::Io, path_ + ": the writer failed earlier");
     if (finished_) return;
@@ -189,17 +225,79 @@ class GdalWriter final : public FeatureWriter {
         throw Error(ErrorCode::Io, p.string() + ": not a regular file; " + driver_ + " output must be one");
       }
       if (!overwrite) {
-        throw Error(ErrorCode::Io, p.string() + ": exists; use --overwrite to replace it");
+        throw Error(ErrorCode::Io, p.string() + ": exists; use --overwrite to replace it" +
+                                       (layered_ ? " (its layer of that name only), or --update to add a layer to it" : ""));
       }
+    }
+  }
+
+  // An existing data source to update: a regular file, not open in another program (an SQLite
+  // journal beside it would hold changes that a copy of the file alone lacks).
+  void check_updatable(const fs::path& target) const {
+    std::error_code ec;
+    if (fs::is_directory(fs::status(target, ec))) throw Error(ErrorCode::Io, path_ + ": is a directory");
+    if (!fs::is_regular_file(fs::status(target, ec)))
+      throw Error(ErrorCode::Io, path_ + ": not a regular file; " + driver_ + " output must be one");
+    for (const char* suffix : {"-wal", "-journal"})
+      if (fs::exists(fs::symlink_status(path_ + suffix, ec)))
+        throw Error(ErrorCode::Io, path_ + suffix + " exists: " + path_ +
+                                       " is open in another program, or was not closed; close it before updating it");
+  }
+
+  // The existing data source, copied into the temporary directory and opened there for update:
+  // the original is only replaced, whole, by move_into_place(). False, the copy removed, when
+  // GDAL cannot open it as a data source of the format and `required` is false.
+  bool open_copy(const fs::path& target, bool required) {
+    ErrorCapture capture;
+    const fs::path copy = temp_dir_ / target.filename();
+    std::error_code ec;
+    original_ = file_state(target);
+    if (!fs::copy_file(target, copy, ec) || ec) fail("cannot copy it to " + copy.string() + " to update it: " + ec.message());
+    if (file_state(target) != original_) fail("changed while it was being copied; not updated");
+    const char* const drivers[] = {driver_.c_str(), nullptr};
+    dataset_ = GDALDataset::Open(copy.c_str(), GDAL_OF_VECTOR | GDAL_OF_UPDATE, drivers, nullptr, nullptr);
+    if (dataset_ != nullptr) return true;
+    if (required)
+      fail("exists, and GDAL cannot open it as a " + driver_ + " data source to update" + capture.detail() +
+           "; remove it, or write elsewhere");
+    fs::remove(copy, ec);
+    capture.clear();
+    return false;
+  }
+
+  // What identifies a version of a file: device, inode, size, modification time.
+  static std::vector<long long> file_state(const fs::path& p) {
+    struct stat st {};
+    if (::stat(p.c_str(), &st) != 0) return {};
+    return {static_cast<long long>(st.st_dev), static_cast<long long>(st.st_ino), static_cast<long long>(st.st_size),
+            static_cast<long long>(st.st_mtim.tv_sec), static_cast<long long>(st.st_mtim.tv_nsec)};
+  }
+
+  // In update mode, the layer of the same name that the data source had: deleted with
+  // overwrite, else refused.
+  void replace_existing_layer(const std::string& name) {
+    ErrorCapture capture;
+    for (int i = 0; i < dataset_->GetLayerCount(); ++i) {
+      OGRLayer* layer = dataset_->GetLayer(i);
+      if (layer == nullptr || !ascii_iequals(layer->GetName(), name)) continue;
+      if (!options_.overwrite)
+        fail("has a layer '" + name + "'; use --overwrite to replace it (the other layers are kept), or --nln to name the new one");
+      if (dataset_->DeleteLayer(i) != OGRERR_NONE) fail("cannot delete its layer '" + name + "'" + capture.detail());
+      return;
     }
   }
 
   void create(GDALDriver* driver, const std::string& filename, const std::vector<Field>& schema,
               const WriterOptions& options) {
     ErrorCapture capture;
-    const std::string temp_file = (temp_dir_ / filename).string();
-    dataset_ = driver->Create(temp_file.c_str(), 0, 0, 0, GDT_Unknown, nullptr);
-    if (dataset_ == nullptr) fail("cannot create" + capture.detail());
+    if (dataset_ == nullptr) {
+      const std::string temp_file = (temp_dir_ / filename).string();
+      CPLStringList dsco;
+      for (const std::string& o : options.dataset_options) dsco.AddString(o.c_str());
+      dataset_ = driver->Create(temp_file.c_str(), 0, 0, 0, GDT_Unknown, dsco.List());
+      if (dataset_ == nullptr) fail("cannot create" + capture.detail());
+    }
+    if (updating_) replace_existing_layer(options.layer);
 
     OGRSpatialReference srs;
     srs.importFromEPSG(4326);
@@ -211,12 +309,17 @@ class GdalWriter final : public FeatureWriter {
       lco.SetNameValue("ENCODING", "UTF-8");  // writes a .cpg; our strings are UTF-8
       lco.SetNameValue("RESIZE", "YES");      // string widths shrunk to the longest value
     }
+    for (const std::string& o : options.layer_options) {  // the user's, over geovor's own
+      const std::size_t eq = o.find('=');
+      lco.SetNameValue(o.substr(0, eq).c_str(), o.substr(eq + 1).c_str());
+    }
     const OGRwkbGeometryType gtype = geometry_type_ == GeometryType::Point ? wkbPoint
                                      : geometry_type_ == GeometryType::MultiLineString
                                          ? wkbMultiLineString
                                          : wkbMultiPolygon;
     layer_ = dataset_->CreateLayer(options.layer.c_str(), &srs, gtype, lco.List());
     if (layer_ == nullptr) fail("cannot create layer '" + options.layer + "'" + capture.detail());
+    written_layers_.push_back(options.layer);
 
     const std::vector<std::string> names =
         shapefile ? shapefile_field_names(schema) : [&] {
@@ -244,7 +347,7 @@ class GdalWriter final : public FeatureWriter {
       // Drivers may rename a field (laundering); it is the last one created either way.
       field_index_.push_back(layer_->GetLayerDefn()->GetFieldCount() - 1);
     }
-    if (dataset_->TestCapability(ODsCTransactions)) {
+    if (!transaction_ && dataset_->TestCapability(ODsCTransactions)) {
       if (dataset_->StartTransaction() != OGRERR_NONE) fail("cannot start a transaction" + capture.detail());
       transaction_ = true;
     }
@@ -304,6 +407,9 @@ class GdalWriter final : public FeatureWriter {
     if (std::find(produced.begin(), produced.end(), filename) == produced.end()) {
       fail("the " + driver_ + " driver did not write " + filename);
     }
+    // An updated data source replaces the version it was copied from, and no other.
+    if (updating_ && file_state(target) != original_)
+      fail("changed while geovor was updating it; not replaced (its new layer is lost, its content is as the other program left it)");
     for (const std::string& name : produced) {
       const fs::path dest = dir / name;
       if (fs::exists(fs::symlink_status(dest, ec)) && !overwrite_ok(dest)) {
@@ -324,7 +430,7 @@ class GdalWriter final : public FeatureWriter {
     std::vector<fs::path> moved;
     for (const std::string& name : produced) {
       // Never over a file that appeared meanwhile, unless overwriting.
-      const int err = rename_into_place((temp_dir_ / name).string(), (dir / name).string(), overwrite_);
+      const int err = rename_into_place((temp_dir_ / name).string(), (dir / name).string(), overwrite_ || updating_);
       if (err != 0) {
         for (const fs::path& p : moved) fs::remove(p, ec);
         if (err == EEXIST) fail((dir / name).string() + " exists; use --overwrite to replace it");
@@ -347,7 +453,7 @@ class GdalWriter final : public FeatureWriter {
 
   bool overwrite_ok(const fs::path& dest) const {
     std::error_code ec;
-    return overwrite_ && !fs::is_directory(fs::status(dest, ec));
+    return (overwrite_ || updating_) && !fs::is_directory(fs::status(dest, ec));
   }
 
   // Closes without committing and removes every temporary file; the target is untouched.
@@ -377,6 +483,11 @@ class GdalWriter final : public FeatureWriter {
   GeometryType geometry_type_;
   std::size_t field_count_;
   bool overwrite_ = false;
+  WriterOptions options_;
+  bool layered_ = false;   // the driver holds several layers
+  bool updating_ = false;  // an existing data source, copied and updated (open_copy)
+  std::vector<long long> original_;  // file_state() of the data source copied
+  std::vector<std::string> written_layers_;
   TemporaryOutput temp_;
   fs::path temp_dir_;  // temp_'s path
   GDALDataset* dataset_ = nullptr;
@@ -443,6 +554,12 @@ std::string driver_for_extension(const std::string& path) {
                                                 names + "); choose one with --format");
   }
   return found.empty() ? "" : found.front();
+}
+
+bool driver_holds_layers(const std::string& name) {
+  register_gdal();
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(name.c_str());
+  return driver != nullptr && driver->GetMetadataItem(GDAL_DCAP_MULTIPLE_VECTOR_LAYERS) != nullptr;
 }
 
 std::vector<std::string> shapefile_field_names(const std::vector<Field>& schema) {

@@ -44,6 +44,10 @@ class ErrorCapture {
 /// @exception Error(InvalidArgument) naming the candidates when several drivers do.
 std::string driver_for_extension(const std::string& path);
 
+/// Whether the GDAL driver named `driver` holds several vector layers in one data source
+/// (DCAP_MULTIPLE_VECTOR_LAYERS); false for a driver GDAL does not know.
+bool driver_holds_layers(const std::string& driver);
+
 /// Field names as the Shapefile format allows them: at most 10 bytes (cut at a UTF-8 character
 /// boundary), unique case-insensitively. A name that collides once cut gets a suffix "_1", "_2",
 /// ... in schema order, its stem shortened to keep 10 bytes: "population_2020" ->
@@ -55,6 +59,9 @@ std::vector<std::string> shapefile_field_names(const std::vector<Field>& schema)
 /// ".NAME.tmp-PID-N/" next to `path`, under its final file name; finish() closes it and renames
 /// every file it produced (NAME and its sidecars STEM.*, e.g. .shx/.dbf/.prj/.cpg) into place,
 /// the main file last. Any failure, or destruction without finish(), removes the directory.
+/// Updating an existing multi-layer data source (WriterOptions::update, or overwrite of one
+/// layer), the file is copied into that directory, opened there for update, and renamed over
+/// the original by finish() if the original is unchanged since the copy.
 /// @exception Error(InvalidArgument) unknown driver or "-" as path; Error(Io) as
 ///   open_feature_writer().
 std::unique_ptr<FeatureWriter> open_gdal_writer(const std::string& path, const std::string& driver,

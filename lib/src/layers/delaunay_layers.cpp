@@ -4,6 +4,9 @@
 
 #include <cstdint>
 
+#include "geovor/core/ascii.hpp"
+#include "geovor/core/error.hpp"
+#include "geovor/core/output_target.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/lonlat/cell_geometry.hpp"
 
@@ -96,6 +99,46 @@ EdgeLayerReport write_edge_layer(FeatureWriter& writer, const SiteTable& table, 
     ++report.edges_written;
     if (report.edges_written % 4096 == 0 && options.progress) options.progress(report.edges_written);
   }
+  return report;
+}
+
+bool one_data_source(const DelaunayOutput& output) {
+  return !output.triangles_path.empty() && !output.edges_path.empty() &&
+         same_output_file(output.triangles_path, output.edges_path) &&
+         (output.edges.format.empty() || ascii_iequals(output.edges.format, output.triangles.format));
+}
+
+DelaunayLayersReport write_delaunay_layers(const DelaunayOutput& output, const SiteTable& table, const SiteRows& rows,
+                                           const DelaunayGeometry& geometry, const DelaunayLayerOptions& options) {
+  const bool triangles = !output.triangles_path.empty(), edges = !output.edges_path.empty();
+  if (!triangles && !edges) throw Error(ErrorCode::InvalidArgument, "nothing to write: no triangles path and no edges path");
+  const bool one = one_data_source(output);
+  if (one && !format_holds_layers(output.triangles_path, output.triangles.format))
+    throw Error(ErrorCode::InvalidArgument, output.triangles_path +
+                                                ": the triangles and the edges are two layers, and this format holds one: "
+                                                "write them to two files, or to a format that holds several (GPKG, SQLite, ...)");
+  DelaunayLayersReport report;
+  DelaunayLayerOptions layer_options = options;
+  // Both opened first, so that an existing output is refused before any feature is written.
+  std::unique_ptr<FeatureWriter> triangle_writer, edge_writer;
+  if (triangles) triangle_writer = open_triangle_layer_writer(output.triangles_path, output.triangles);
+  if (edges && !one) edge_writer = open_edge_layer_writer(output.edges_path, output.edges);
+  if (triangles) {
+    layer_options.progress = options.progress;
+    report.triangles = write_triangle_layer(*triangle_writer, table, rows, geometry, layer_options);
+  }
+  if (edges) {
+    FeatureWriter* writer = edge_writer.get();
+    if (one) {
+      triangle_writer->next_layer(output.edges.layer, GeometryType::MultiLineString, edge_layer_schema());
+      writer = triangle_writer.get();
+    }
+    const std::size_t done = report.triangles.triangles_written;
+    if (options.progress) layer_options.progress = [&](std::size_t e) { options.progress(done + e); };
+    report.edges = write_edge_layer(*writer, table, rows, geometry, layer_options);
+  }
+  if (triangle_writer) triangle_writer->finish();
+  if (edge_writer) edge_writer->finish();
   return report;
 }
 

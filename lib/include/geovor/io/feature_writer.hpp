@@ -9,7 +9,7 @@
 ///   (RS-separated) for ".geojsons" and newline-delimited otherwise.
 /// - GDAL drivers: EPSG:4326 with the traditional GIS axis order (longitude first), layer type
 ///   wkbPoint / wkbMultiLineString / wkbMultiPolygon, Integer fields as Integer64, one
-///   transaction when the driver has them (GPKG). Coordinates are stored as doubles (the CSV
+///   transaction per layer when the driver has them (GPKG). Coordinates are stored as doubles (the CSV
 ///   driver writes WKT with GDAL's own 15 significant digits; precision does not apply).
 ///   - ESRI Shapefile: field names cut to 10 bytes and made unique ("population_2020" ->
 ///     "population", "population_2021" -> "populati_1"), UTF-8 with a .cpg, widths shrunk to
@@ -63,10 +63,29 @@ struct WriterOptions {
   /// Decimal digits of coordinates in GeoJSON/GeoJSONSeq, 0..17. DEFAULT: 7 (about 1.1 cm),
   /// RFC 7946 §11.2.
   int precision = 7;
-  /// Replace an existing output (for Shapefile: any of its .shp/.shx/.dbf/.prj/.cpg/... files).
-  /// The old output stays in place until finish() renames the new one over it. A directory is
-  /// never replaced. DEFAULT: false (an existing file is an error).
+  /// Replace an existing output (ogr2ogr -overwrite): for a format that holds one layer, the file
+  /// (for Shapefile: any of its .shp/.shx/.dbf/.prj/.cpg/... files); for one that holds several
+  /// (format_holds_layers(): GPKG, SQLite, ...), only the layer named `layer`, the data source's
+  /// other layers kept, as with `update`. The old output stays in place until finish() renames
+  /// the new one over it. A directory is never replaced. DEFAULT: false (an existing file is an
+  /// error).
   bool overwrite = false;
+  /// Add the layer to an existing data source of a format that holds several layers, its other
+  /// layers untouched (ogr2ogr -update); a layer of the same name is refused (Error(Io)) unless
+  /// `overwrite`; a missing data source is created. The existing file is copied into the
+  /// temporary directory, the layer written into the copy, and the copy renamed over the
+  /// original by finish(), only if the original is unchanged since it was copied: a failure, a
+  /// signal or a concurrent change leaves the original as it was. A one-layer format:
+  /// Error(InvalidArgument). DEFAULT: false.
+  bool update = false;
+  /// GDAL layer creation options, "NAME=VALUE" (ogr2ogr -lco), applied after geovor's own, which
+  /// they override. GeoJSON and GeoJSONSeq (written natively): Error(InvalidArgument).
+  /// DEFAULT: none.
+  std::vector<std::string> layer_options;
+  /// GDAL dataset creation options, "NAME=VALUE" (ogr2ogr -dsco), used when a data source is
+  /// created (not when an existing one is updated). GeoJSON and GeoJSONSeq: Error(InvalidArgument).
+  /// DEFAULT: none.
+  std::vector<std::string> dataset_options;
   /// The field whose value becomes the feature id (GeoJSON "id"; the field also stays in
   /// "properties"; other formats ignore it). DEFAULT: none.
   std::string id_field;
@@ -133,18 +152,44 @@ class FeatureWriter {
   virtual void write_encoded(const EncodedFeatures& features);
   /// Completes the file and moves it into place. @exception Error(Io).
   virtual void finish() = 0;
+  /// Ends the layer being written and starts another, named `layer`, in the same data source
+  /// (a format that holds several layers: GPKG, SQLite, ...): later write() calls go to it, and
+  /// finish() moves the data source with every layer into place at once. With
+  /// WriterOptions::update or overwrite, an existing layer of that name is handled as for the
+  /// first layer.
+  /// @exception Error(InvalidArgument) for a format that holds one layer, a schema refused as by
+  ///   open_feature_writer(), or a layer name already written; Error(Io) as write().
+  void next_layer(const std::string& layer, GeometryType geometry_type, const std::vector<Field>& schema);
+
+ protected:
+  /// next_layer() once the schema is checked; by default, Error(InvalidArgument) (one layer).
+  virtual void start_layer(const std::string& layer, GeometryType geometry_type, const std::vector<Field>& schema);
 };
 
 /// Opens `path` ("-" = stdout, GeoJSON/GeoJSONSeq only) for features of `geometry_type` with the
 /// given schema. GeoJSON and GeoJSONSeq are written natively (RFC 7946 / RFC 8142, std::to_chars);
 /// other formats through GDAL/OGR in EPSG:4326 with the traditional GIS axis order.
 /// @exception Error(InvalidArgument) for an unknown format, a format other than GeoJSON or
-///   GeoJSONSeq with "-", an empty or duplicate (case-insensitively) field name, an id_field not
+///   GeoJSONSeq with "-", a creation option not of the form NAME=VALUE, update or creation
+///   options with GeoJSON/GeoJSONSeq, an empty or duplicate (case-insensitively) field name, an id_field not
 ///   in the schema, a precision outside 0..17; Error(Io) if the path exists and overwrite is
 ///   false, or cannot be created.
 std::unique_ptr<FeatureWriter> open_feature_writer(const std::string& path, GeometryType geometry_type,
                                                    const std::vector<Field>& schema,
                                                    const WriterOptions& options = {});
+
+/// The checks open_feature_writer() makes on `options` before it opens anything, so that a caller
+/// can refuse them before long work: the format known from `options.format` or the extension,
+/// creation options of the form NAME=VALUE, neither update nor creation options with GeoJSON or
+/// GeoJSONSeq. (GDAL formats that hold one layer refuse update when opened.)
+/// @exception Error(InvalidArgument) as open_feature_writer().
+void check_writer_options(const std::string& path, const WriterOptions& options);
+
+/// Whether the format of `path` (`format`, or the one its extension names, as open_feature_writer()
+/// chooses it) holds several layers in one data source (GDAL's DCAP_MULTIPLE_VECTOR_LAYERS: GPKG,
+/// SQLite, ...); false for GeoJSON, GeoJSONSeq, FlatGeobuf, Shapefile, CSV.
+/// @exception Error(InvalidArgument) as open_feature_writer() for a format it cannot tell or does not know.
+bool format_holds_layers(const std::string& path, const std::string& format);
 
 /// The OGR driver name for a path's extension, case-insensitively (".geojson"/".json" ->
 /// "GeoJSON", ".geojsons"/".geojsonl"/".geojsonseq" -> "GeoJSONSeq", ".gpkg" -> "GPKG", ".fgb" ->

@@ -82,4 +82,47 @@ TriangleLayerReport write_triangle_layer(FeatureWriter& writer, const SiteTable&
 EdgeLayerReport write_edge_layer(FeatureWriter& writer, const SiteTable& table, const SiteRows& rows,
                                  const DelaunayGeometry& geometry, const DelaunayLayerOptions& options = {});
 
+/// Where write_delaunay_layers() writes (what `geovor delaunay` writes): the triangles and the
+/// edges, each to a path ("" for none). The two paths may name one file of a format that holds
+/// several layers (format_holds_layers(): GPKG, SQLite, ...): one data source with the two
+/// layers, written with `triangles`'s options (creation options, update, overwrite) and
+/// `edges.layer` as the edges' layer name.
+struct DelaunayOutput {
+  std::string triangles_path;
+  WriterOptions triangles = triangles_defaults();  ///< DEFAULT: layer "triangles"
+  std::string edges_path;
+  WriterOptions edges = edges_defaults();  ///< DEFAULT: layer "edges"
+
+  static WriterOptions triangles_defaults() {
+    WriterOptions o;
+    o.layer = "triangles";
+    return o;
+  }
+  static WriterOptions edges_defaults() {
+    WriterOptions o;
+    o.layer = "edges";
+    return o;
+  }
+};
+
+/// What write_delaunay_layers() wrote.
+struct DelaunayLayersReport {
+  TriangleLayerReport triangles;
+  EdgeLayerReport edges;
+};
+
+/// Whether `output` writes the triangles and the edges into one data source: both paths name
+/// one file, and the edges' format is the triangles' or not given (the triangles' is used). @exception Error(InvalidArgument) as format_holds_layers() when
+/// they do and the format is unknown.
+bool one_data_source(const DelaunayOutput& output);
+
+/// Writes the triangle layer and/or the edge layer of `geometry` (write_triangle_layer(),
+/// write_edge_layer()); options.progress gets the triangles and edges written so far. Every
+/// output is opened (an existing one refused) before the first feature is written and moved
+/// into place once both layers are complete: a failure leaves no output.
+/// @exception Error(InvalidArgument) when no path is given, or both paths name one file of a
+///   format that holds one layer; otherwise as open_feature_writer() and the writers.
+DelaunayLayersReport write_delaunay_layers(const DelaunayOutput& output, const SiteTable& table, const SiteRows& rows,
+                                           const DelaunayGeometry& geometry, const DelaunayLayerOptions& options = {});
+
 }  // namespace geovor
