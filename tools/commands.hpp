@@ -57,7 +57,8 @@ struct SiteInputArgs;  // site_input.hpp
 /// Reads the site table (read_site_input: CSV or OGR), lists its rejected rows and merged sites
 /// on stderr as `geovor info` does, and builds the nearest-site index (tools/index_command.cpp).
 /// @exception Error as the readers and the build; Error(BadData) if no row is a site.
-SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary);
+/// quiet: merged sites are not listed.
+SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary, bool quiet = false);
 Command add_cells_command(CLI::App& app);
 /// Adds `geovor delaunay` (tools/delaunay_command.cpp).
 Command add_delaunay_command(CLI::App& app);

@@ -52,7 +52,7 @@ int run(IndexArgs& args) {
 
 }  // namespace
 
-SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary) {
+SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary, bool quiet) {
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
   const SiteTable table = read_site_input(args);  // lists the rejected rows
@@ -64,7 +64,7 @@ SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary) {
   BuildReport report;
   SiteIndex index = build_site_index(table, delaunay_options(args), {}, &report);
   const double build_s = seconds_since(t0);
-  report_merges(table, report);
+  if (!quiet) report_merges(table, report);
   if (summary) {
     summary->source = table.source;
     summary->rows = table.rows_read;
