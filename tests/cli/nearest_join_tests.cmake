@@ -89,3 +89,11 @@ geovor_cli_expect(cli.nearest_join.gpkg_same_as_csv 0 STDOUT "^3000 same\n$" SCR
 # -q: the merged sites of a site table are not listed (three stations share another's position).
 geovor_cli_expect(cli.nearest_join.quiet 0 STDOUT "^rc=0 merged=0\n$"
   SCRIPT "\"$0\" nearest --sites ${stations} --queries ${nearest_dir}/headerless.csv -q > /dev/null 2> ${join_dir}/quiet.err || echo failed && echo rc=0 merged=$(grep -c merged ${join_dir}/quiet.err)")
+# GeoJSON, written by geovor itself: a malformed query's feature has a null geometry, which GDAL
+# reads back as such (ogrinfo prints no geometry line for it; the answered ones are points).
+file(WRITE ${join_dir}/geojson.sh "set -e
+\"$1\" nearest ${join_args_text} -o ${join_dir}/trips.geojson --overwrite 2>/dev/null
+ogrinfo -ro -q ${join_dir}/trips.geojson -sql 'SELECT query_id FROM nearest WHERE OGR_GEOMETRY IS NULL' | sed -n 's/ *query_id (String) = //p' | paste -sd, -
+ogrinfo -ro -q ${join_dir}/trips.geojson -sql 'SELECT query_id FROM nearest WHERE OGR_GEOMETRY IS NOT NULL' | sed -n 's/ *query_id (String) = //p' | paste -sd, -
+")
+geovor_cli_expect(cli.nearest_join.geojson_null_points 0 STDOUT "^t3,5\nt1,t2,t5\n$" SCRIPT "sh ${join_dir}/geojson.sh \"$0\"")
