@@ -87,7 +87,7 @@ int run(NearestArgs& args) {
   if (queries_are_ogr(args) && is_csv_site_path(args.queries))
     throw Error(ErrorCode::InvalidArgument, args.queries + ": --layer is for OGR query sources; a CSV stream has one table");
   const bool csv = writes_csv(args);
-  if (!csv && args.output == "-")
+  if (!csv && args.output == "-" && output_needs_gdal(args.output, args.format))
     throw Error(ErrorCode::InvalidArgument, "--format " + args.format + " cannot be written to standard output; give -o FILE");
   if (args.metric != "sphere" && args.metric != "geodesic")
     throw Error(ErrorCode::InvalidArgument, "--metric must be sphere or geodesic, not '" + args.metric + "'");

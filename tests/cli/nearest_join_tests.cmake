@@ -64,6 +64,12 @@ geovor_cli_expect(cli.nearest_join.format_flatgeobuf_refuses_null_point 3 STDERR
   COMMAND nearest ${join_args} -f FlatGeobuf -o ${join_dir}/trips.bin --overwrite)
 geovor_cli_expect(cli.nearest_join.format_to_stdout 2 STDERR "cannot be written to standard output"
   COMMAND nearest ${join_args} -f GPKG)
+geovor_cli_expect(cli.nearest_join.geojson_to_stdout 0
+  STDOUT "^\\{\"type\":\"FeatureCollection\",\"name\":\"nearest\".*\"query_id\":\"t1\",\"site_index\":0,\"site_id\":\"AGGH\""
+  COMMAND nearest ${join_args} -f GeoJSON)
+# An extension no OGR driver knows is refused, not written as CSV.
+geovor_cli_expect(cli.nearest_join.unknown_extension 2 STDERR "trips\\.unknownext"
+  COMMAND nearest ${join_args} -o ${join_dir}/trips.unknownext --overwrite)
 
 # An OGR query layer, one of two in a GeoPackage (--layer), written by ogr2ogr: the same matches,
 # every attribute kept, the query_id its id column.
