@@ -123,7 +123,11 @@ class GdalWriter final : public FeatureWriter {
       const auto* polygons = std::get_if<MultiPolygon>(&geometry);
       const auto* lines = std::get_if<MultiLineString>(&geometry);
       const auto* point = std::get_if<LonLat>(&geometry);
-      if ((polygons && polygons->empty()) || (lines && lines->empty()) || (point && is_null_point(*point)))
+      if (point && is_null_point(*point))
+        throw Error(ErrorCode::BadData,
+                    path_ + ": " + feature() + " has a null point (a row without a position), which FlatGeobuf cannot "
+                    "hold (GDAL would leave the feature out); write GeoPackage or GeoJSON");
+      if ((polygons && polygons->empty()) || (lines && lines->empty()))
         throw Error(ErrorCode::BadData,
                     path_ + ": " + feature() + " has an empty geometry, which FlatGeobuf cannot hold (GDAL "
                     "would leave the feature out); write GeoPackage or GeoJSON, or raise --precision");
