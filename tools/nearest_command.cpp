@@ -1,18 +1,22 @@
 // geovor nearest --sites SITES [--queries FILE|-]: the exact nearest site (or k nearest) of every
-// query of a CSV stream. The arguments, the sites (an index file or a table) and the streams;
-// the join itself is layers/nearest_join.hpp.
+// query of a CSV stream or an OGR point layer, a spatial join. The arguments, the sites (an index
+// file or a table) and the streams; the join itself is layers/nearest_join.hpp.
 #include <sys/stat.h>
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "commands.hpp"
+#include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
+#include "geovor/io/feature_writer.hpp"
+#include "geovor/io/ogr_site_reader.hpp"
 #include "geovor/layers/nearest_join.hpp"
 #include "geovor/locate/index_file.hpp"
 #include "geovor/locate/knn.hpp"
@@ -36,6 +40,11 @@ struct NearestArgs {
   std::string metric = "sphere";
   int threads = 1;
   bool strict = false;
+  QueryColumns query_columns;
+  std::string query_layer;  // --layer: the queries' OGR layer
+  std::vector<std::string> site_fields;
+  double max_distance_m = std::numeric_limits<double>::infinity();
+  std::string format;
 };
 
 struct FileCloser {
@@ -50,12 +59,36 @@ bool is_index_path(const std::string& path) {
   return path != "-" && (is_index_file(path) || (path.size() > 4 && path.ends_with(".gvi")));
 }
 
+// Whether the queries are an OGR layer (read through GDAL) rather than a CSV stream.
+bool queries_are_ogr(const NearestArgs& args) {
+  return !args.query_layer.empty() || (args.queries != "-" && !is_csv_site_path(args.queries));
+}
+
+// Whether the output is geovor's CSV (no geometry) rather than point features: "-", a .csv or
+// .txt name, a name without an extension (/dev/null), or --format CSV.
+bool writes_csv(const NearestArgs& args) {
+  if (!args.format.empty()) return ascii_iequals(args.format, "CSV");
+  if (args.output == "-") return true;
+  const std::string name = args.output.substr(args.output.rfind('/') + 1);
+  const std::size_t dot = name.rfind('.');
+  if (dot == std::string::npos || dot == 0) return true;
+  const std::string ext = ascii_lower(name.substr(dot + 1));
+  return ext == "csv" || ext == "txt";
+}
+
 int run(NearestArgs& args) {
   const std::string& sites_path = args.sites.input;
   if (args.queries == "-" && sites_path == "-")
     throw Error(ErrorCode::InvalidArgument, "--sites and --queries cannot both be standard input");
   if (args.k < 1) throw Error(ErrorCode::InvalidArgument, "--k must be at least 1");
   if (args.threads < 1) throw Error(ErrorCode::InvalidArgument, "--threads must be at least 1");
+  if (!(args.max_distance_m >= 0))
+    throw Error(ErrorCode::InvalidArgument, "--max-distance-m must be a number of metres, at least 0");
+  if (queries_are_ogr(args) && is_csv_site_path(args.queries))
+    throw Error(ErrorCode::InvalidArgument, args.queries + ": --layer is for OGR query sources; a CSV stream has one table");
+  const bool csv = writes_csv(args);
+  if (!csv && args.output == "-" && output_needs_gdal(args.output, args.format))
+    throw Error(ErrorCode::InvalidArgument, "--format " + args.format + " cannot be written to standard output; give -o FILE");
   if (args.metric != "sphere" && args.metric != "geodesic")
     throw Error(ErrorCode::InvalidArgument, "--metric must be sphere or geodesic, not '" + args.metric + "'");
   LocatorOptions locator_options;
@@ -77,12 +110,6 @@ int run(NearestArgs& args) {
     index = build_index_from_table(args.sites, nullptr);
   }
 
-  // The streams.
-  File in(args.queries == "-" ? stdin : std::fopen(args.queries.c_str(), "rb"));
-  const std::string qname = args.queries == "-" ? "<stdin>" : args.queries;
-  if (!in) throw Error(ErrorCode::Io, args.queries + ": cannot open: " + std::strerror(errno));
-  OutputFile out(args.output, args.overwrite);  // a temporary file renamed by commit(): never half-written
-
   NearestJoinOptions options;
   options.k = args.k;
   options.rank_column = args.k_option->count() > 0;
@@ -90,18 +117,60 @@ int run(NearestArgs& args) {
   options.locator = locator_options;
   options.threads = static_cast<unsigned>(args.threads);
   options.strict = args.strict;
-  const NearestJoinReport report = nearest_join(
-      index, in.get(), qname, options, [&](std::string_view s) { out.write(s.data(), s.size()); },
-      [&](const MalformedQuery& m) {
-        std::fprintf(stderr, "%s: line %llu: %s\n", qname.c_str(), static_cast<unsigned long long>(m.line), m.reason.c_str());
-      });
-  out.commit();  // with --strict, the answers before the malformed line are kept
+  options.columns = args.query_columns;
+  options.site_fields = args.site_fields;
+  options.max_distance_m = args.max_distance_m;
+  nearest_join_fields(index, {}, options);  // an unknown --site-fields column before any output
+
+  // The queries: an OGR layer read whole, or a CSV stream.
+  const bool ogr = queries_are_ogr(args);
+  SiteTable table;
+  File in;
+  if (ogr) {
+    SiteReaderOptions reader;
+    reader.lat_field = args.query_columns.lat_field;
+    reader.lon_field = args.query_columns.lon_field;
+    reader.id_field = args.query_columns.id_field;
+    table = read_sites_ogr(args.queries, reader, args.query_layer);
+  } else {
+    in.reset(args.queries == "-" ? stdin : std::fopen(args.queries.c_str(), "rb"));
+    if (!in) throw Error(ErrorCode::Io, args.queries + ": cannot open: " + std::strerror(errno));
+  }
+  const std::string qname = ogr ? table.source : args.queries == "-" ? "<stdin>" : args.queries;
+  auto on_malformed = [&](const MalformedQuery& m) {
+    if (m.line > 0)
+      std::fprintf(stderr, "%s: line %llu: %s\n", qname.c_str(), static_cast<unsigned long long>(m.line), m.reason.c_str());
+    else
+      std::fprintf(stderr, "%s: %s\n", qname.c_str(), m.reason.c_str());  // an OGR reason names the feature
+  };
+
+  NearestJoinReport report;
+  if (csv) {
+    OutputFile out(args.output, args.overwrite);  // a temporary file renamed by commit(): never half-written
+    auto write = [&](std::string_view s) { out.write(s.data(), s.size()); };
+    report = ogr ? nearest_join(index, table, options, write, on_malformed)
+                 : nearest_join(index, in.get(), qname, options, write, on_malformed);
+    out.commit();  // with --strict, the answers before the malformed line are kept
+  } else {
+    WriterOptions writer_options;
+    writer_options.format = args.format;
+    writer_options.layer = "nearest";
+    writer_options.overwrite = args.overwrite;
+    const OpenJoinWriter open = [&](const std::vector<Field>& fields) {
+      return open_feature_writer(args.output, GeometryType::Point, fields, writer_options);
+    };
+    report = ogr ? nearest_join(index, table, options, open, on_malformed)
+                 : nearest_join(index, in.get(), qname, options, open, on_malformed);
+  }
   if (report.stopped)
     throw Error(ErrorCode::BadData, qname + ": stopped at the first malformed query (--strict); " +
                                         std::to_string(report.answered) + " queries answered before it");
-  if (report.malformed > 0 && !args.sites.quiet)
-    std::fprintf(stderr, "geovor nearest: %llu queries answered, %llu malformed lines skipped\n",
-                 static_cast<unsigned long long>(report.answered), static_cast<unsigned long long>(report.malformed));
+  if (report.malformed > 0 || (report.unmatched > 0 && !args.sites.quiet))
+    std::fprintf(stderr,
+                 "geovor nearest: %llu queries answered (%llu without a site within --max-distance-m), %llu malformed "
+                 "(written with an empty match)\n",
+                 static_cast<unsigned long long>(report.answered), static_cast<unsigned long long>(report.unmatched),
+                 static_cast<unsigned long long>(report.malformed));
   return kOk;
 }
 
@@ -109,12 +178,26 @@ int run(NearestArgs& args) {
 
 Command add_nearest_command(CLI::App& app) {
   auto args = std::make_shared<NearestArgs>();
-  CLI::App* cmd = app.add_subcommand("nearest", "The exact nearest site (or k nearest) of every query of a CSV stream");
+  CLI::App* cmd = app.add_subcommand(
+      "nearest", "Spatial join: the exact nearest site (or k nearest) of every query of a CSV stream or OGR point layer");
   cmd->add_option("--sites", args->sites.input,
                   "An index file (geovor index), or sites: CSV with a header (- for stdin) or any OGR point layer")
       ->required();
-  cmd->add_option("--queries", args->queries, "Query CSV: lat,lon[,id] lines, with or without a header (default -: stdin)");
-  cmd->add_option("-o,--output", args->output, "Output CSV (default -: stdout)");
+  cmd->add_option("--queries", args->queries,
+                  "Queries: CSV, lat,lon[,id] lines with or without a header (default -: stdin), or any OGR point layer");
+  cmd->add_option("--query-lat-field", args->query_columns.lat_field, "Latitude column of the queries (default: lat, latitude, lat_deg or y)");
+  cmd->add_option("--query-lon-field", args->query_columns.lon_field,
+                  "Longitude column of the queries (default: lon, lng, long, longitude, lon_deg or x)");
+  cmd->add_option("--query-id-field", args->query_columns.id_field,
+                  "Identifier column of the queries (default: query_id, id, icao, code or name; else the line number)");
+  cmd->add_option("--layer", args->query_layer, "Layer of a multi-layer OGR query source (GeoPackage, ...); not for CSV");
+  cmd->add_option("--site-fields", args->site_fields, "Site columns to join to each match, e.g. name,elev (from the index or table)")
+      ->delimiter(',');
+  cmd->add_option("--max-distance-m", args->max_distance_m,
+                  "No site farther than this many metres: a query without one gets a row with an empty match");
+  cmd->add_option("-o,--output", args->output,
+                  "Output: CSV (-: stdout, .csv, .txt or no extension), or points with attributes in any OGR format (.gpkg, .geojson, .fgb, .shp, ...)");
+  cmd->add_option("-f,--format", args->format, "Output format: CSV or an OGR driver name (default: from the extension)");
   cmd->add_flag("--overwrite", args->overwrite, "Replace an existing output file");
   cmd->add_option("--locator", args->locator,
                   "Strategy: walk, jump-walk, keep-jump-walk, hierarchy, climb or keep-jump-climb (default)");
@@ -124,7 +207,7 @@ Command add_nearest_command(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "Threads (default 1); the output order is the input order")
       ->check(integer_in(1, kMaxThreads));
   cmd->add_flag("--strict", args->strict, "Stop at the first malformed query line (exit 3)");
-  cmd->add_flag("-q,--quiet", args->sites.quiet, "No list of merged site rows and no closing count on stderr (malformed lines are still listed)");
+  cmd->add_flag("-q,--quiet", args->sites.quiet, "Do not list the merged sites of a site table nor count the queries without a match (malformed queries are still listed)");
   args->site_options.push_back(cmd->add_option("--lat-field", args->sites.reader.lat_field, "Latitude column of the site table"));
   args->site_options.push_back(cmd->add_option("--lon-field", args->sites.reader.lon_field, "Longitude column of the site table"));
   args->site_options.push_back(cmd->add_option("--id-field", args->sites.reader.id_field,
@@ -133,13 +216,21 @@ Command add_nearest_command(CLI::App& app) {
   args->site_options.push_back(cmd->add_option("--merge-m", args->sites.merge_m, "Merge sites closer than this many metres")
                                                    ->check(finite_above(0, true)));
   cmd->footer(
-      "Writes CSV: query_id,site_index,site_id,distance_m (with --k: query_id,rank,site_index,site_id,\n"
-      "distance_m, one row per neighbour, nearest first). query_id is the query's id column (query_id,\n"
-      "id, icao, code or name) or its line number. Malformed query lines are reported on stderr with\n"
-      "their line number and skipped (--strict: exit 3).\n"
-      "Example: geovor nearest --sites stations.gvi --queries points.csv -o nearest.csv");
+      "Writes query_id,site_index,site_id,distance_m (with --k: query_id,rank,site_index,site_id,\n"
+      "distance_m, one row per neighbour, nearest first), then every column of the queries (src_NAME\n"
+      "on a clash), then the --site-fields (site_NAME on a clash); as CSV, or as points at the queries\n"
+      "in an OGR format. query_id is the query's id column (query_id, id, icao, code or name) or its\n"
+      "line (feature) number. Every query gets at least one row: without a site within\n"
+      "--max-distance-m, or malformed (reported on stderr with its line number and reason; --strict:\n"
+      "exit 3), a row with an empty match (a null point for a malformed one).\n"
+      "Examples: geovor nearest --sites stations.gvi --queries points.csv -o nearest.csv\n"
+      "  geovor nearest --sites stations.gvi --queries trips.csv --query-lat-field pickup_latitude \\\n"
+      "    --query-lon-field pickup_longitude --site-fields name --max-distance-m 5000 -o trips.gpkg");
   return {[args] { return run(*args); },
-          [args] { return !is_index_path(args->sites.input) && site_input_needs_gdal(args->sites); }};
+          [args] {
+            return (!is_index_path(args->sites.input) && site_input_needs_gdal(args->sites)) || queries_are_ogr(*args) ||
+                   (!writes_csv(*args) && output_needs_gdal(args->output, args->format));
+          }};
 }
 
 }  // namespace geovor::tools

@@ -136,10 +136,10 @@ def test_save_load_round_trip_and_the_command_reads_it(tmp_path):
     text = "\n".join(f"{a!r},{b!r}" for a, b in zip(qlat[:50], qlon[:50]))
     out = subprocess.run([str(geovor_tool), "nearest", "--sites", str(path)], input="lat,lon\n" + text + "\n",
                          capture_output=True, text=True, check=True).stdout.splitlines()
-    assert out[0] == "query_id,site_index,site_id,distance_m"
+    assert out[0] == "query_id,site_index,site_id,distance_m,lat,lon"  # then the query's columns
     site, dist = loaded.nearest(qlat[:50], qlon[:50])
     for line, s, d in zip(out[1:], site, dist):
-        _, s_cmd, id_cmd, d_cmd = line.split(",")
+        _, s_cmd, id_cmd, d_cmd, _, _ = line.split(",")
         assert int(s_cmd) == s and id_cmd == f"s{s}" and float(d_cmd) == pytest.approx(d, abs=1e-3)
 
 

@@ -51,7 +51,7 @@ string(REPEAT "n" 242 long_stem)  # + a 4- to 8-byte extension: 246 to 250 bytes
 geovor_cli_expect(cli.outputs.long_name.cells 0 SCRIPT
   "\"$0\" cells ${safe_fixtures}/three_sites.csv -o ${safe_out}/${long_stem}.geojson --report ${safe_out}/${long_stem}.csvrep --overwrite -q && test -s ${safe_out}/${long_stem}.geojson && test -s ${safe_out}/${long_stem}.csvrep")
 geovor_cli_expect(cli.outputs.long_name.nearest 0 SCRIPT
-  "\"$0\" nearest --sites ${safe_fixtures}/three_sites.csv --queries ${safe_fixtures}/three_sites.csv -o ${safe_out}/${long_stem}.nearest --overwrite && test -s ${safe_out}/${long_stem}.nearest")
+  "\"$0\" nearest --sites ${safe_fixtures}/three_sites.csv --queries ${safe_fixtures}/three_sites.csv -o ${safe_out}/${long_stem}nnnn.csv --overwrite && test -s ${safe_out}/${long_stem}nnnn.csv")
 geovor_cli_expect(cli.outputs.long_name.index 0 SCRIPT
   "\"$0\" index ${safe_fixtures}/three_sites.csv -o ${safe_out}/${long_stem}.gvi00 --overwrite && test -s ${safe_out}/${long_stem}.gvi00")
 geovor_cli_expect(cli.outputs.long_name.flatgeobuf 0 SCRIPT

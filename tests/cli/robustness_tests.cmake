@@ -117,7 +117,7 @@ geovor_cli_expect(cli.robust.bad_values 0
 # The poles at any longitude and longitudes 540/-540 are accepted: nearest answers each at 0 m.
 file(WRITE ${robust_out}/pole_queries.csv "id,lat,lon\nnp,90,0\nsp,-90,77\nlon_m180,-30,-180\nlon_180b,-31,180\n")
 geovor_cli_expect(cli.robust.poles_and_540 0
-  STDOUT "\nnp,[0-9]+,north_pole,0\nsp,[0-9]+,south_pole,0\nlon_m180,[0-9]+,lon_540,0\nlon_180b,[0-9]+,lon_-540,0\n$"
+  STDOUT "\nnp,[0-9]+,north_pole,0,np,90,0\nsp,[0-9]+,south_pole,0,sp,-90,77\nlon_m180,[0-9]+,lon_540,0,lon_m180,-30,-180\nlon_180b,[0-9]+,lon_-540,0,lon_180b,-31,180\n$"
   COMMAND nearest --sites ${robust_fixtures}/bad_values.csv --queries ${robust_out}/pole_queries.csv)
 # lon 180, -180 and 540 are one point (longitudes are reduced to [-180, 180)): lon_180.csv has
 # them at latitude 10 (rows a, b, c), merged into one site.
@@ -151,8 +151,8 @@ geovor_cli_expect(cli.robust.long_lines 0
   STDERR "long_lines\\.csv: row 3 \\(line 4\\) rejected: found 2 fields, expected 4 as in the header \\(no value for lat, lon\\)\n[^\n]*long_lines\\.csv: row 5 \\(line 6\\) rejected: lat: '9999999999999999999999999999999999999999\\.\\.\\.' \\(10000000 characters\\) is out of the range of a double\n"
   COMMAND info ${big}/long_lines.csv)
 geovor_cli_expect(cli.robust.long_query_lines 0
-  STDOUT "^query_id,site_index,site_id,distance_m\n2,[^\n]*\n5,[^\n]*\n$"
-  STDERR "long_query_lines\\.csv: line 3: lat: '9999999999999999999999999999999999999999\\.\\.\\.' \\(10000000 characters\\) is out of the range of a double\n.*line 4: expected 2 fields, found 1\ngeovor nearest: 2 queries answered, 2 malformed lines skipped"
+  STDOUT "^query_id,site_index,site_id,distance_m,lat,lon\n2,[^\n]*\n3,,,,9999999999[^\n]*\n4,,,,,\n5,[^\n]*\n$"
+  STDERR "long_query_lines\\.csv: line 3: lat: '9999999999999999999999999999999999999999\\.\\.\\.' \\(10000000 characters\\) is out of the range of a double\n.*line 4: expected 2 fields, found 1\ngeovor nearest: 2 queries answered \\(0 without a site within --max-distance-m\\), 2 malformed \\(written with an empty match\\)"
   COMMAND nearest --sites ${fixtures}/three_sites.csv --queries ${big}/long_query_lines.csv)
 # 10^6 identical points: one site, the whole Earth its cell, 999,999 merges listed.
 geovor_cli_expect(cli.robust.identical_1e6 0
@@ -161,7 +161,7 @@ geovor_cli_expect(cli.robust.identical_1e6 0
   COMMAND info ${big}/identical_1e6.csv)
 # Queries with CRLF, a BOM, an empty line and no final line end.
 geovor_cli_expect(cli.robust.queries_crlf_bom 0
-  STDOUT "^query_id,site_index,site_id,distance_m\nq1,0,a,0\nq2,1,b,0\n$"
+  STDOUT "^query_id,site_index,site_id,distance_m,id,lat,lon\nq1,0,a,0,q1,10,20\nq2,1,b,0,q2,-10,30\n$"
   COMMAND nearest --sites ${robust_fixtures}/crlf_bom.csv --queries ${big}/queries_crlf_bom.csv)
 robust_needs_big(cli.robust.long_lines cli.robust.long_query_lines cli.robust.identical_1e6 cli.robust.queries_crlf_bom)
 # An empty query stream: the header and nothing else.
@@ -183,7 +183,7 @@ geovor_cli_expect(cli.robust.near_duplicates_merge_2m 0
   COMMAND info ${robust_fixtures}/near_duplicates.csv --merge-m 2)
 # Duplicate ids are kept as they are: two sites answer `X`, told apart by site_index.
 file(WRITE ${robust_out}/dup_queries.csv "id,lat,lon\nfirst,10,10\nsecond,-10,-10\n")
-geovor_cli_expect(cli.robust.duplicate_ids 0 STDOUT "\nfirst,0,X,0\nsecond,1,X,0\n$"
+geovor_cli_expect(cli.robust.duplicate_ids 0 STDOUT "\nfirst,0,X,0,first,10,10\nsecond,1,X,0,second,-10,-10\n$"
   COMMAND nearest --sites ${robust_fixtures}/duplicate_ids.csv --queries ${robust_out}/dup_queries.csv)
 
 # OGR: non-point geometries rejected with the feature number, FID and geometry type.
@@ -235,8 +235,9 @@ geovor_cli_expect(cli.robust.input_not_a_directory 4 STDERR "empty\\.csv/x\\.csv
 file(CREATE_LINK /proc/self/mem ${robust_out}/unreadable.csv RESULT link_result SYMBOLIC)
 geovor_cli_expect(cli.robust.read_error 4 STDERR "unreadable\\.csv: read error near line 1"
   COMMAND info ${robust_out}/unreadable.csv)
-geovor_cli_expect(cli.robust.queries_read_error 4 STDERR "/proc/self/mem: read error: Input/output error"
-  COMMAND nearest --sites ${fixtures}/three_sites.csv --queries /proc/self/mem)
+# (Through the .csv link: a query file of another name is read as an OGR layer, as sites are.)
+geovor_cli_expect(cli.robust.queries_read_error 4 STDERR "unreadable\\.csv: read error: Input/output error"
+  COMMAND nearest --sites ${fixtures}/three_sites.csv --queries ${robust_out}/unreadable.csv)
 geovor_cli_expect(cli.robust.queries_directory 4 STDERR "a_directory\\.csv: read error: Is a directory"
   COMMAND nearest --sites ${fixtures}/three_sites.csv --queries ${robust_out}/a_directory.csv)
 

@@ -44,6 +44,37 @@ TEST(QueryLine, DetectsHeaderColumns) {
   EXPECT_EQ(detect_query_format("query_id,id,lat,lon", "q.csv").id, 0);  // query_id preferred
 }
 
+// Columns named by the caller: any name, case-insensitively; a named column makes the first line
+// a header even when its fields are numbers; the id is still detected unless named.
+TEST(QueryLine, NamedColumns) {
+  QueryColumns names;
+  names.lat_field = "pickup_latitude";
+  names.lon_field = "Pickup_Longitude";
+  const QueryFormat f = detect_query_format("vendor,pickup_longitude,pickup_latitude,id,lat", "q.csv", names);
+  EXPECT_TRUE(f.header);
+  EXPECT_EQ(f.lat, 2);
+  EXPECT_EQ(f.lon, 1);
+  EXPECT_EQ(f.id, 3);
+  names = {};
+  names.lat_field = "10";
+  names.lon_field = "20";
+  names.id_field = "30";
+  const QueryFormat numbers = detect_query_format("20,10,30", "q.csv", names);
+  EXPECT_TRUE(numbers.header);
+  EXPECT_EQ(numbers.lat, 1);
+  EXPECT_EQ(numbers.lon, 0);
+  EXPECT_EQ(numbers.id, 2);
+  names = {};
+  names.lon_field = "dropoff_longitude";
+  try {
+    detect_query_format("lat,lon", "q.csv", names);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+    EXPECT_EQ(std::string(e.what()), "q.csv: --query-lon-field 'dropoff_longitude' is not a column of the header (lat, lon)");
+  }
+}
+
 TEST(QueryLine, HeaderWithoutCoordinatesIsBadData) {
   for (const char* first : {"a,b", "lat", "", "\"unterminated,lat,lon", "lat,lat"}) {
     try {

@@ -17,6 +17,7 @@
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/geo/site_reader.hpp"
+#include "support/recording_writer.hpp"
 
 namespace geovor {
 namespace {
@@ -115,16 +116,25 @@ std::vector<Query> random_queries(std::size_t n, std::uint64_t seed) {
   return q;
 }
 
-// Every output row against brute force: query_id, rank, site_index, site_id, distance_m.
+// Every output row against brute force: query_id, rank, site_index, site_id, distance_m, then
+// the query's line as written (`query_lines`, the stream's lines after its header).
 void check_rows(const std::vector<Site>& sites, const std::vector<Query>& queries, const std::vector<std::string>& ids,
-                const std::string& csv, std::size_t k, bool rank, Metric m) {
+                const std::string& csv, std::size_t k, bool rank, Metric m, const std::string& query_text = "") {
   const std::vector<std::string> lines = split(csv, '\n');
+  std::vector<std::string> query_lines = split(query_text, '\n');
+  const std::string header = query_lines.empty() ? "" : "," + query_lines.front();
   ASSERT_EQ(lines.size(), 1 + queries.size() * k);
-  EXPECT_EQ(lines[0], rank ? "query_id,rank,site_index,site_id,distance_m" : "query_id,site_index,site_id,distance_m");
+  EXPECT_EQ(lines[0], (rank ? "query_id,rank,site_index,site_id,distance_m" : "query_id,site_index,site_id,distance_m") + header);
   for (std::size_t i = 0; i < queries.size(); ++i) {
     const auto truth = brute(sites, queries[i].lat, queries[i].lon, m);
     for (std::size_t r = 0; r < k; ++r) {
-      const std::string& line = lines[1 + i * k + r];
+      std::string line = lines[1 + i * k + r];
+      if (!query_lines.empty()) {  // the query's fields, passed through as written
+        const std::string tail = "," + query_lines[1 + i];
+        ASSERT_GE(line.size(), tail.size());
+        EXPECT_EQ(line.substr(line.size() - tail.size()), tail);
+        line.resize(line.size() - tail.size());
+      }
       // The id of site 3 holds a comma: take the fields from both ends.
       const std::size_t a = line.find(','), z = line.rfind(',');
       ASSERT_NE(a, z) << line;
@@ -164,8 +174,9 @@ TEST(NearestJoin, NearestSiteOfEveryQueryMatchesBruteForce) {
     // Without ids, query_id is the line number (the header is line 1).
     std::vector<std::string> ids;
     for (std::size_t i = 0; i < queries.size(); ++i) ids.push_back(std::to_string(i + 2));
-    const Result r = join(index, format_queries(queries, true, false), o);
-    check_rows(sites, queries, ids, r.csv, 1, false, m);
+    const std::string text = format_queries(queries, true, false);
+    const Result r = join(index, text, o);
+    check_rows(sites, queries, ids, r.csv, 1, false, m, text);
     EXPECT_EQ(r.report.answered, queries.size());
     EXPECT_EQ(r.report.malformed, 0u);
     EXPECT_FALSE(r.report.stopped);
@@ -184,7 +195,8 @@ TEST(NearestJoin, KNearestWithRanksMatchesBruteForce) {
     o.k = 4;
     o.rank_column = true;
     o.threads = 2;
-    check_rows(sites, queries, ids, join(index, format_queries(queries, true, true), o).csv, 4, true, m);
+    const std::string text = format_queries(queries, true, true);
+    check_rows(sites, queries, ids, join(index, text, o).csv, 4, true, m, text);
   }
 }
 
@@ -237,10 +249,17 @@ TEST(NearestJoin, MalformedLinesReportedInOrder) {
     EXPECT_EQ(r.malformed[2].line, 6u);
     EXPECT_EQ(r.report.answered, 2u);
     EXPECT_EQ(r.report.malformed, 3u);
+    // Every query has a row: a malformed one an empty match, with its id and fields when it has
+    // the header's three, else its line number and empty fields.
     const auto lines = split(r.csv, '\n');
-    ASSERT_EQ(lines.size(), 3u);
+    ASSERT_EQ(lines.size(), 6u);
+    EXPECT_EQ(lines[0], "query_id,site_index,site_id,distance_m,id,lat,lon");
     EXPECT_EQ(lines[1].substr(0, 2), "a,");
-    EXPECT_EQ(lines[2].substr(0, 2), "e,");
+    EXPECT_EQ(lines[1].substr(lines[1].size() - 8), ",a,10,20");
+    EXPECT_EQ(lines[2], "b,,,,b,abc,5");
+    EXPECT_EQ(lines[3], "5,,,,,,");
+    EXPECT_EQ(lines[4], "d,,,,d,10,1000");
+    EXPECT_EQ(lines[5].substr(0, 2), "e,");
   }
 }
 
@@ -296,6 +315,202 @@ TEST(NearestJoin, ReadErrorIsIoError) {
     EXPECT_NE(std::string(e.what()).find("a_directory: read error"), std::string::npos) << e.what();
   }
   std::fclose(dir);
+}
+
+// Named query columns (any name, such as a taxi feed's), every query column passed through, the
+// join of a site field: the nearest site's own value, by brute force.
+TEST(NearestJoin, NamedColumnsAndSiteFieldsMatchBruteForce) {
+  const auto sites = make_sites(400, 14);
+  std::ostringstream csv;
+  csv.precision(17);
+  csv << "id,lat,lon,label\n";
+  for (std::size_t i = 0; i < sites.size(); ++i)
+    csv << sites[i].id_csv << ',' << sites[i].lat << ',' << sites[i].lon << ",L" << i << '\n';
+  std::istringstream in(csv.str());
+  const SiteIndex index = build_site_index(read_sites_csv(in, "sites.csv"));
+  const auto queries = random_queries(300, 15);
+  std::ostringstream q;
+  q.precision(17);
+  q << "trip,pickup_longitude,pickup_latitude,lat\n";  // a `lat` column that is not the latitude
+  for (std::size_t i = 0; i < queries.size(); ++i) q << "t" << i << ',' << queries[i].lon << ',' << queries[i].lat << ",x\n";
+  NearestJoinOptions o;
+  o.columns.lat_field = "pickup_latitude";
+  o.columns.lon_field = "pickup_longitude";
+  o.site_fields = {"LABEL"};
+  const Result r = join(index, q.str(), o);
+  const auto lines = split(r.csv, '\n');
+  ASSERT_EQ(lines.size(), 1 + queries.size());
+  EXPECT_EQ(lines[0], "query_id,site_index,site_id,distance_m,trip,pickup_longitude,pickup_latitude,lat,label");
+  const auto qlines = split(q.str(), '\n');
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const std::size_t nearest = brute(sites, queries[i].lat, queries[i].lon, Metric::Sphere)[0].second;
+    const std::string& line = lines[1 + i];
+    EXPECT_EQ(line.substr(0, line.find(',')), std::to_string(i + 2));  // no id column: the line number
+    EXPECT_EQ(line.substr(line.find(',') + 1, line.find(',', line.find(',') + 1) - line.find(',') - 1), std::to_string(nearest));
+    const std::string tail = "," + qlines[1 + i] + ",L" + std::to_string(nearest);
+    EXPECT_EQ(line.substr(line.size() - tail.size()), tail) << line;
+  }
+}
+
+TEST(NearestJoin, UnknownColumnsAreInvalidArguments) {
+  const SiteIndex index = make_index(make_sites(10, 16));
+  for (int which = 0; which < 2; ++which) {
+    NearestJoinOptions o;
+    if (which == 0) o.columns.lat_field = "pickup_latitude";
+    if (which == 1) o.site_fields = {"elevation"};
+    try {
+      join(index, "lat,lon\n1,2\n", o);
+      FAIL() << "no error";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+      EXPECT_NE(std::string(e.what()).find(which == 0 ? "pickup_latitude" : "elevation"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// max_distance_m: a query without a site within it gets one row with an empty match; with k, the
+// rows are the sites within it (brute force), at least one per query.
+TEST(NearestJoin, MaxDistanceGivesEmptyMatches) {
+  const auto sites = make_sites(200, 17);
+  const SiteIndex index = make_index(sites);
+  const auto queries = random_queries(400, 18);
+  const double d = 700e3;
+  for (const std::size_t k : {std::size_t{1}, std::size_t{3}}) {
+    NearestJoinOptions o;
+    o.k = k;
+    o.rank_column = k > 1;
+    o.max_distance_m = d;
+    o.threads = 2;
+    const Result r = join(index, format_queries(queries, false, true), o);
+    const auto lines = split(r.csv, '\n');
+    std::size_t at = 1, unmatched = 0;
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      const auto truth = brute(sites, queries[i].lat, queries[i].lon, Metric::Sphere);
+      std::size_t within = 0;
+      while (within < k && truth[within].first <= d) ++within;
+      if (within == 0) {
+        ++unmatched;
+        EXPECT_EQ(lines[at++], "q" + std::to_string(i) + (k > 1 ? ",,,," : ",,,"));
+      }
+      for (std::size_t w = 0; w < within; ++w, ++at) {
+        const std::string prefix = "q" + std::to_string(i) + "," + (k > 1 ? std::to_string(w + 1) + "," : "") +
+                                   std::to_string(truth[w].second) + ",";
+        EXPECT_EQ(lines[at].substr(0, prefix.size()), prefix);
+      }
+    }
+    EXPECT_EQ(at, lines.size());
+    EXPECT_GT(unmatched, 10u);  // the test means something
+    EXPECT_EQ(r.report.unmatched, unmatched);
+    EXPECT_EQ(r.report.answered, queries.size());
+  }
+}
+
+// A FeatureWriter the join owns, recording into a RecordingWriter the test keeps.
+class ForwardingWriter : public FeatureWriter {
+ public:
+  explicit ForwardingWriter(testing::RecordingWriter& to) : to_(to) {}
+  void write(const Geometry& g, std::span<const FieldValue> v) override { to_.write(g, v); }
+  void finish() override { to_.finish(); }
+
+ private:
+  testing::RecordingWriter& to_;
+};
+
+// As features: the same matches as the CSV rows, a point at each query, field names renamed on a
+// clash, and a malformed query as a null point with an empty match.
+TEST(NearestJoin, FeaturesCarryTheCsvRowsAndNullPointsForMalformedQueries) {
+  const auto sites = make_sites(300, 19);
+  const SiteIndex index = make_index(sites);
+  auto queries = random_queries(200, 20);
+  std::string text = "site_id,lat,lon\n";
+  for (Query& q : queries) {  // at the precision written, so that brute force sees the same points
+    char v[40];
+    std::snprintf(v, sizeof v, "%.9f", q.lat), q.lat = std::stod(v);
+    std::snprintf(v, sizeof v, "%.9f", q.lon), q.lon = std::stod(v);
+  }  // site_id clashes with the join's own field
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    char line[96];
+    std::snprintf(line, sizeof line, "k%zu,%.9f,%.9f\n", i, queries[i].lat, queries[i].lon);
+    text += line;
+    if (i == 50) text += "bad,north,0\n";
+  }
+  NearestJoinOptions o;
+  o.threads = 2;
+  o.block_bytes = 512;
+  testing::RecordingWriter rec;
+  std::vector<Field> fields;
+  std::FILE* f = fmemopen(text.data(), text.size(), "rb");
+  const NearestJoinReport report = nearest_join(index, f, "q.csv", o, [&](const std::vector<Field>& fs) {
+    fields = fs;
+    return std::make_unique<ForwardingWriter>(rec);
+  }, {});
+  std::fclose(f);
+  EXPECT_TRUE(rec.finished);
+  EXPECT_EQ(report.answered, queries.size());
+  EXPECT_EQ(report.malformed, 1u);
+  std::vector<std::string> names;
+  for (const Field& fl : fields) names.push_back(fl.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"query_id", "site_index", "site_id", "distance_m", "src_site_id", "lat", "lon"}));
+  EXPECT_EQ(fields[1].type, FieldType::Integer);
+  EXPECT_EQ(fields[3].type, FieldType::Real);
+  ASSERT_EQ(rec.features.size(), queries.size() + 1);
+  for (std::size_t i = 0, q = 0; i < rec.features.size(); ++i) {
+    const auto& ft = rec.features[i];
+    if (i == 51) {
+      EXPECT_TRUE(is_null_point(std::get<LonLat>(ft.geometry)));
+      EXPECT_EQ(std::get<std::string>(ft.values[0]), "53");  // the line number: site_id is not an id column
+      EXPECT_TRUE(std::holds_alternative<std::monostate>(ft.values[1]));
+      EXPECT_EQ(std::get<std::string>(ft.values[4]), "bad");
+      EXPECT_EQ(std::get<std::string>(ft.values[5]), "north");
+      continue;
+    }
+    const auto truth = brute(sites, queries[q].lat, queries[q].lon, Metric::Sphere);
+    const LonLat p = std::get<LonLat>(ft.geometry);
+    EXPECT_NEAR(p.lat_deg, queries[q].lat, 1e-9);
+    EXPECT_EQ(std::get<std::int64_t>(ft.values[1]), static_cast<std::int64_t>(truth[0].second));
+    EXPECT_NEAR(std::get<double>(ft.values[3]), truth[0].first, 1e-6);
+    EXPECT_EQ(std::get<std::string>(ft.values[4]), "k" + std::to_string(q));
+    ++q;
+  }
+}
+
+// A table of queries (an OGR layer's): its rows and rejected rows in row order, the same
+// matches as the stream of the same queries.
+TEST(NearestJoin, TableOfQueriesMatchesTheStream) {
+  const auto sites = make_sites(300, 21);
+  const SiteIndex index = make_index(sites);
+  const auto queries = random_queries(100, 22);
+  std::ostringstream csv;
+  csv.precision(17);
+  csv << "name,lat,lon\n";
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    csv << "n" << i << ',' << queries[i].lat << ',' << queries[i].lon << '\n';
+    if (i == 10) csv << "bad,x,1\n";
+  }
+  std::istringstream in(csv.str());
+  const SiteTable table = read_sites_csv(in, "q.csv");
+  ASSERT_EQ(table.rejected.size(), 1u);
+  NearestJoinOptions o;
+  std::string from_table;
+  std::vector<MalformedQuery> malformed;
+  const NearestJoinReport report = nearest_join(
+      index, table, o, [&](std::string_view t) { from_table += t; }, [&](const MalformedQuery& m) { malformed.push_back(m); });
+  EXPECT_EQ(report.answered, queries.size());
+  ASSERT_EQ(malformed.size(), 1u);
+  EXPECT_EQ(malformed[0].row, 12u);
+  const auto lines = split(from_table, '\n');
+  ASSERT_EQ(lines.size(), queries.size() + 2);
+  EXPECT_EQ(lines[0], "query_id,site_index,site_id,distance_m,name,lat,lon");
+  EXPECT_EQ(lines[12], "12,,,,,,");
+  const Result stream = join(index, csv.str(), o);
+  const auto stream_lines = split(stream.csv, '\n');
+  ASSERT_EQ(stream_lines.size(), lines.size());
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    if (i == 12) continue;
+    // query_id (the id column `name`), site_index, site_id and distance_m as the stream's.
+    const auto a = split(lines[i], ','), b = split(stream_lines[i], ',');
+    for (std::size_t c = 0; c < 4; ++c) EXPECT_EQ(a[c], b[c]) << lines[i] << " | " << stream_lines[i];
+  }
 }
 
 }  // namespace

@@ -91,26 +91,42 @@ const char* split_query_fields(std::string_view line, std::vector<std::string_vi
 }
 
 QueryFormat detect_query_format(std::string_view first, const std::string& source) {
+  return detect_query_format(first, source, QueryColumns{});
+}
+
+QueryFormat detect_query_format(std::string_view first, const std::string& source, const QueryColumns& names) {
   if (!first.empty() && first.back() == '\r') first.remove_suffix(1);
   std::vector<std::string_view> fields;
   std::string scratch;
   QueryFormat fmt;
   double v;
-  if (!*split_query_fields(first, fields, scratch) && fields.size() >= 2 && !*parse_query_number(fields[0], v) &&
-      !*parse_query_number(fields[1], v))
+  if (!names.any() && !*split_query_fields(first, fields, scratch) && fields.size() >= 2 &&
+      !*parse_query_number(fields[0], v) && !*parse_query_number(fields[1], v))
     return fmt;  // headerless: lat,lon[,id]
+  split_query_fields(first, fields, scratch);
   fmt.header = true;
   for (const std::string_view f : fields) fmt.columns.emplace_back(trim(f));
   fmt.fields = fmt.columns.size();
-  fmt.lat = detect(fmt.columns, kLatNames);
-  fmt.lon = detect(fmt.columns, kLonNames);
-  fmt.id = detect(fmt.columns, kIdNames);
+  // A named column must exist; an unnamed one is detected.
+  auto column = [&](const std::string& name, const char* option, int detected) {
+    if (name.empty()) return detected;
+    const int c = find_column(fmt.columns, name);
+    if (c >= 0) return c;
+    std::string found;
+    for (const auto& n : fmt.columns) found += (found.empty() ? "" : ", ") + n;
+    throw Error(ErrorCode::InvalidArgument,
+                source + ": " + option + " '" + name + "' is not a column of the header (" + found + ")");
+  };
+  fmt.lat = column(names.lat_field, "--query-lat-field", detect(fmt.columns, kLatNames));
+  fmt.lon = column(names.lon_field, "--query-lon-field", detect(fmt.columns, kLonNames));
+  fmt.id = column(names.id_field, "--query-id-field", detect(fmt.columns, kIdNames));
   if (fmt.lat < 0 || fmt.lon < 0 || fmt.lat == fmt.lon) {
     std::string found;
     for (const auto& c : fmt.columns) found += (found.empty() ? "" : ", ") + c;
     throw Error(ErrorCode::BadData,
                 source + ": no latitude/longitude columns in the header line (" + found +
                     "); looked for lat, latitude, lat_deg, y and lon, lng, long, longitude, lon_deg, x; "
+                    "name them with --query-lat-field and --query-lon-field, "
                     "or give lines of lat,lon[,id] without a header");
   }
   return fmt;

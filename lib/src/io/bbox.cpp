@@ -47,6 +47,7 @@ void smallest_arc(const std::vector<Arc>& merged, double& west, double& east) {
 
 std::optional<BBox> geojson_bbox(const Geometry& geometry) {
   if (const auto* p = std::get_if<LonLat>(&geometry)) {
+    if (is_null_point(*p)) return std::nullopt;
     return BBox{p->lon_deg, p->lat_deg, p->lon_deg, p->lat_deg};
   }
   // One longitude interval per part; latitudes over everything. The first part is kept aside

@@ -135,6 +135,11 @@ class GdalWriter final : public FeatureWriter {
       // has no box for it): refused, never dropped.
       const auto* polygons = std::get_if<MultiPolygon>(&geometry);
       const auto* lines = std::get_if<MultiLineString>(&geometry);
+      const auto* point = std::get_if<LonLat>(&geometry);
+      if (point && is_null_point(*point))
+        throw Error(ErrorCode::BadData,
+                    path_ + ": " + feature() + " has a null point (a row without a position), which FlatGeobuf cannot "
+                    "hold (GDAL would leave the feature out); write GeoPackage or GeoJSON");
       if ((polygons && polygons->empty()) || (lines && lines->empty()))
         throw Error(ErrorCode::BadData,
                     path_ + ": " + feature() + " has an empty geometry, which FlatGeobuf cannot hold (GDAL "
@@ -356,7 +361,7 @@ class GdalWriter final : public FeatureWriter {
   }
 
   OGRGeometry* to_ogr(const Geometry& g) {
-    if (const auto* p = std::get_if<LonLat>(&g)) return new OGRPoint(p->lon_deg, p->lat_deg);
+    if (const auto* p = std::get_if<LonLat>(&g)) return is_null_point(*p) ? nullptr : new OGRPoint(p->lon_deg, p->lat_deg);
     auto fill = [&](OGRSimpleCurve& curve, const std::vector<LonLat>& ps) {
       raw_.resize(ps.size());
       for (std::size_t i = 0; i < ps.size(); ++i) raw_[i] = OGRRawPoint(ps[i].lon_deg, ps[i].lat_deg);

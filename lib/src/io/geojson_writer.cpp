@@ -222,6 +222,7 @@ class GeoJsonEncoder final : public FeatureEncoder {
 
   char* put_geometry(char* p, const Geometry& g) const {
     if (const auto* pt = std::get_if<LonLat>(&g)) {
+      if (is_null_point(*pt)) return put_text(p, "null");
       p = put_text(p, "{\"type\":\"Point\",\"coordinates\":[");
       p = format_coordinate(p, pt->lon_deg, precision_);
       *p++ = ',';

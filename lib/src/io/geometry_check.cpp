@@ -44,7 +44,7 @@ std::string ring_problem(const Ring& ring) {
 }  // namespace
 
 std::string geometry_problem(const Geometry& geometry) {
-  if (const auto* p = std::get_if<LonLat>(&geometry)) return position_problem(*p);
+  if (const auto* p = std::get_if<LonLat>(&geometry)) return is_null_point(*p) ? "" : position_problem(*p);
   if (const auto* lines = std::get_if<MultiLineString>(&geometry)) {
     for (const LineString& line : *lines) {
       if (line.size() < 2) {

@@ -10,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
 #include "geovor/geo/query_line.hpp"
@@ -54,12 +55,22 @@ class OutBuf {
   std::size_t size_ = 0;
 };
 
-// One parsed query of a batch.
+// One query of a batch: parsed, or malformed (then answered with an empty match).
 struct Query {
   std::uint64_t line = 0;
   double lat = 0, lon = 0;
   std::string_view id;  // into the block, or into Worker::quoted_ids; null data(): the line number
-  std::uint32_t first = 0, count = 0;  // its answers in Worker::results
+  std::string_view text;  // the line as written (its fields, passed through), or null data(): empty fields
+  bool malformed = false;
+  std::uint32_t first = 0, count = 0;  // its answers in Worker::results (none: an empty match)
+};
+
+// One output row of the feature path: a query and its answers, owned (written on the calling thread).
+struct FeatureRow {
+  LonLat point = kNullPoint;
+  std::string query_id;
+  std::vector<std::string> fields;  // the query's fields; empty when unknown (null)
+  std::vector<NearestResult> results;
 };
 
 // One block of whole lines: read, answered by one worker, written.
@@ -68,8 +79,9 @@ struct Block {
   std::size_t size = 0;
   std::uint64_t first_line = 0;
   OutBuf out;
+  std::vector<FeatureRow> rows;  // the feature path's rows, instead of out
   std::vector<MalformedQuery> errors;
-  std::uint64_t answered = 0;
+  std::uint64_t answered = 0, unmatched = 0;
   bool stopped = false;  // strict: stopped at its first malformed line
 };
 
@@ -82,6 +94,8 @@ struct Worker {
   std::vector<Query> batch;
   std::vector<std::string> quoted_ids;  // ids of the batch that were quoted fields
   std::vector<NearestResult> results, k_results;
+  std::vector<std::string_view> fields;  // a malformed line's fields
+  std::string scratch;
   bool prepared = false;  // has the packed copy built in the background
 
   Worker(const DelaunayHierarchy& h, const LocatorOptions& o, const QueryFormat& f) : locator(h, o), parser(f) {}
@@ -91,12 +105,37 @@ struct Context {
   const SiteIndex* index = nullptr;
   const NearestJoinOptions* options = nullptr;
   QueryFormat format;
+  bool features = false;  // rows as FeatureRow, not CSV text
   // Each site's id, CSV-quoted when needed, ready to copy (one lookup per answer).
   std::vector<std::string_view> site_ids;
   std::string quoted_site_ids;  // storage of the quoted ones
+  // The joined site fields: their columns, and each site's ",a,b" CSV text (empty without fields).
+  std::vector<std::size_t> site_columns;
+  std::vector<std::uint64_t> site_fields_at;  // site s: site_fields_text[at[s], at[s + 1])
+  std::string site_fields_text;
+  std::string empty_site_fields;   // ",,": the site fields of an empty match
+  std::string empty_query_fields;  // ",,,": the query fields of a line whose fields are unknown
+
+  std::string_view site_fields_csv(SiteId s) const {
+    if (site_columns.empty()) return {};
+    return std::string_view(site_fields_text).substr(site_fields_at[s], site_fields_at[s + 1] - site_fields_at[s]);
+  }
 };
 
 bool needs_quotes(std::string_view s) { return s.find_first_of(",\"\r\n") != std::string_view::npos; }
+
+void append_csv(std::string& out, std::string_view s) {
+  if (!needs_quotes(s)) {
+    out += s;
+    return;
+  }
+  out.push_back('"');
+  for (const char c : s) {
+    if (c == '"') out.push_back('"');
+    out.push_back(c);
+  }
+  out.push_back('"');
+}
 
 void prepare_site_ids(Context& ctx) {
   const SiteAttributes& a = ctx.index->attributes;
@@ -125,62 +164,202 @@ void prepare_site_ids(Context& ctx) {
   }
 }
 
+// The index's columns of options.site_fields, or Error(InvalidArgument) naming the unknown one.
+std::vector<std::size_t> site_columns(const SiteIndex& index, const NearestJoinOptions& options) {
+  const SiteAttributes& a = index.attributes;
+  std::vector<std::size_t> columns;
+  for (const std::string& name : options.site_fields) {
+    const int c = find_column(a.columns, name);
+    if (c < 0) {
+      std::string found;
+      for (const auto& n : a.columns) found += (found.empty() ? "" : ", ") + n;
+      throw Error(ErrorCode::InvalidArgument, "site field '" + name + "' is not a column of the sites (" + a.source +
+                                                  ": " + found + ")");
+    }
+    columns.push_back(static_cast<std::size_t>(c));
+  }
+  return columns;
+}
+
+void prepare_site_fields(Context& ctx) {
+  ctx.site_columns = site_columns(*ctx.index, *ctx.options);
+  ctx.empty_site_fields.assign(ctx.site_columns.size(), ',');
+  if (ctx.site_columns.empty() || ctx.features) return;
+  const SiteAttributes& a = ctx.index->attributes;
+  const std::size_t n = a.num_sites();
+  ctx.site_fields_at.assign(n + 1, 0);
+  for (SiteId s = 0; s < n; ++s) {
+    ctx.site_fields_at[s] = ctx.site_fields_text.size();
+    if (a.site_rows[s] == a.site_rows[s + 1]) continue;
+    for (const std::size_t c : ctx.site_columns) {
+      ctx.site_fields_text.push_back(',');
+      append_csv(ctx.site_fields_text, a.field(a.site_rows[s], c));
+    }
+  }
+  ctx.site_fields_at[n] = ctx.site_fields_text.size();
+}
+
+// The site's value of each joined field, for a feature.
+void site_values(const Context& ctx, SiteId s, std::vector<FieldValue>& values) {
+  const SiteAttributes& a = ctx.index->attributes;
+  for (const std::size_t c : ctx.site_columns) {
+    if (a.site_rows[s] == a.site_rows[s + 1]) {
+      values.emplace_back(std::monostate{});
+    } else {
+      values.emplace_back(std::string(a.field(a.site_rows[s], c)));
+    }
+  }
+}
+
+// Writes a row's features: one per answer, or one with an empty match.
+void write_feature_row(const Context& ctx, FeatureWriter& writer, const FeatureRow& row,
+                       std::vector<FieldValue>& values) {
+  const NearestJoinOptions& o = *ctx.options;
+  const SiteAttributes& a = ctx.index->attributes;
+  const std::size_t n = std::max<std::size_t>(row.results.size(), 1);
+  for (std::size_t r = 0; r < n; ++r) {
+    values.clear();
+    values.emplace_back(row.query_id);
+    const NearestResult* res = r < row.results.size() ? &row.results[r] : nullptr;
+    if (o.rank_column) values.emplace_back(res ? FieldValue(static_cast<std::int64_t>(r + 1)) : FieldValue());
+    values.emplace_back(res ? FieldValue(static_cast<std::int64_t>(res->site)) : FieldValue());
+    values.emplace_back(res ? FieldValue(std::string(a.site_id(res->site))) : FieldValue());
+    values.emplace_back(res ? FieldValue(res->dist_m) : FieldValue());
+    for (std::size_t i = 0; i < ctx.format.columns.size(); ++i)
+      values.emplace_back(i < row.fields.size() ? FieldValue(row.fields[i]) : FieldValue());
+    if (res) {
+      site_values(ctx, res->site, values);
+    } else {
+      values.resize(values.size() + ctx.site_columns.size());
+    }
+    writer.write(row.point, values);
+  }
+}
+
 constexpr std::size_t kBatch = 256;
+
+// Locates one query into w.results: its answers within max_distance_m, nearest first.
+void locate(const NearestJoinOptions& o, Worker& w, double lat, double lon) {
+  if (o.k == 1) {
+    const NearestResult r = o.metric == Metric::Geodesic ? w.locator.nearest_geodesic(lat, lon)
+                                                         : w.locator.nearest(SiteEncoder::from_lat_lon(lat, lon));
+    if (r.dist_m <= o.max_distance_m) w.results.push_back(r);
+  } else {
+    k_nearest(w.locator, lat, lon, o.k, o.metric, w.k_results);
+    for (const NearestResult& r : w.k_results)
+      if (r.dist_m <= o.max_distance_m) w.results.push_back(r);
+  }
+}
+
+// The feature rows of a batch.
+void batch_features(const Context& ctx, Worker& w, Block& b) {
+  std::string scratch;
+  std::vector<std::string_view> fields;
+  for (const Query& q : w.batch) {
+    FeatureRow& row = b.rows.emplace_back();
+    if (!q.malformed) row.point = {q.lon, q.lat};
+    row.query_id = q.id.data() ? std::string(q.id) : std::to_string(q.line);
+    if (ctx.format.header && q.text.data() && !*split_query_fields(q.text, fields, scratch))
+      for (const std::string_view f : fields) row.fields.emplace_back(f);
+    row.results.assign(w.results.begin() + q.first, w.results.begin() + q.first + q.count);
+  }
+}
 
 // Locates the batch's queries, then formats them (prefetching the site ids ahead: with sites in
 // input order, an answer's id is rarely in cache).
 void answer_batch(const Context& ctx, Worker& w, Block& b) {
   const NearestJoinOptions& o = *ctx.options;
-  const bool geodesic = o.metric == Metric::Geodesic;
   w.results.clear();
   for (Query& q : w.batch) {
     q.first = static_cast<std::uint32_t>(w.results.size());
-    if (o.k == 1) {
-      w.results.push_back(geodesic ? w.locator.nearest_geodesic(q.lat, q.lon)
-                                   : w.locator.nearest(SiteEncoder::from_lat_lon(q.lat, q.lon)));
-    } else {
-      k_nearest(w.locator, q.lat, q.lon, o.k, o.metric, w.k_results);
-      w.results.insert(w.results.end(), w.k_results.begin(), w.k_results.end());
-    }
+    if (!q.malformed) locate(o, w, q.lat, q.lon);
     q.count = static_cast<std::uint32_t>(w.results.size() - q.first);
+    if (q.count == 0 && !q.malformed) ++b.unmatched;
+    if (!q.malformed) ++b.answered;
   }
-  const std::size_t n = w.results.size();
-  const std::string_view* ids = ctx.site_ids.data();
-  for (std::size_t i = 0; i < n && i < 8; ++i) __builtin_prefetch(&ids[w.results[i].site]);
-  std::size_t i = 0;
-  for (const Query& q : w.batch) {
-    char line_text[24];
-    std::string_view qid = q.id;
-    if (qid.data() == nullptr)
-      qid = std::string_view(line_text, static_cast<std::size_t>(std::to_chars(line_text, line_text + 24, q.line).ptr - line_text));
-    for (std::uint32_t r = 0; r < q.count; ++r, ++i) {
-      if (i + 8 < n) __builtin_prefetch(&ids[w.results[i + 8].site]);
-      if (i + 4 < n) __builtin_prefetch(ids[w.results[i + 4].site].data());
-      const NearestResult& res = w.results[i];
-      b.out.field(qid);
-      b.out.put(',');
-      if (o.rank_column) {
-        b.out.number(r + 1);
-        b.out.put(',');
+  if (ctx.features) {
+    batch_features(ctx, w, b);
+  } else {
+    const bool header = ctx.format.header;
+    const std::string_view empty_match = o.rank_column ? ",,,," : ",,,";
+    const std::size_t n = w.results.size();
+    const std::string_view* ids = ctx.site_ids.data();
+    for (std::size_t i = 0; i < n && i < 8; ++i) __builtin_prefetch(&ids[w.results[i].site]);
+    std::size_t i = 0;
+    for (const Query& q : w.batch) {
+      char line_text[24];
+      std::string_view qid = q.id;
+      if (qid.data() == nullptr)
+        qid = std::string_view(line_text, static_cast<std::size_t>(std::to_chars(line_text, line_text + 24, q.line).ptr - line_text));
+      if (q.count == 0) {
+        b.out.field(qid);
+        b.out.put(empty_match);
+        if (header) {
+          if (q.text.data()) {
+            b.out.put(',');
+            b.out.put(q.text);
+          } else {
+            b.out.put(ctx.empty_query_fields);
+          }
+        }
+        b.out.put(ctx.empty_site_fields);
+        b.out.put('\n');
+        continue;
       }
-      b.out.number(res.site);
-      b.out.put(',');
-      b.out.put(ids[res.site]);
-      b.out.put(',');
-      b.out.number(res.dist_m);
-      b.out.put('\n');
+      for (std::uint32_t r = 0; r < q.count; ++r, ++i) {
+        if (i + 8 < n) __builtin_prefetch(&ids[w.results[i + 8].site]);
+        if (i + 4 < n) __builtin_prefetch(ids[w.results[i + 4].site].data());
+        const NearestResult& res = w.results[i];
+        b.out.field(qid);
+        b.out.put(',');
+        if (o.rank_column) {
+          b.out.number(r + 1);
+          b.out.put(',');
+        }
+        b.out.number(res.site);
+        b.out.put(',');
+        b.out.put(ids[res.site]);
+        b.out.put(',');
+        b.out.number(res.dist_m);
+        if (header) {
+          b.out.put(',');
+          b.out.put(q.text);
+        }
+        b.out.put(ctx.site_fields_csv(res.site));
+        b.out.put('\n');
+      }
     }
   }
-  b.answered += w.batch.size();
   w.batch.clear();
   w.quoted_ids.clear();
+}
+
+// A malformed line's query: its id when its fields split into the format's count, and its
+// fields as written when they are the header's.
+Query malformed_query(const Context& ctx, Worker& w, std::string_view line, std::uint64_t line_no) {
+  Query q;
+  q.line = line_no;
+  q.malformed = true;
+  const QueryFormat& f = ctx.format;
+  if (*split_query_fields(line, w.fields, w.scratch)) return q;
+  const std::size_t nf = w.fields.size();
+  if (f.header ? nf != f.fields : nf != 2 && nf != 3) return q;
+  if (f.header) q.text = line;
+  const int id_col = f.header ? f.id : (nf == 3 ? 2 : -1);
+  if (id_col >= 0) {
+    w.quoted_ids.emplace_back(w.fields[static_cast<std::size_t>(id_col)]);
+    q.id = w.quoted_ids.back();
+    if (q.id.data() == nullptr) q.id = std::string_view(line.data(), 0);
+  }
+  return q;
 }
 
 // Parses, locates and formats the lines of a block.
 void answer_block(const Context& ctx, Worker& w, Block& b) {
   b.out.clear();
+  b.rows.clear();
   b.errors.clear();
-  b.answered = 0;
+  b.answered = b.unmatched = 0;
   b.stopped = false;
   w.batch.clear();
   w.quoted_ids.clear();
@@ -195,20 +374,22 @@ void answer_block(const Context& ctx, Worker& w, Block& b) {
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     if (line.empty()) continue;
     if (!w.parser.parse(line, w.parsed, w.reason)) {
-      b.errors.push_back({line_no, std::move(w.reason)});
+      b.errors.push_back({line_no, 0, std::move(w.reason)});
       b.stopped = ctx.options->strict;
-      continue;
+      if (!b.stopped) w.batch.push_back(malformed_query(ctx, w, line, line_no));
+    } else {
+      Query q;
+      q.line = line_no;
+      q.lat = w.parsed.lat_deg;
+      q.lon = w.parsed.lon_deg;
+      q.id = w.parsed.id;
+      q.text = line;
+      if (w.parsed.id_quoted) {
+        w.quoted_ids.emplace_back(q.id);  // the parser's buffer is reused by the next line
+        q.id = w.quoted_ids.back();
+      }
+      w.batch.push_back(q);
     }
-    Query q;
-    q.line = line_no;
-    q.lat = w.parsed.lat_deg;
-    q.lon = w.parsed.lon_deg;
-    q.id = w.parsed.id;
-    if (w.parsed.id_quoted) {
-      w.quoted_ids.emplace_back(q.id);  // the parser's buffer is reused by the next line
-      q.id = w.quoted_ids.back();
-    }
-    w.batch.push_back(q);
     if (w.batch.size() == kBatch) answer_batch(ctx, w, b);
   }
   if (!w.batch.empty()) answer_batch(ctx, w, b);
@@ -289,22 +470,76 @@ class BlockReader {
 // More threads than this per core only queue for the cores, each holding blocks in memory.
 constexpr unsigned kMaxThreadsPerCore = 4;
 
-}  // namespace
+// The join's field names (the header's comment): own fields, query columns, site fields.
+std::vector<std::string> field_names(const SiteIndex& index, const std::vector<std::string>& query_columns,
+                                     const NearestJoinOptions& options, const std::vector<std::size_t>& site_cols) {
+  std::vector<std::string> names = {"query_id"};
+  if (options.rank_column) names.push_back("rank");
+  for (const char* n : {"site_index", "site_id", "distance_m"}) names.push_back(n);
+  auto add = [&](std::string name, const char* prefix) {
+    auto taken = [&](const std::string& n) {
+      return std::any_of(names.begin(), names.end(), [&](const std::string& m) { return ascii_iequals(m, n); });
+    };
+    while (taken(name)) name = prefix + name;
+    names.push_back(std::move(name));
+  };
+  for (std::size_t c = 0; c < query_columns.size(); ++c)
+    add(query_columns[c].empty() ? "field_" + std::to_string(c + 1) : query_columns[c], "src_");
+  for (const std::size_t c : site_cols) add(index.attributes.columns[c], "site_");
+  return names;
+}
 
-NearestJoinReport nearest_join(const SiteIndex& index, std::FILE* queries, const std::string& source,
-                               const NearestJoinOptions& options,
-                               const std::function<void(std::string_view)>& write,
-                               const std::function<void(const MalformedQuery&)>& on_malformed) {
+std::vector<Field> fields_of(const std::vector<std::string>& names, bool rank) {
+  std::vector<Field> fields;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const std::size_t own = i - (rank ? 1 : 0);
+    FieldType t = FieldType::String;
+    if ((rank && i == 1) || own == 1) t = FieldType::Integer;
+    if (own == 3) t = FieldType::Real;
+    fields.push_back({names[i], t});
+  }
+  return fields;
+}
+
+// The CSV header line of the join.
+std::string csv_header(const std::vector<std::string>& names) {
+  std::string h;
+  for (const std::string& n : names) {
+    if (!h.empty()) h.push_back(',');
+    append_csv(h, n);
+  }
+  h.push_back('\n');
+  return h;
+}
+
+// Where a stream's rows go: CSV text, or features.
+struct Sink {
+  const std::function<void(std::string_view)>* write = nullptr;
+  const OpenJoinWriter* open = nullptr;
+  std::unique_ptr<FeatureWriter> writer;
+  std::vector<FieldValue> values;
+};
+
+NearestJoinReport join_stream(const SiteIndex& index, std::FILE* queries, const std::string& source,
+                              const NearestJoinOptions& options, Sink& sink,
+                              const std::function<void(const MalformedQuery&)>& on_malformed) {
   Context ctx;
   ctx.index = &index;
   ctx.options = &options;
-  prepare_site_ids(ctx);
+  ctx.features = sink.open != nullptr;
+  prepare_site_fields(ctx);  // an unknown site field before anything is read
+  if (!ctx.features) prepare_site_ids(ctx);
   BlockReader reader(queries, source, options.block_bytes);
   if (const std::optional<std::string_view> first = reader.first_line()) {
-    ctx.format = detect_query_format(*first, source);
+    ctx.format = detect_query_format(*first, source, options.columns);
     if (ctx.format.header) reader.skip_first_line();
   }
-  write(options.rank_column ? "query_id,rank,site_index,site_id,distance_m\n" : "query_id,site_index,site_id,distance_m\n");
+  ctx.empty_query_fields.assign(ctx.format.header ? ctx.format.fields : 0, ',');
+  const std::vector<std::string> names = field_names(index, ctx.format.columns, options, ctx.site_columns);
+  if (ctx.features)
+    sink.writer = (*sink.open)(fields_of(names, options.rank_column));
+  else
+    (*sink.write)(csv_header(names));
 
   const unsigned cores = thread_count(0);
   const unsigned threads = std::min(thread_count(options.threads), kMaxThreadsPerCore * cores);
@@ -353,15 +588,148 @@ NearestJoinReport nearest_join(const SiteIndex& index, std::FILE* queries, const
       },
       [&](Block& b) {
         if (report.stopped) return;  // blocks read after the stop
-        write(b.out.view());
+        if (ctx.features) {
+          for (const FeatureRow& row : b.rows) write_feature_row(ctx, *sink.writer, row, sink.values);
+        } else {
+          (*sink.write)(b.out.view());
+        }
         report.answered += b.answered;
+        report.unmatched += b.unmatched;
         report.malformed += b.errors.size();
         if (on_malformed)
           for (const MalformedQuery& m : b.errors) on_malformed(m);
         report.stopped = b.stopped;
       });
   build.wait();
+  if (sink.writer) sink.writer->finish();
   return report;
+}
+
+// The join of a table of queries, row by row on the calling thread.
+NearestJoinReport join_table(const SiteIndex& index, const SiteTable& queries, const NearestJoinOptions& options,
+                             Sink& sink, const std::function<void(const MalformedQuery&)>& on_malformed) {
+  Context ctx;
+  ctx.index = &index;
+  ctx.options = &options;
+  ctx.features = true;  // rows are made as FeatureRow; CSV text is made from them below
+  prepare_site_fields(ctx);
+  ctx.format.header = true;
+  ctx.format.columns = queries.columns;
+  ctx.format.fields = queries.columns.size();
+  const std::vector<std::string> names = field_names(index, ctx.format.columns, options, ctx.site_columns);
+  if (sink.open)
+    sink.writer = (*sink.open)(fields_of(names, options.rank_column));
+  else
+    (*sink.write)(csv_header(names));
+  const int query_id_column = options.columns.id_field.empty() ? find_column(queries.columns, "query_id") : -1;
+  Worker w(index.hierarchy, options.locator, ctx.format);
+  NearestJoinReport report;
+  std::string text;
+  auto emit = [&](const FeatureRow& row) {
+    if (sink.writer) return write_feature_row(ctx, *sink.writer, row, sink.values);
+    const SiteAttributes& a = index.attributes;
+    const std::size_t n = std::max<std::size_t>(row.results.size(), 1);
+    for (std::size_t r = 0; r < n; ++r) {
+      text.clear();
+      const NearestResult* res = r < row.results.size() ? &row.results[r] : nullptr;
+      append_csv(text, row.query_id);
+      char d[32];
+      auto number = [&](auto v) {
+        text.push_back(',');
+        text.append(d, static_cast<std::size_t>(std::to_chars(d, d + 32, v).ptr - d));
+      };
+      if (options.rank_column) {
+        if (res) number(r + 1);
+        else text.push_back(',');
+      }
+      if (res) {
+        number(res->site);
+        text.push_back(',');
+        append_csv(text, a.site_id(res->site));
+        number(res->dist_m);
+      } else {
+        text += ",,,";
+      }
+      for (std::size_t c = 0; c < ctx.format.fields; ++c) {
+        text.push_back(',');
+        if (c < row.fields.size()) append_csv(text, row.fields[c]);
+      }
+      for (const std::size_t c : ctx.site_columns) {
+        text.push_back(',');
+        if (res && a.site_rows[res->site] != a.site_rows[res->site + 1]) append_csv(text, a.field(a.site_rows[res->site], c));
+      }
+      text.push_back('\n');
+      (*sink.write)(text);
+    }
+  };
+  std::size_t si = 0, ri = 0;
+  while (si < queries.sites.size() || ri < queries.rejected.size()) {
+    FeatureRow row;
+    if (ri == queries.rejected.size() || (si < queries.sites.size() && queries.sites[si].row < queries.rejected[ri].row)) {
+      const InputSite& q = queries.sites[si++];
+      row.point = {q.lon_deg, q.lat_deg};
+      row.query_id = query_id_column >= 0 ? q.fields[static_cast<std::size_t>(query_id_column)] : q.id;
+      row.fields = q.fields;
+      w.results.clear();
+      locate(options, w, q.lat_deg, q.lon_deg);
+      row.results = w.results;
+      ++report.answered;
+      if (row.results.empty()) ++report.unmatched;
+    } else {
+      const RejectedRow& q = queries.rejected[ri++];
+      const MalformedQuery m{q.line, q.row, q.reason};
+      ++report.malformed;
+      if (on_malformed) on_malformed(m);
+      if (options.strict) {
+        report.stopped = true;
+        break;
+      }
+      row.query_id = std::to_string(q.row);
+    }
+    emit(row);
+  }
+  if (sink.writer) sink.writer->finish();
+  return report;
+}
+
+}  // namespace
+
+std::vector<Field> nearest_join_fields(const SiteIndex& index, const std::vector<std::string>& query_columns,
+                                       const NearestJoinOptions& options) {
+  return fields_of(field_names(index, query_columns, options, site_columns(index, options)), options.rank_column);
+}
+
+NearestJoinReport nearest_join(const SiteIndex& index, std::FILE* queries, const std::string& source,
+                               const NearestJoinOptions& options,
+                               const std::function<void(std::string_view)>& write,
+                               const std::function<void(const MalformedQuery&)>& on_malformed) {
+  Sink sink;
+  sink.write = &write;
+  return join_stream(index, queries, source, options, sink, on_malformed);
+}
+
+NearestJoinReport nearest_join(const SiteIndex& index, std::FILE* queries, const std::string& source,
+                               const NearestJoinOptions& options, const OpenJoinWriter& open,
+                               const std::function<void(const MalformedQuery&)>& on_malformed) {
+  Sink sink;
+  sink.open = &open;
+  return join_stream(index, queries, source, options, sink, on_malformed);
+}
+
+NearestJoinReport nearest_join(const SiteIndex& index, const SiteTable& queries, const NearestJoinOptions& options,
+                               const std::function<void(std::string_view)>& write,
+                               const std::function<void(const MalformedQuery&)>& on_malformed) {
+  Sink sink;
+  sink.write = &write;
+  return join_table(index, queries, options, sink, on_malformed);
+}
+
+NearestJoinReport nearest_join(const SiteIndex& index, const SiteTable& queries, const NearestJoinOptions& options,
+                               const OpenJoinWriter& open,
+                               const std::function<void(const MalformedQuery&)>& on_malformed) {
+  Sink sink;
+  sink.open = &open;
+  return join_table(index, queries, options, sink, on_malformed);
 }
 
 }  // namespace geovor

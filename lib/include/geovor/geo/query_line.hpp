@@ -32,6 +32,21 @@ struct QueryFormat {
 /// \throw Error (ErrorCode::BadData) when a header has no latitude/longitude columns.
 QueryFormat detect_query_format(std::string_view first, const std::string& source);
 
+/// The columns a query stream's header is read with; empty names mean "detect by name".
+struct QueryColumns {
+  std::string lat_field;  ///< latitude column, e.g. "pickup_latitude"
+  std::string lon_field;  ///< longitude column
+  std::string id_field;   ///< id column (default: query_id, id, icao, code or name, if any)
+  bool any() const { return !lat_field.empty() || !lon_field.empty() || !id_field.empty(); }
+};
+
+/// As detect_query_format, with columns named by `names`: a named column makes the first line a
+/// header (even of numbers); the others are detected by name as usual.
+/// \throw Error (ErrorCode::InvalidArgument) when a named column is not in the header, naming
+///   the stream, the option's column and the header's columns; Error (ErrorCode::BadData) as
+///   detect_query_format.
+QueryFormat detect_query_format(std::string_view first, const std::string& source, const QueryColumns& names);
+
 /// A number as the site reader takes it: spaces or tabs around, an optional leading '+', then
 /// what std::from_chars reads (decimal or exponent form, inf, nan).
 /// \param[in] text the field.

@@ -137,7 +137,8 @@ class FeatureWriter {
  public:
   virtual ~FeatureWriter() = default;
   /// Writes one feature; `values` follows the schema given to open_feature_writer() (any
-  /// alternative is accepted for any field type; monostate is null).
+  /// alternative is accepted for any field type; monostate is null). A Point that is kNullPoint
+  /// (lonlat/geometry.hpp) is written as a null geometry (FlatGeobuf: refused, Error(BadData)).
   /// @exception Error(InvalidArgument) when the geometry is not of the layer's type, the number
   ///   of values differs from the schema, or geometry_problem() (geojson_writer.hpp) finds a
   ///   non-finite or out-of-range coordinate, an unclosed ring or a too short ring/line.

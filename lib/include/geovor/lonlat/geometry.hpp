@@ -8,6 +8,7 @@
 /// (180, +-90) and (-180, +-90).
 #pragma once
 
+#include <limits>
 #include <variant>
 #include <vector>
 
@@ -35,5 +36,10 @@ struct BBox {
 
 /// One feature's geometry: a point (sites), lines (Delaunay edges) or polygons (cells, triangles).
 using Geometry = std::variant<LonLat, MultiLineString, MultiPolygon>;
+
+/// A Point without a position (a row that has none, e.g. a malformed query): written as a null
+/// geometry. Test with is_null_point().
+inline constexpr LonLat kNullPoint{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+inline bool is_null_point(const LonLat& p) { return p.lon_deg != p.lon_deg && p.lat_deg != p.lat_deg; }
 
 }  // namespace geovor
