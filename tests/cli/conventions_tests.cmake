@@ -28,7 +28,7 @@ geovor_cli_expect(cli.conventions.quiet.info 0 STDOUT "\nmerged: 2\n" STDERR "^$
   COMMAND info ${fixtures}/duplicates.csv -q)
 geovor_cli_expect(cli.conventions.quiet.index 0 STDOUT "\nmerged: 2\n" STDERR "^$"
   COMMAND index ${fixtures}/duplicates.csv -o ${conv_out}/duplicates.gvi --overwrite -q)
-geovor_cli_expect(cli.conventions.quiet.nearest 0 STDOUT "^query_id,site_index,site_id,distance_m\n" STDERR "^$"
+geovor_cli_expect(cli.conventions.quiet.nearest 0 STDOUT "^query_id,site_index,site_id,distance_m,id,lat_deg,lon_deg\n1,0,1,0," STDERR "^$"
   COMMAND nearest --sites ${fixtures}/duplicates.csv --queries ${fixtures}/duplicates.csv -q)
 geovor_cli_expect(cli.conventions.quiet.cells 0 STDERR "^$"
   COMMAND cells ${fixtures}/duplicates.csv -o ${conv_out}/duplicates.geojson --overwrite -q)
