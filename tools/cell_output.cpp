@@ -19,7 +19,7 @@ CellLayerReport write_cells(const CellOutputArgs& args, const SiteTable& table, 
   writer_options.layer = "cells";
   writer_options.precision = args.precision;
   writer_options.overwrite = args.overwrite;
-  const auto writer = open_cell_layer_writer(args.output, table.columns, writer_options);
+  const auto writer = open_cell_layer_writer(args.output, table, writer_options);
   Progress progress(dt.num_sites(), args.quiet);
   CellLayerOptions options;
   options.densify_m = args.densify_m;

@@ -92,11 +92,11 @@ const std::string kTricky =
     "\xC3\xA9t\xC3\xA9 \xE6\xBC\xA2\xE5\xAD\x97 \xF0\x9F\x98\x80";
 
 std::vector<Field> cell_schema() {
-  return {{"site_id", FieldType::Integer},
+  return {{"site_id", FieldType::Integer64},
           {"name", FieldType::String},
           {"area_km2", FieldType::Real},
-          {"population_2020", FieldType::Integer},
-          {"population_2021", FieldType::Integer}};
+          {"population_2020", FieldType::Integer64},
+          {"population_2021", FieldType::Integer64}};
 }
 
 struct Cell {
@@ -772,7 +772,7 @@ TEST(GeoJson, StringsEscapedAndReadBackExactly) {
 TEST(GeoJson, NumbersIntegersExactRealsRoundTripAndStayReal) {
   TempDir dir;
   const std::string path = dir / "numbers.geojson";
-  const std::vector<Field> schema{{"i", FieldType::Integer}, {"r", FieldType::Real}};
+  const std::vector<Field> schema{{"i", FieldType::Integer64}, {"r", FieldType::Real}};
   const std::vector<double> reals = {2.0, 0.1, -1e-300, 1e300, 123456789.123456789, 5e-324,
                                      std::nextafter(1.0, 2.0)};
   auto w = open_feature_writer(path, GeometryType::Point, schema, {});
@@ -827,7 +827,7 @@ TEST(GeoJson, StdoutForDash) {
   {
     WriterOptions options;
     options.format = "GeoJSONSeq";
-    auto w = open_feature_writer("-", GeometryType::Point, {{"n", FieldType::Integer}}, options);
+    auto w = open_feature_writer("-", GeometryType::Point, {{"n", FieldType::Integer64}}, options);
     w->write(LonLat{10, 20}, std::vector<FieldValue>{std::int64_t{5}});
     w->finish();
   }
@@ -872,7 +872,7 @@ TEST(FeatureWriter, InvalidArguments) {
   EXPECT_EQ(code([&] { open_feature_writer(dir / "a.x", GeometryType::Point, {}, unknown); }), bad);
   EXPECT_EQ(code([&] {
               open_feature_writer(dir / "a.geojson", GeometryType::Point,
-                                  {{"a", FieldType::String}, {"A", FieldType::Integer}}, {});
+                                  {{"a", FieldType::String}, {"A", FieldType::Integer64}}, {});
             }),
             bad);
   EXPECT_EQ(code([&] { open_feature_writer(dir / "a.gpkg", GeometryType::Point, {{"", FieldType::String}}, {}); }),
@@ -884,7 +884,7 @@ TEST(FeatureWriter, InvalidArguments) {
 
   // A bad feature is refused before anything is written: the writer goes on.
   for (const std::string name : {"w.geojson", "w.gpkg"}) {
-    auto w = open_feature_writer(dir / name, GeometryType::MultiPolygon, {{"n", FieldType::Integer}}, {});
+    auto w = open_feature_writer(dir / name, GeometryType::MultiPolygon, {{"n", FieldType::Integer64}}, {});
     const std::vector<FieldValue> one{std::int64_t{1}};
     MultiPolygon open_ring{{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}, {}}};
     EXPECT_EQ(code([&] { w->write(open_ring, one); }), bad);
