@@ -123,7 +123,9 @@ Command add_cells_command(CLI::App& app) {
       "Each cell carries: site_index, site_id (also the feature id), ids (JSON array of the ids of every\n"
       "row merged into the site), n_rows, area_m2 (WGS84 ellipsoid, of the ring as written), area_sr\n"
       "(sphere, of the exact cell), n_vertices,\n"
-      "neighbors (JSON array of the neighbours' ids), then every input column.\n"
+      "neighbors (JSON array of the neighbours' ids), then every input column with its type (CSV columns\n"
+      "typed by their values unless --all-text; fid, geom, ... and our own names become src_NAME).\n"
+      "A value a format cannot hold whole (Shapefile: 254 bytes) is refused (exit 3), never cut.\n"
       "Examples:\n"
       "  geovor cells datasets/weather_stations.csv -o cells.geojson\n"
       "  geovor cells stations.gpkg -o cells.fgb --densify-m 10 --report rows.csv");
