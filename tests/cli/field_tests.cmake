@@ -65,3 +65,6 @@ foreach(ext ods xlsx)
   geovor_cli_expect(cli.fields.${ext}_refused 2 STDERR "stores no geometry.*write CSV" SCRIPT
     "rm -f ${fields_out}/t.${ext} && \"$0\" cells ${typed} -o ${fields_out}/t.${ext} -q || ( test ! -e ${fields_out}/t.${ext} && exit 2 )")
 endforeach()
+# A format without attribute fields is refused before anything is written, with GDAL's reason.
+geovor_cli_expect(cli.fields.dxf_refused 2 STDERR "format DXF cannot hold the field 'site_index' \\(Integer64\\) \\(GDAL: DXF layer does not support arbitrary field creation" SCRIPT
+  "rm -f ${fields_out}/t.dxf && \"$0\" cells ${typed} -o ${fields_out}/t.dxf -q || ( test ! -e ${fields_out}/t.dxf && exit 2 )")

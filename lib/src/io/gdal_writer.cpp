@@ -275,7 +275,17 @@ class GdalWriter final : public FeatureWriter {
         defn.SetPrecision(15);
       }
       if (layer_->CreateField(&defn, TRUE) != OGRERR_NONE) {
-        fail("cannot create field '" + schema[i].name + "'" + capture.detail());
+        // A driver without attribute fields (DXF, DGN) or without this type: the format, not
+        // the disk, is at fault, and nothing was written yet.
+        const std::string why = capture.detail();
+        {
+          ErrorCapture ignore;
+          discard();
+        }
+        failed_ = true;
+        throw Error(ErrorCode::InvalidArgument,
+                    path_ + ": format " + driver_ + " cannot hold the field '" + schema[i].name + "' (" +
+                        to_string(type) + ")" + why + "; write GeoPackage, FlatGeobuf or GeoJSON");
       }
       // Drivers may rename a field (laundering); it is the last one created either way.
       field_index_.push_back(layer_->GetLayerDefn()->GetFieldCount() - 1);
