@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
     geovor::BuildReport report;  // which row went into which site (merged duplicates)
     const geovor::SphericalDelaunay dt = geovor::SphericalDelaunay::build(points, {}, &report);
 
-    const auto writer = geovor::open_cell_layer_writer(argv[2], table.columns, {});
+    const auto writer = geovor::open_cell_layer_writer(argv[2], table, {});
     const geovor::CellLayerReport cells = geovor::write_cell_layer(*writer, table, report, dt);
     writer->finish();  // the file appears complete, or not at all
     std::printf("%zu cells written to %s (%zu empty: not valid as stored)\n", cells.cells_written, argv[2],

@@ -24,7 +24,7 @@ WriterOptions cell_writer_options(const CellOutputArgs& args) {
 CellLayerReport write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
                             const SphericalDelaunay& dt, const std::function<void(const CellLayerReport&)>& before_finish,
                             const CellIdTexts* id_texts) {
-  const auto writer = open_cell_layer_writer(args.output, table.columns, cell_writer_options(args));
+  const auto writer = open_cell_layer_writer(args.output, table, cell_writer_options(args));
   Progress progress(dt.num_sites(), args.quiet);
   CellLayerOptions options;
   options.densify_m = args.densify_m;

@@ -24,6 +24,9 @@ void add_site_input_options(CLI::App* cmd, SiteInputArgs& args) {
                   "Identifier column (default: id, icao, code or name; else the row number)");
   cmd->add_option("--ecef-fields", args.ecef_fields, "X,Y,Z columns of ECEF metres instead of latitude/longitude");
   cmd->add_option("--layer", args.layer, "Layer of a multi-layer OGR input (GeoPackage, ...); not for CSV");
+  cmd->add_flag("--all-text", [&args](std::int64_t) { args.reader.detect_types = false; },
+               "Keep every input column as text (String), as read; by default CSV columns are typed by their values "
+               "(Integer, Integer64, Real, Date, DateTime) and OGR fields keep their types");
   cmd->add_option("--merge-m", args.merge_m,
                   "Merge sites closer than this many metres (default and minimum: 2^-24 R = 0.38 m)")
       ->check(finite_above(0, true));

@@ -65,7 +65,7 @@ py::list merged_pairs(const Built& b, const SiteRows& rows) {
 }
 
 py::dict cell_layer(const Built& b, double densify_m, unsigned threads) {
-  MemoryFeatureWriter writer(cell_layer_schema(b.table.columns));
+  MemoryFeatureWriter writer(cell_layer_schema(b.table));
   CellLayerOptions options;
   options.densify_m = densify_m;
   options.threads = threads;

@@ -129,7 +129,7 @@ geovor_cli_expect(cli.robust.lon_180_-180_540 0
 # CRLF and a byte order mark: the BOM is not part of the first column's name (so `id` is found
 # and the ids are a, b, c, d, not row numbers) and no value keeps a CR.
 geovor_cli_expect(cli.robust.crlf_bom 0
-  STDOUT "\"site_id\":\"a\".*\"site_id\":\"b\".*\"site_id\":\"c\".*\"site_id\":\"d\",[^\n]*\"id\":\"d\",\"lat\":\"5\",\"lon\":\"6\"}"
+  STDOUT "\"site_id\":\"a\".*\"site_id\":\"b\".*\"site_id\":\"c\".*\"site_id\":\"d\",[^\n]*\"id\":\"d\",\"lat\":5,\"lon\":6}"
   COMMAND cells ${robust_fixtures}/crlf_bom.csv -o - -q)
 # Quoted fields keep their commas, quotes and line breaks (LF and CRLF), and lines are counted
 # inside them: row 4 is on line 7, the unterminated quote of row 5 starts on line 8.

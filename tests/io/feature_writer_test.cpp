@@ -92,11 +92,11 @@ const std::string kTricky =
     "\xC3\xA9t\xC3\xA9 \xE6\xBC\xA2\xE5\xAD\x97 \xF0\x9F\x98\x80";
 
 std::vector<Field> cell_schema() {
-  return {{"site_id", FieldType::Integer},
+  return {{"site_id", FieldType::Integer64},
           {"name", FieldType::String},
           {"area_km2", FieldType::Real},
-          {"population_2020", FieldType::Integer},
-          {"population_2021", FieldType::Integer}};
+          {"population_2020", FieldType::Integer64},
+          {"population_2021", FieldType::Integer64}};
 }
 
 struct Cell {
@@ -772,7 +772,7 @@ TEST(GeoJson, StringsEscapedAndReadBackExactly) {
 TEST(GeoJson, NumbersIntegersExactRealsRoundTripAndStayReal) {
   TempDir dir;
   const std::string path = dir / "numbers.geojson";
-  const std::vector<Field> schema{{"i", FieldType::Integer}, {"r", FieldType::Real}};
+  const std::vector<Field> schema{{"i", FieldType::Integer64}, {"r", FieldType::Real}};
   const std::vector<double> reals = {2.0, 0.1, -1e-300, 1e300, 123456789.123456789, 5e-324,
                                      std::nextafter(1.0, 2.0)};
   auto w = open_feature_writer(path, GeometryType::Point, schema, {});
@@ -827,7 +827,7 @@ TEST(GeoJson, StdoutForDash) {
   {
     WriterOptions options;
     options.format = "GeoJSONSeq";
-    auto w = open_feature_writer("-", GeometryType::Point, {{"n", FieldType::Integer}}, options);
+    auto w = open_feature_writer("-", GeometryType::Point, {{"n", FieldType::Integer64}}, options);
     w->write(LonLat{10, 20}, std::vector<FieldValue>{std::int64_t{5}});
     w->finish();
   }
@@ -872,7 +872,7 @@ TEST(FeatureWriter, InvalidArguments) {
   EXPECT_EQ(code([&] { open_feature_writer(dir / "a.x", GeometryType::Point, {}, unknown); }), bad);
   EXPECT_EQ(code([&] {
               open_feature_writer(dir / "a.geojson", GeometryType::Point,
-                                  {{"a", FieldType::String}, {"A", FieldType::Integer}}, {});
+                                  {{"a", FieldType::String}, {"A", FieldType::Integer64}}, {});
             }),
             bad);
   EXPECT_EQ(code([&] { open_feature_writer(dir / "a.gpkg", GeometryType::Point, {{"", FieldType::String}}, {}); }),
@@ -884,7 +884,7 @@ TEST(FeatureWriter, InvalidArguments) {
 
   // A bad feature is refused before anything is written: the writer goes on.
   for (const std::string name : {"w.geojson", "w.gpkg"}) {
-    auto w = open_feature_writer(dir / name, GeometryType::MultiPolygon, {{"n", FieldType::Integer}}, {});
+    auto w = open_feature_writer(dir / name, GeometryType::MultiPolygon, {{"n", FieldType::Integer64}}, {});
     const std::vector<FieldValue> one{std::int64_t{1}};
     MultiPolygon open_ring{{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}, {}}};
     EXPECT_EQ(code([&] { w->write(open_ring, one); }), bad);
@@ -1204,6 +1204,69 @@ TEST(SafeOutput, FullFileSystem) {
     for (const auto& entry : fs::directory_iterator(mnt)) left.push_back(entry.path().filename());
     EXPECT_TRUE(left.empty()) << left.front();
   }
+}
+
+}  // namespace
+}  // namespace geovor
+
+namespace geovor {
+namespace {
+
+// Each type in the driver's own type, the nearest it has otherwise (MapInfo: no Integer64).
+TEST(GdalFieldTypes, OwnTypesOrTheNearest) {
+  TempDir dir;
+  const std::vector<Field> schema{{"i", FieldType::Integer},  {"l", FieldType::Integer64}, {"r", FieldType::Real},
+                                  {"d", FieldType::Date},     {"t", FieldType::DateTime},  {"s", FieldType::String},
+                                  {"j", FieldType::String, true}};
+  const std::vector<FieldValue> values{std::int64_t{-7}, std::int64_t{5000000000}, 2.5, std::string("2024-02-29"),
+                                       std::string("2024-02-29T13:05:00Z"), std::string("x"), std::string("[\"a\"]")};
+  for (const char* name : {"t.gpkg", "t.tab"}) {
+    auto w = open_feature_writer(dir / name, GeometryType::Point, schema, {});
+    w->write(LonLat{1, 2}, values);
+    w->finish();
+  }
+  const ReadBack g = read_back(dir / "t.gpkg", "GPKG");
+  EXPECT_EQ(g.field_types, (std::vector<OGRFieldType>{OFTInteger, OFTInteger64, OFTReal, OFTDate, OFTDateTime,
+                                                      OFTString, OFTString}));
+  ASSERT_EQ(g.features.size(), 1u);
+  EXPECT_EQ(g.features[0]->GetFieldAsInteger64(1), 5000000000);
+  EXPECT_EQ(std::string(g.features[0]->GetFieldAsString(3)), "2024/02/29");
+  EXPECT_EQ(g.features[0]->GetFieldDefnRef(6)->GetSubType(), OFSTJSON);
+  const ReadBack m = read_back(dir / "t.tab", "MapInfo File");
+  EXPECT_EQ(m.field_types[1], OFTReal);  // no Integer64 in MapInfo
+  ASSERT_EQ(m.features.size(), 1u);
+  EXPECT_EQ(m.features[0]->GetFieldAsDouble(1), 5e9);
+}
+
+// An integer a Real would round is refused, not rounded; a long text for a Shapefile too.
+TEST(GdalFieldTypes, ValuesTheFormatCannotHoldAreRefused) {
+  TempDir dir;
+  auto tab = open_feature_writer(dir / "big.tab", GeometryType::Point, {{"l", FieldType::Integer64}}, {});
+  const Error e = error_of([&] { tab->write(LonLat{1, 2}, std::vector<FieldValue>{(std::int64_t{1} << 53) + 1}); });
+  EXPECT_EQ(e.code(), ErrorCode::BadData);
+  EXPECT_NE(std::string(e.what()).find("9007199254740993 needs an Integer64 field"), std::string::npos) << e.what();
+  auto shp = open_feature_writer(dir / "long.shp", GeometryType::Point, {{"s", FieldType::String}}, {});
+  shp->write(LonLat{1, 2}, std::vector<FieldValue>{std::string(254, 'x')});  // fits
+  const Error cut = error_of([&] { shp->write(LonLat{1, 2}, std::vector<FieldValue>{std::string(255, 'x')}); });
+  EXPECT_EQ(cut.code(), ErrorCode::BadData);
+  EXPECT_NE(std::string(cut.what()).find("feature 2, field 's': 255 bytes, but a field of format ESRI Shapefile holds at most 254"),
+            std::string::npos)
+      << cut.what();
+  shp.reset();
+  EXPECT_FALSE(std::filesystem::exists(dir / "long.shp"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "long.dbf"));
+}
+
+// A JSON field is its JSON value in GeoJSON, not a string.
+TEST(GdalFieldTypes, GeoJsonWritesJsonFieldsAsValues) {
+  TempDir dir;
+  auto w = open_feature_writer(dir / "j.geojson", GeometryType::Point,
+                               {{"j", FieldType::String, true}, {"s", FieldType::String}}, {});
+  w->write(LonLat{1, 2}, std::vector<FieldValue>{std::string("[\"a\",\"b\"]"), std::string("[1]")});
+  w->finish();
+  EXPECT_TRUE(contains(slurp(dir / "j.geojson"), R"("properties":{"j":["a","b"],"s":"[1]"})"));
+  const ReadBack r = read_back(dir / "j.geojson", "GeoJSON");
+  EXPECT_EQ(r.field_types[0], OFTStringList);
 }
 
 }  // namespace

@@ -13,12 +13,6 @@ std::string element(std::string_view id) {
   return out;
 }
 
-std::string escaped_element(std::string_view id) {
-  std::string out;
-  append_escaped_id_list_element(out, id);
-  return out;
-}
-
 TEST(IdLists, ElementIsTheIdAsAJsonString) {
   EXPECT_EQ(element("KSEA"), R"("KSEA")");
   EXPECT_EQ(element("q\"uote"), R"("q\"uote")");
@@ -28,13 +22,6 @@ TEST(IdLists, ElementIsTheIdAsAJsonString) {
   EXPECT_EQ(element("Z\xc3\xbcrich"), "\"Z\xc3\xbcrich\"");  // UTF-8 as it is
   EXPECT_EQ(element("bad\xff"), "\"bad\xef\xbf\xbd\"");  // not UTF-8: U+FFFD, as in site_id
   EXPECT_EQ(element(""), R"("")");
-}
-
-TEST(IdLists, EscapedElementIsTheElementInsideAJsonString) {
-  EXPECT_EQ(escaped_element("KSEA"), R"(\"KSEA\")");
-  EXPECT_EQ(escaped_element("q\"uote"), R"(\"q\\\"uote\")");
-  EXPECT_EQ(escaped_element("tab\tid"), R"(\"tab\\tid\")");
-  EXPECT_EQ(escaped_element("back\\slash"), R"(\"back\\\\slash\")");
 }
 
 SiteTable table_of(const std::vector<std::string>& ids) {
@@ -50,15 +37,10 @@ SiteTable table_of(const std::vector<std::string>& ids) {
 TEST(IdLists, CellIdTextsOfEveryRow) {
   const CellIdTexts texts = make_cell_id_texts(table_of({"a", "q\"uote", "tab\tid", "bad\xff"}), 1);
   ASSERT_EQ(texts.text.size(), 4u);
-  ASSERT_EQ(texts.element.size(), 4u);
   EXPECT_EQ(texts.text[0], R"("a")");
-  EXPECT_EQ(texts.element[0], R"(\"a\")");
   EXPECT_EQ(texts.text[1], R"("q\"uote")");
-  EXPECT_EQ(texts.element[1], R"(\"q\\\"uote\")");
   EXPECT_EQ(texts.text[2], R"("tab\tid")");  // the feature's own string: append_json_string
-  EXPECT_EQ(texts.element[2], R"(\"tab\\tid\")");
   EXPECT_EQ(texts.text[3], "\"bad\xef\xbf\xbd\"");  // GeoJSON is UTF-8: U+FFFD
-  EXPECT_EQ(texts.element[3], "\\\"bad\xef\xbf\xbd\\\"");
 }
 
 TEST(IdLists, CellIdTextsOnSeveralThreadsSurviveAMove) {
@@ -69,7 +51,6 @@ TEST(IdLists, CellIdTextsOnSeveralThreadsSurviveAMove) {
   ASSERT_EQ(texts.text.size(), ids.size());
   for (std::size_t i = 0; i < ids.size(); i += 997) {
     EXPECT_EQ(texts.text[i], "\"" + ids[i] + "\"");
-    EXPECT_EQ(texts.element[i], "\\\"" + ids[i] + "\\\"");
   }
   EXPECT_EQ(texts.text.back(), "\"r19999\"");
 }

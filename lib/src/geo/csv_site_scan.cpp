@@ -16,6 +16,7 @@
 
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
+#include "geovor/geo/column_types.hpp"
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geo/trim.hpp"
@@ -582,6 +583,7 @@ struct CsvSiteScan::State {
   std::vector<Chunk> chunks;
   std::vector<std::uint64_t> row_base, line_base;  // per chunk: its first row and first line - 1
   std::size_t sites = 0;
+  bool detect_types = true;  // SiteReaderOptions::detect_types
 };
 
 CsvSiteScan::CsvSiteScan(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -634,6 +636,7 @@ CsvSiteScan CsvSiteScan::open(const std::string& path, const SiteReaderOptions& 
 
 void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tuning) {
   State& s = *state_;
+  s.detect_types = options.detect_types;
   std::vector<Vec3>& positions = positions_;
   SiteTable& table = s.table;
   const std::string& source = table.source;
@@ -773,7 +776,9 @@ SiteTable CsvSiteScan::finish() && {
                                : std::to_string(site.row);
     }
   }
+  const bool detect = state_->detect_types;
   state_.reset();  // the buffer and the per-row data; positions_ stay
+  table.column_types = detect ? detect_column_types(table) : std::vector<FieldType>(table.columns.size(), FieldType::String);
   return table;
 }
 

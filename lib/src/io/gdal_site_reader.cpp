@@ -9,6 +9,8 @@
 #include <array>
 #include <cerrno>
 #include <charconv>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -50,10 +52,50 @@ std::string field_text(const OGRFeature& f, int i) {
     case OFTReal: {
       char buf[32];
       const double v = f.GetFieldAsDouble(i);
+      if (!std::isfinite(v)) return "";  // no JSON number: null (column_types.hpp's invariant)
       return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+    }
+    case OFTDate:
+    case OFTDateTime: {
+      // ISO 8601, as column_types.hpp reads dates (GDAL's own text has slashes).
+      int y = 0, mo = 0, d = 0, h = 0, mi = 0, tz = 0;
+      float sec = 0;
+      f.GetFieldAsDateTime(i, &y, &mo, &d, &h, &mi, &sec, &tz);
+      char buf[64];
+      int n = std::snprintf(buf, sizeof buf, "%04d-%02d-%02d", y, mo, d);
+      if (defn->GetType() == OFTDateTime) {
+        const int ms = static_cast<int>(std::lround(sec * 1000));
+        n += std::snprintf(buf + n, sizeof buf - n, "T%02d:%02d:%02d", h, mi, ms / 1000);
+        if (ms % 1000 != 0) n += std::snprintf(buf + n, sizeof buf - n, ".%03d", ms % 1000);
+        if (tz == 100) {
+          n += std::snprintf(buf + n, sizeof buf - n, "Z");
+        } else if (tz > 1) {  // 1: local time, 0: unknown; else 100 + quarters of an hour
+          const int q = std::abs(tz - 100);
+          n += std::snprintf(buf + n, sizeof buf - n, "%c%02d:%02d", tz > 100 ? '+' : '-', q / 4, q % 4 * 15);
+        }
+      }
+      return std::string(buf, static_cast<std::size_t>(n));
     }
     default:
       return f.GetFieldAsString(i);
+  }
+}
+
+// The type a column of this OGR type keeps; lists, times and binaries are text.
+FieldType field_type(OGRFieldType type) {
+  switch (type) {
+    case OFTInteger:
+      return FieldType::Integer;
+    case OFTInteger64:
+      return FieldType::Integer64;
+    case OFTReal:
+      return FieldType::Real;
+    case OFTDate:
+      return FieldType::Date;
+    case OFTDateTime:
+      return FieldType::DateTime;
+    default:
+      return FieldType::String;
   }
 }
 
@@ -171,11 +213,15 @@ SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& optio
   OGRFeatureDefn* defn = layer->GetLayerDefn();
   for (int i = 0; i < defn->GetFieldCount(); ++i) {
     table.columns.emplace_back(defn->GetFieldDefn(i)->GetNameRef());
+    table.column_types.push_back(options.detect_types ? field_type(defn->GetFieldDefn(i)->GetType())
+                                                      : FieldType::String);
   }
   const bool attribute_positions = !options.lat_field.empty() || !options.lon_field.empty() ||
                                    !options.ecef_fields.empty() || defn->GetGeomFieldCount() == 0;
   if (attribute_positions) {
-    return read_attribute_positions(*layer, path, table.columns, options, capture);
+    SiteTable from_attributes = read_attribute_positions(*layer, path, table.columns, options, capture);
+    from_attributes.column_types = table.column_types;  // the layer's own types, not guessed ones
+    return from_attributes;
   }
 
   if (!options.id_field.empty()) {

@@ -16,10 +16,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
 #include <set>
+#include <span>
 #include <system_error>
 #include <utility>
 
@@ -33,8 +35,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A DBF or MapInfo field holds at most 254 bytes.
+constexpr std::size_t kShapefileMaxBytes = 254;
+
 void CPL_STDCALL capture_handler(CPLErr error_class, CPLErrorNum number, const char* message) {
   auto* capture = static_cast<ErrorCapture*>(CPLGetErrorHandlerUserData());
+  // A driver that cuts a value only warns: a failure here, since nothing may be cut silently.
+  if (error_class == CE_Warning && capture != nullptr && message != nullptr && std::strstr(message, "truncat")) {
+    capture->record(static_cast<int>(CE_Failure), message);
+    return;
+  }
   if (error_class == CE_Warning) {
     CPLDefaultErrorHandler(error_class, number, message);
     return;
@@ -73,6 +83,12 @@ class GdalWriter final : public FeatureWriter {
                       "': not a GDAL vector driver that can create files (see ogrinfo --formats)");
     }
     driver_ = driver->GetDescription();
+    if (const char* nonspatial = driver->GetMetadataItem(GDAL_DCAP_NONSPATIAL); nonspatial && CPLTestBool(nonspatial)) {
+      // Spreadsheets (ODS, XLSX) would drop every geometry without a word.
+      throw Error(ErrorCode::InvalidArgument, "format " + driver_ +
+                                                  " stores no geometry, so the features' geometry would be lost; "
+                                                  "write CSV (geometry as WKT, which spreadsheets open) or GeoPackage");
+    }
     if (path_ == "-") {
       throw Error(ErrorCode::InvalidArgument,
                   "format " + driver_ + " cannot be written to stdout; only GeoJSON and GeoJSONSeq can");
@@ -145,21 +161,9 @@ class GdalWriter final : public FeatureWriter {
                     path_ + ": " + feature() + " has an empty geometry, which FlatGeobuf cannot hold (GDAL "
                     "would leave the feature out); write GeoPackage or GeoJSON, or raise --precision");
     }
+    set_values(values, feature());
     ErrorCapture capture;
     OGRFeature& f = *feature_;
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      const int index = field_index_[i];
-      const FieldValue& v = values[i];
-      if (const auto* n = std::get_if<std::int64_t>(&v)) {
-        f.SetField(index, static_cast<GIntBig>(*n));
-      } else if (const auto* d = std::get_if<double>(&v)) {
-        f.SetField(index, *d);
-      } else if (const auto* s = std::get_if<std::string>(&v)) {
-        f.SetField(index, s->c_str());
-      } else {
-        f.SetFieldNull(index);
-      }
-    }
     f.SetGeometryDirectly(to_ogr(geometry));
     f.SetFID(OGRNullFID);
     errno = 0;
@@ -332,32 +336,107 @@ class GdalWriter final : public FeatureWriter {
           for (const Field& f : schema) n.push_back(f.name);
           return n;
         }();
-    for (std::size_t i = 0; i < schema.size(); ++i) {
-      const OGRFieldType type = schema[i].type == FieldType::Integer ? OFTInteger64
-                                : schema[i].type == FieldType::Real  ? OFTReal
-                                                                     : OFTString;
-      OGRFieldDefn defn(names[i].c_str(), type);
-      // DBF fields have a fixed width: give room for the widest values (RESIZE=YES shrinks
-      // them to the data). GDAL's defaults lose values: Integer64 (18 characters) cannot hold
-      // 19 digits, Real (24.15) nothing from 1e8 on (areas in m2!).
-      if (shapefile && type == OFTString) defn.SetWidth(254);
-      if (shapefile && type == OFTInteger64) defn.SetWidth(20);
-      if (shapefile && type == OFTReal) {
-        defn.SetWidth(33);  // up to 1e17 with 15 decimals
-        defn.SetPrecision(15);
-      }
-      if (layer_->CreateField(&defn, TRUE) != OGRERR_NONE) {
-        fail("cannot create field '" + schema[i].name + "'" + capture.detail());
-      }
-      // Drivers may rename a field (laundering); it is the last one created either way.
-      field_index_.push_back(layer_->GetLayerDefn()->GetFieldCount() - 1);
-    }
+    define_fields(schema, names, shapefile);
     if (!transaction_ && dataset_->TestCapability(ODsCTransactions)) {
       if (dataset_->StartTransaction() != OGRERR_NONE) fail("cannot start a transaction" + capture.detail());
       transaction_ = true;
     }
     feature_.reset(OGRFeature::CreateFeature(layer_->GetLayerDefn()));
     if (capture.failed()) fail("cannot create" + capture.detail());
+  }
+
+  // The fields in the driver's own types, or the nearest it has (as ogr2ogr maps them: Integer
+  // to Integer64 to Real, Date and DateTime to String), JSON lists with the JSON subtype.
+  void define_fields(const std::vector<Field>& schema, const std::vector<std::string>& names, bool shapefile) {
+    ErrorCapture capture;
+    const GDALDriver* driver = dataset_->GetDriver();
+    if (shapefile || ascii_iequals(driver_, "MapInfo File")) max_bytes_ = kShapefileMaxBytes;
+    const char* listed = driver ? const_cast<GDALDriver*>(driver)->GetMetadataItem(GDAL_DMD_CREATIONFIELDDATATYPES) : nullptr;
+    const CPLStringList types(CSLTokenizeString(listed ? listed : ""));
+    auto has = [&](const char* type) { return listed == nullptr || types.FindString(type) >= 0; };
+    for (std::size_t i = 0; i < schema.size(); ++i) {
+      FieldType type = schema[i].type;
+      if (type == FieldType::Integer && !has("Integer")) type = FieldType::Integer64;
+      if (type == FieldType::Integer64 && !has("Integer64")) type = has("Real") ? FieldType::Real : FieldType::String;
+      if (type == FieldType::DateTime && !has("DateTime")) type = FieldType::String;
+      if (type == FieldType::Date && !has("Date")) type = FieldType::String;
+      if (type == FieldType::Real && !has("Real")) type = FieldType::String;
+      const OGRFieldType ogr_type = type == FieldType::Integer     ? OFTInteger
+                                    : type == FieldType::Integer64 ? OFTInteger64
+                                    : type == FieldType::Real      ? OFTReal
+                                    : type == FieldType::Date      ? OFTDate
+                                    : type == FieldType::DateTime  ? OFTDateTime
+                                                                   : OFTString;
+      if (names[i] != schema[i].name)  // told as GDAL tells it when it launders a name itself
+        CPLError(CE_Warning, CPLE_AppDefined, "Normalized/laundered field name: '%s' to '%s'", schema[i].name.c_str(),
+                 names[i].c_str());
+      OGRFieldDefn defn(names[i].c_str(), ogr_type);
+      if (schema[i].json && ogr_type == OFTString) defn.SetSubType(OFSTJSON);
+      // DBF fields have a fixed width: give room for the widest values (RESIZE=YES shrinks
+      // them to the data). GDAL's defaults lose values: Integer64 (18 characters) cannot hold
+      // 19 digits, Real (24.15) nothing from 1e8 on (areas in m2!).
+      if (shapefile && ogr_type == OFTString) defn.SetWidth(kShapefileMaxBytes);
+      if (shapefile && ogr_type == OFTInteger) defn.SetWidth(11);
+      if (shapefile && ogr_type == OFTInteger64) defn.SetWidth(20);
+      if (shapefile && ogr_type == OFTReal) {
+        defn.SetWidth(33);  // up to 1e17 with 15 decimals
+        defn.SetPrecision(15);
+      }
+      if (layer_->CreateField(&defn, TRUE) != OGRERR_NONE) {
+        // A driver without attribute fields (DXF, DGN) or without this type: the format, not
+        // the disk, is at fault, and nothing was written yet.
+        const std::string why = capture.detail();
+        {
+          ErrorCapture ignore;
+          discard();
+        }
+        failed_ = true;
+        throw Error(ErrorCode::InvalidArgument,
+                    path_ + ": format " + driver_ + " cannot hold the field '" + schema[i].name + "' (" +
+                        to_string(type) + ")" + why + "; write GeoPackage, FlatGeobuf or GeoJSON");
+      }
+      // Drivers may rename a field (laundering); it is the last one created either way.
+      field_index_.push_back(layer_->GetLayerDefn()->GetFieldCount() - 1);
+      written_types_.push_back(type);
+      field_names_.push_back(schema[i].name);
+    }
+  }
+
+  // Each value into feature_ as its field's written type; a value that type or the driver cannot
+  // hold whole is refused (Error(BadData), the output removed): never cut or rounded.
+  void set_values(std::span<const FieldValue> values, const std::string& feature) {
+    OGRFeature& f = *feature_;
+    auto refuse = [&](std::size_t i, const std::string& why) {
+      failed_ = true;
+      {
+        ErrorCapture ignore;
+        discard();
+      }
+      throw Error(ErrorCode::BadData, path_ + ": " + feature + ", field '" + field_names_[i] + "': " + why);
+    };
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const int index = field_index_[i];
+      const FieldValue& v = values[i];
+      const FieldType type = written_types_[i];
+      if (const auto* n = std::get_if<std::int64_t>(&v)) {
+        if (type == FieldType::Integer && (*n < INT32_MIN || *n > INT32_MAX))
+          refuse(i, std::to_string(*n) + " does not fit a 32-bit Integer field");
+        if (type == FieldType::Real && (*n > (std::int64_t{1} << 53) || *n < -(std::int64_t{1} << 53)))
+          refuse(i, std::to_string(*n) + " needs an Integer64 field, which " + driver_ +
+                        " does not have (its Real would round it); write GeoPackage, FlatGeobuf or GeoJSON");
+        f.SetField(index, static_cast<GIntBig>(*n));
+      } else if (const auto* d = std::get_if<double>(&v)) {
+        f.SetField(index, *d);
+      } else if (const auto* s = std::get_if<std::string>(&v)) {
+        if (max_bytes_ > 0 && s->size() > max_bytes_)
+          refuse(i, std::to_string(s->size()) + " bytes, but a field of format " + driver_ + " holds at most " +
+                        std::to_string(max_bytes_) + " bytes (the value would be cut); write GeoPackage, FlatGeobuf "
+                        "or GeoJSON, which hold values of any length");
+        f.SetField(index, s->c_str());
+      } else {
+        f.SetFieldNull(index);
+      }
+    }
   }
 
   OGRGeometry* to_ogr(const Geometry& g) {
@@ -499,6 +578,9 @@ class GdalWriter final : public FeatureWriter {
   OGRLayer* layer_ = nullptr;
   std::unique_ptr<OGRFeature> feature_;
   std::vector<int> field_index_;
+  std::vector<FieldType> written_types_;  // each field's type in the file
+  std::vector<std::string> field_names_;  // as in the schema, for messages
+  std::size_t max_bytes_ = 0;             // the longest text a field holds; 0: no limit
   std::vector<OGRRawPoint> raw_;
   bool transaction_ = false;
   std::uint64_t count_ = 0;

@@ -62,6 +62,7 @@ class GeoJsonEncoder final : public FeatureEncoder {
       key += ':';
       keys_chars_ += key.size();
       keys_.push_back(std::move(key));
+      json_.push_back(schema[i].json);
     }
   }
 
@@ -72,8 +73,14 @@ class GeoJsonEncoder final : public FeatureEncoder {
     std::size_t values_bound = 0;
     for (const FieldValue& v : values) values_bound += value_bound(v);
     if (has_id) values_bound += value_bound(values[id_index_]);
-    encode_with(geometry, values.size(), number, out, has_id, values_bound,
-                [&](char* p, std::size_t i) { return put_json_value(p, values[i]); });
+    encode_with(geometry, values.size(), number, out, has_id, values_bound, [&](char* p, std::size_t i) {
+      // A JSON field's text is the value itself (a list), not a string.
+      if (const auto* s = std::get_if<std::string>(&values[i]); s && i < json_.size() && json_[i]) {
+        std::memcpy(p, s->data(), s->size());
+        return p + s->size();
+      }
+      return put_json_value(p, values[i]);
+    });
   }
 
   void encode_json(const Geometry& geometry, std::span<const std::string_view> json_values, std::uint64_t number,
@@ -256,6 +263,7 @@ class GeoJsonEncoder final : public FeatureEncoder {
   GeoJsonFraming framing_;
   GeometryType geometry_type_;
   std::vector<std::string> keys_;  // ,"name":
+  std::vector<bool> json_;         // Field::json, by field
   std::size_t keys_chars_ = 0;     // of all keys_
   int precision_;
   int id_index_ = -1;

@@ -13,6 +13,7 @@
 #include "geovor/core/parallel.hpp"
 #include "geovor/delaunay/site_rows.hpp"
 #include "geovor/io/geojson_writer.hpp"
+#include "geovor/layers/input_columns.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 
 namespace geovor {
@@ -20,9 +21,10 @@ namespace {
 
 constexpr std::array<const char*, 8> kOurFields = {"site_index", "site_id", "ids",        "n_rows",
                                                    "area_m2",    "area_sr", "n_vertices", "neighbors"};
-constexpr std::array<FieldType, 8> kOurTypes = {FieldType::Integer, FieldType::String, FieldType::String,
-                                                FieldType::Integer, FieldType::Real,   FieldType::Real,
-                                                FieldType::Integer, FieldType::String};
+constexpr std::array<FieldType, 8> kOurTypes = {FieldType::Integer64, FieldType::String, FieldType::String,
+                                                FieldType::Integer64, FieldType::Real,   FieldType::Real,
+                                                FieldType::Integer64, FieldType::String};
+constexpr std::array<bool, 8> kOurJson = {false, false, true, false, false, false, false, true};
 
 // What the cells' properties need besides the geometry, made from the table, the report and the
 // triangulation only (so while the diagram and the cells' geometry are built).
@@ -33,10 +35,10 @@ struct SiteTexts {
   // every site about six times).
   std::string element_text;
   std::vector<std::size_t> element_end;
-  // With an encoder: site s's id as the encoder writes it (site_text) and as an escaped list
-  // element (site_element), so that a cell reaches its neighbours' text in one step.
+  // With an encoder: site s's id as the encoder writes it (site_text, also its element in the
+  // lists), so that a cell reaches its neighbours' text in one step.
   CellIdTexts made;  // when the caller gave no id texts
-  std::vector<std::string_view> site_text, site_element;
+  std::vector<std::string_view> site_text;
   std::vector<SiteId> order;  // the sites with a cell, in id order
 
   std::string_view element(SiteId s) const {
@@ -62,12 +64,8 @@ SiteTexts make_site_texts(const SiteTable& table, const BuildReport& report, con
       id_texts = &t.made;
     }
     t.site_text.resize(num_sites);
-    t.site_element.resize(num_sites);
     for (SiteId s = 0; s < num_sites; ++s)
-      if (t.rows.first(s) != kNoIndex) {
-        t.site_text[s] = id_texts->text[t.rows.first(s)];
-        t.site_element[s] = id_texts->element[t.rows.first(s)];
-      }
+      if (t.rows.first(s) != kNoIndex) t.site_text[s] = id_texts->text[t.rows.first(s)];
   }
   for (SiteId s = 0; s < num_sites; ++s)
     if (dt.is_live(s)) t.order.push_back(s);  // VoronoiDiagram::has_cell
@@ -120,8 +118,7 @@ class CellFeatures {
     }
     buffer += ']';
     values[7] = buffer;
-    for (std::size_t c = 0; c < table_.columns.size(); ++c)
-      values[kOurFields.size() + c] = c < first.fields.size() ? FieldValue(first.fields[c]) : FieldValue();
+    for (std::size_t c = 0; c < table_.columns.size(); ++c) values[kOurFields.size() + c] = input_value(table_, first, c);
   }
 
   // The same properties as the JSON text of each value, in one string (value i ends at
@@ -137,13 +134,13 @@ class CellFeatures {
     done();
     text += texts_.site_text[s];
     done();
-    text += "\"[";
-    text += texts_.site_element[s];
+    text += '[';
+    text += texts_.site_text[s];
     for (std::size_t k = 1; k < site_rows.size(); ++k) {
       text += ',';
-      append_escaped_id_list_element(text, table_.sites[site_rows[k]].id);
+      append_id_list_element(text, table_.sites[site_rows[k]].id);
     }
-    text += "]\"";
+    text += ']';
     done();
     append_json_value(text, static_cast<std::int64_t>(site_rows.size()));
     done();
@@ -153,22 +150,21 @@ class CellFeatures {
     done();
     append_json_value(text, static_cast<std::int64_t>(diagram_.cell_vertices(s).size()));
     done();
-    text += "\"[";
+    text += '[';
     for (std::size_t k = 0; k < neighbours.size(); ++k) {
       if (k) text += ',';
-      text += texts_.site_element[neighbours[k]];
+      text += texts_.site_text[neighbours[k]];
     }
-    text += "]\"";
+    text += ']';
     done();
-    const std::size_t id_column =
-        table_.id_column >= 0 ? static_cast<std::size_t>(table_.id_column) : table_.columns.size();
+    const std::size_t id_column = table_.id_column >= 0 && table_.column_type(table_.id_column) == FieldType::String
+                                      ? static_cast<std::size_t>(table_.id_column)
+                                      : table_.columns.size();
     for (std::size_t c = 0; c < table_.columns.size(); ++c) {
-      if (c >= first.fields.size())
-        text += "null";
-      else if (c == id_column && first.fields[c] == first.id)
+      if (c == id_column && c < first.fields.size() && first.fields[c] == first.id)
         text += texts_.site_text[s];
       else
-        append_json_string(text, first.fields[c]);
+        append_input_json(text, table_, first, c);
       done();
     }
   }
@@ -187,14 +183,14 @@ class CellFeatures {
       __builtin_prefetch(first);
       __builtin_prefetch(reinterpret_cast<const char*>(first + 1) - 1);
       if (encoded_)
-        for (const SiteId w : diagram_.cell_neighbors(s)) __builtin_prefetch(&texts_.site_element[w]);
+        for (const SiteId w : diagram_.cell_neighbors(s)) __builtin_prefetch(&texts_.site_text[w]);
     }
     if (i + kPoints < order.size()) {
       const SiteId s = order[i + kPoints];
       cells_.prefetch(s, 2);
       for (const std::string& f : table_.sites[texts_.rows.first(s)].fields) __builtin_prefetch(f.data());
       if (encoded_)
-        for (const SiteId w : diagram_.cell_neighbors(s)) __builtin_prefetch(texts_.site_element[w].data());
+        for (const SiteId w : diagram_.cell_neighbors(s)) __builtin_prefetch(texts_.site_text[w].data());
     }
   }
 
@@ -250,22 +246,20 @@ void compute_block(const CellFeatures& features, const std::vector<SiteId>& orde
 
 }  // namespace
 
-std::vector<Field> cell_layer_schema(const std::vector<std::string>& input_columns) {
+std::vector<Field> cell_layer_schema(const SiteTable& table) {
   std::vector<Field> schema;
-  for (std::size_t i = 0; i < kOurFields.size(); ++i) schema.push_back({kOurFields[i], kOurTypes[i]});
-  for (const std::string& column : input_columns) {
-    const bool clash = std::any_of(kOurFields.begin(), kOurFields.end(),
-                                   [&](const char* ours) { return ascii_iequals(ours, column); });
-    schema.push_back({clash ? "src_" + column : column, FieldType::String});
-  }
+  for (std::size_t i = 0; i < kOurFields.size(); ++i) schema.push_back({kOurFields[i], kOurTypes[i], kOurJson[i]});
+  std::vector<std::size_t> columns(table.columns.size());
+  for (std::size_t c = 0; c < columns.size(); ++c) columns[c] = c;
+  const std::vector<Field> inputs = input_column_fields(table, columns, schema);
+  schema.insert(schema.end(), inputs.begin(), inputs.end());
   return schema;
 }
 
-std::unique_ptr<FeatureWriter> open_cell_layer_writer(const std::string& path,
-                                                      const std::vector<std::string>& input_columns,
+std::unique_ptr<FeatureWriter> open_cell_layer_writer(const std::string& path, const SiteTable& table,
                                                       WriterOptions options) {
   options.id_field = "site_id";
-  return open_feature_writer(path, GeometryType::MultiPolygon, cell_layer_schema(input_columns), options);
+  return open_feature_writer(path, GeometryType::MultiPolygon, cell_layer_schema(table), options);
 }
 
 CellLayerReport write_cell_layer(FeatureWriter& writer, const SiteTable& table, const BuildReport& report,

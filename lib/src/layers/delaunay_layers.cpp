@@ -13,16 +13,16 @@
 namespace geovor {
 
 std::vector<Field> triangle_layer_schema() {
-  return {{"tri_index", FieldType::Integer}, {"kind", FieldType::String},   {"ghost", FieldType::Integer},
-          {"site_a", FieldType::Integer},    {"site_b", FieldType::Integer}, {"site_c", FieldType::Integer},
+  return {{"tri_index", FieldType::Integer64}, {"kind", FieldType::String},   {"ghost", FieldType::Integer64},
+          {"site_a", FieldType::Integer64},    {"site_b", FieldType::Integer64}, {"site_c", FieldType::Integer64},
           {"id_a", FieldType::String},       {"id_b", FieldType::String},    {"id_c", FieldType::String},
           {"area_m2", FieldType::Real},      {"area_sr", FieldType::Real},   {"circumradius_m", FieldType::Real}};
 }
 
 std::vector<Field> edge_layer_schema() {
-  return {{"edge_index", FieldType::Integer}, {"site_a", FieldType::Integer}, {"site_b", FieldType::Integer},
+  return {{"edge_index", FieldType::Integer64}, {"site_a", FieldType::Integer64}, {"site_b", FieldType::Integer64},
           {"id_a", FieldType::String},        {"id_b", FieldType::String},    {"length_m", FieldType::Real},
-          {"geodesic_m", FieldType::Real},    {"hull", FieldType::Integer},   {"ghost", FieldType::Integer}};
+          {"geodesic_m", FieldType::Real},    {"hull", FieldType::Integer64},   {"ghost", FieldType::Integer64}};
 }
 
 std::unique_ptr<FeatureWriter> open_triangle_layer_writer(const std::string& path, const WriterOptions& options) {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "geovor/core/ascii.hpp"
+#include "geovor/layers/input_columns.hpp"
 #include "geovor/geo/site_encoder.hpp"
 
 namespace geovor {
@@ -26,14 +26,11 @@ std::vector<std::size_t> kept_columns(const SiteTable& table) {
 }  // namespace
 
 std::vector<Field> site_layer_schema(const SiteTable& table) {
-  std::vector<Field> schema = {{"site_index", FieldType::Integer}, {"site_id", FieldType::String},
-                               {"lat_deg", FieldType::Real},       {"lon_deg", FieldType::Real},
+  std::vector<Field> schema = {{"site_index", FieldType::Integer64}, {"site_id", FieldType::String},
+                               {"lat_deg", FieldType::Real},         {"lon_deg", FieldType::Real},
                                {"moved_m", FieldType::Real}};
-  for (const std::size_t c : kept_columns(table)) {
-    const std::string& name = table.columns[c];
-    const bool clash = std::any_of(schema.begin(), schema.end(), [&](const Field& f) { return ascii_iequals(f.name, name); });
-    schema.push_back({clash ? "src_" + name : name, FieldType::String});
-  }
+  const std::vector<Field> inputs = input_column_fields(table, kept_columns(table), schema);
+  schema.insert(schema.end(), inputs.begin(), inputs.end());
   return schema;
 }
 
@@ -59,7 +56,7 @@ std::size_t write_site_layer(FeatureWriter& writer, const SiteTable& table, cons
     values[3] = ll.lon_deg;
     values[4] = std::atan2(std::sqrt(norm2(d)), dot(start[s], dt.site(s))) * SiteEncoder::kEarthRadiusM;
     for (std::size_t k = 0; k < columns.size(); ++k)
-      values[5 + k] = columns[k] < first.fields.size() ? FieldValue(first.fields[columns[k]]) : FieldValue();
+      values[5 + k] = input_value(table, first, columns[k]);
     writer.write(LonLat{ll.lon_deg, ll.lat_deg}, values);
     ++written;
   }

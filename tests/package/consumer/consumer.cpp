@@ -35,7 +35,7 @@ int main() {
     }
     geovor::WriterOptions options;
     options.format = "GeoJSON";  // /dev/null has no extension
-    const auto writer = geovor::open_cell_layer_writer("/dev/null", table.columns, options);
+    const auto writer = geovor::open_cell_layer_writer("/dev/null", table, options);
     const geovor::CellLayerReport cells = geovor::write_cell_layer(*writer, table, report, dt);
     writer->finish();
     std::printf("cells: %zu\nunwritten: %zu\n", cells.cells_written, cells.unwritten.size());

@@ -30,6 +30,29 @@ constexpr Vec3 cross(const Vec3& a, const Vec3& b) {
 }
 constexpr double norm2(const Vec3& a) { return dot(a, a); }
 
+/// The type of a field of a layer, named as OGR names them: Integer (32 bits), Integer64, Real
+/// (double), Date (YYYY-MM-DD), DateTime (ISO 8601), String (UTF-8 text).
+enum class FieldType { Integer, Integer64, Real, Date, DateTime, String };
+
+/// The OGR name of a type ("Integer", "Integer64", "Real", "Date", "DateTime", "String").
+constexpr const char* to_string(FieldType t) {
+  switch (t) {
+    case FieldType::Integer:
+      return "Integer";
+    case FieldType::Integer64:
+      return "Integer64";
+    case FieldType::Real:
+      return "Real";
+    case FieldType::Date:
+      return "Date";
+    case FieldType::DateTime:
+      return "DateTime";
+    case FieldType::String:
+      return "String";
+  }
+  return "?";
+}
+
 /// Sign of a predicate: -1, 0 or +1.
 enum class Sign : int { Negative = -1, Zero = 0, Positive = 1 };
 

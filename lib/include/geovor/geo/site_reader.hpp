@@ -34,6 +34,9 @@ struct SiteReaderOptions {
   /// Exactly 3 column names (X, Y, Z earth-centred earth-fixed WGS84, metres), or empty for
   /// latitude/longitude input. Exclusive with lat_field/lon_field.
   std::vector<std::string> ecef_fields;
+  /// Type the columns by their values (column_types.hpp; an OGR layer's columns keep their
+  /// field types); false keeps every column String, as read. DEFAULT: true.
+  bool detect_types = true;
   /// Threads tokenising the rows and converting their coordinates (parsing, normalising, unit
   /// vectors), each on its share of the input (0: one per core); see CsvSiteScan. DEFAULT: 1.
   /// The result does not depend on it.
@@ -63,6 +66,9 @@ struct RejectedRow {
 struct SiteTable {
   std::string source;                ///< file name, or "<stdin>"
   std::vector<std::string> columns;  ///< header names, as read
+  /// The type of each column (column_types.hpp): empty, or one per column; an empty value of a
+  /// column that is not String is null. Empty means every column is String.
+  std::vector<FieldType> column_types;
   int lat_column = -1;               ///< index into columns; -1 for ECEF input
   int lon_column = -1;               ///< index into columns; -1 for ECEF input
   int id_column = -1;                ///< index into columns; -1: ids are row numbers
@@ -70,6 +76,9 @@ struct SiteTable {
   std::uint64_t rows_read = 0;       ///< data rows seen == sites.size() + rejected.size()
   std::vector<InputSite> sites;
   std::vector<RejectedRow> rejected;
+
+  /// column_types[c], or String when column_types is empty.
+  FieldType column_type(std::size_t c) const { return c < column_types.size() ? column_types[c] : FieldType::String; }
 };
 
 /// Read sites from a CSV stream whose first record is the header: CsvSiteScan::read, then

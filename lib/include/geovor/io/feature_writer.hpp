@@ -8,11 +8,17 @@
 ///   decimals, a per-feature and per-collection "bbox", no "crs"; GeoJSONSeq is RFC 8142
 ///   (RS-separated) for ".geojsons" and newline-delimited otherwise.
 /// - GDAL drivers: EPSG:4326 with the traditional GIS axis order (longitude first), layer type
-///   wkbPoint / wkbMultiLineString / wkbMultiPolygon, Integer fields as Integer64, one
-///   transaction per layer when the driver has them (GPKG). Coordinates are stored as doubles (the CSV
+///   wkbPoint / wkbMultiLineString / wkbMultiPolygon, one transaction per layer when the driver has them
+///   (GPKG). Each field in its own type where the driver lists it (DMD_CREATIONFIELDDATATYPES),
+///   else the nearest it has, as ogr2ogr maps them: Integer to Integer64 to Real (an integer
+///   beyond 2^53 then refused), Real, Date and DateTime to String (ISO 8601 text); JSON fields
+///   are Strings of the JSON subtype. A value a field cannot hold whole is refused with
+///   Error(BadData) naming the feature, the field and the limit, and the writer fails (the
+///   output removed): Shapefile and MapInfo text over 254 bytes, and anything a driver warns
+///   it truncated. Coordinates are stored as doubles (the CSV
 ///   driver writes WKT with GDAL's own 15 significant digits; precision does not apply).
 ///   - ESRI Shapefile: field names cut to 10 bytes and made unique ("population_2020" ->
-///     "population", "population_2021" -> "populati_1"), UTF-8 with a .cpg, widths shrunk to
+///     "population", "population_2021" -> "populati_1"; each renaming said as a GDAL warning), UTF-8 with a .cpg, widths shrunk to
 ///     the data (RESIZE=YES), Integer64 fields up to 20 characters wide (GDAL reads fields
 ///     wider than 18 back as Real), Real fields 33 wide with 15 decimals (values from 1e17 on
 ///     cannot be written: GDAL warns); the layer is named after the file, not
@@ -31,18 +37,23 @@
 #include <variant>
 #include <vector>
 
+#include "geovor/core/types.hpp"
 #include "geovor/lonlat/geometry.hpp"
 
 namespace geovor {
 
-enum class FieldType { Integer, Real, String };
-
+/// A field of a layer (FieldType: geovor/core/types.hpp).
 struct Field {
   std::string name;
   FieldType type = FieldType::String;
+  /// A String field whose values are JSON text (the lists of ids): written as the JSON value
+  /// itself in GeoJSON, as a String of the JSON subtype in GDAL formats (GeoPackage records it).
+  bool json = false;
 };
 
-/// A value of a field; monostate is null.
+/// A value of a field; monostate is null. Integer and Integer64 fields take std::int64_t, Real
+/// double, Date and DateTime their ISO 8601 text ("2024-02-29", "2024-02-29T13:05:00Z"),
+/// String and JSON fields text.
 using FieldValue = std::variant<std::monostate, std::int64_t, double, std::string>;
 
 enum class GeometryType { Point, MultiLineString, MultiPolygon };
@@ -139,6 +150,8 @@ class FeatureWriter {
   /// Writes one feature; `values` follows the schema given to open_feature_writer() (any
   /// alternative is accepted for any field type; monostate is null). A Point that is kNullPoint
   /// (lonlat/geometry.hpp) is written as a null geometry (FlatGeobuf: refused, Error(BadData)).
+  /// @exception Error(BadData) when the format cannot hold a value whole (GDAL formats, above);
+  ///   the writer has then failed.
   /// @exception Error(InvalidArgument) when the geometry is not of the layer's type, the number
   ///   of values differs from the schema, or geometry_problem() (geojson_writer.hpp) finds a
   ///   non-finite or out-of-range coordinate, an unclosed ring or a too short ring/line.

@@ -7,16 +7,16 @@
 /// Fields (cell_layer_schema()), in this order:
 /// - site_index (Integer): the site id;
 /// - site_id (String): the id of the row the site was built from (the GeoJSON feature id);
-/// - ids (String): JSON array of the ids of every row of the site, that row first, then the rows
-///   merged into it (SiteRows; element format in id_lists.hpp);
+/// - ids (String, JSON: an array in GeoJSON, JSON text elsewhere): the ids of every row of the
+///   site, that row first, then the rows merged into it (SiteRows; element format in id_lists.hpp);
 /// - n_rows (Integer): the number of those rows;
 /// - area_m2 (Real): area on the WGS84 ellipsoid of the rings as written;
 /// - area_sr (Real): area of the exact cell on the unit sphere (steradians);
 /// - n_vertices (Integer): Voronoi vertices of the cell;
-/// - neighbors (String): JSON array of the ids of the neighbouring sites, in the cell's order;
-/// - then every input column (String, the value of the site's first row; null where that row is
-///   short), named as in the input, or src_<name> when the name equals one of the above
-///   (ASCII case-insensitively).
+/// - neighbors (String, JSON as ids): the ids of the neighbouring sites, in the cell's order;
+/// - then every input column, with its type and the value of the site's first row, named as in
+///   the input or renamed by input_columns.hpp's rule (`fid` -> `src_fid`, `area_m2` ->
+///   `src_area_m2`).
 /// A cell that cannot be written valid at the output's precision gets an empty geometry and is
 /// reported (CellLayerReport::unwritten), never dropped: the layer has one feature per live site.
 #pragma once
@@ -35,14 +35,13 @@
 
 namespace geovor {
 
-/// The fields of the cell layer of a table with these input columns (the file comment).
-std::vector<Field> cell_layer_schema(const std::vector<std::string>& input_columns);
+/// The fields of the cell layer of `table` (the file comment).
+std::vector<Field> cell_layer_schema(const SiteTable& table);
 
-/// open_feature_writer(path, MultiPolygon, cell_layer_schema(input_columns), options) with
+/// open_feature_writer(path, MultiPolygon, cell_layer_schema(table), options) with
 /// options.id_field set to "site_id" (options.layer defaults to "cells").
 /// @exception Error as open_feature_writer().
-std::unique_ptr<FeatureWriter> open_cell_layer_writer(const std::string& path,
-                                                      const std::vector<std::string>& input_columns,
+std::unique_ptr<FeatureWriter> open_cell_layer_writer(const std::string& path, const SiteTable& table,
                                                       WriterOptions options);
 
 /// A cell written with an empty geometry: at the output's precision it collapsed, or its
@@ -81,7 +80,7 @@ struct CellLayerReport {
 
 /// Writes the cell of every live site of `dt` (built from table's rows with `report`, possibly
 /// relocated since: site ids stay) to `writer`, in site id order, as the file comment says.
-/// `writer` must have been opened with cell_layer_schema(table.columns) (open_cell_layer_writer()
+/// `writer` must have been opened with cell_layer_schema(table) (open_cell_layer_writer()
 /// does); it is not finished, so that the caller can write companion files first. With an
 /// encoder (GeoJSON) the workers encode the features as text and this thread only writes it.
 /// @exception Error as the writer; Error(InvalidArgument) for an option out of range.

@@ -2,15 +2,15 @@
 /// \brief The Delaunay triangle layer (MultiPolygon features) and edge layer (MultiLineString
 /// features) of a triangulation, written to any FeatureWriter (what `geovor delaunay` writes).
 ///
-/// Triangle fields (triangle_layer_schema()): tri_index (Integer), kind (String: proper, ghost or
-/// great_circle, FaceKind), ghost (Integer: 1 for a face outside the triangulation of the sites'
-/// convex hull, DelaunayGeometry::is_outer), site_a/b/c (Integer: site ids, counter-clockwise),
+/// Triangle fields (triangle_layer_schema()): tri_index (Integer64), kind (String: proper, ghost or
+/// great_circle, FaceKind), ghost (Integer64: 1 for a face outside the triangulation of the sites'
+/// convex hull, DelaunayGeometry::is_outer), site_a/b/c (Integer64: site ids, counter-clockwise),
 /// id_a/b/c (String: the ids of the rows the sites were built from), area_m2 (Real: WGS84
 /// ellipsoid, of the polygon as written), area_sr (Real: sphere), circumradius_m (Real).
-/// Edge fields (edge_layer_schema()): edge_index (Integer: counts the edges written), site_a,
-/// site_b (Integer), id_a, id_b (String), length_m (Real: great circle on the sphere of radius
+/// Edge fields (edge_layer_schema()): edge_index (Integer64: counts the edges written), site_a,
+/// site_b (Integer64), id_a, id_b (String), length_m (Real: great circle on the sphere of radius
 /// SiteEncoder::kEarthRadiusM), geodesic_m (Real: WGS84 geodesic between the two sites), hull
-/// (Integer: 1 for an edge of the boundary of the sites' convex hull), ghost (Integer: 1 for an
+/// (Integer64: 1 for an edge of the boundary of the sites' convex hull), ghost (Integer64: 1 for an
 /// edge between two outer faces).
 /// Triangles are written in triangle id order, edges in the order of their first half-edge.
 /// Geometry is at the precision of the DelaunayGeometry given: what collapses or cannot be

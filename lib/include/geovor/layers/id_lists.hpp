@@ -1,7 +1,8 @@
 /// \file id_lists.hpp
 /// \brief The text of site ids in the cell layer's `ids` and `neighbors` fields: JSON arrays of
-/// strings held in a string field (portable to every format, no list field types needed), and
-/// the same text made once per input row for the GeoJSON writer's fast path.
+/// strings (JSON fields: arrays in GeoJSON, JSON text in a String field of the JSON subtype
+/// elsewhere, portable to every format without list field types), and each row's id made once
+/// as JSON text for the GeoJSON writer's fast path.
 ///
 /// An element of a list is the id as append_json_string() (io/json_text.hpp) writes it: the one
 /// JSON string escaper of geovor, so the lists are valid JSON (UTF-8, bytes that are not replaced
@@ -19,20 +20,12 @@ namespace geovor {
 /// Appends `id` as an element of an ids/neighbors list, quotes included (the file comment).
 void append_id_list_element(std::string& out, std::string_view id);
 
-/// Appends the text append_id_list_element() makes of `id` as it stands inside a JSON string
-/// (escaped once more by append_json_string(), without its quotes): an element of a list as the
-/// GeoJSON writer writes the list's string. Escaping a list piece by piece gives the same bytes
-/// as escaping it whole, since every piece ("[", ",", "]", elements) starts and ends with an
-/// ASCII character.
-void append_escaped_id_list_element(std::string& out, std::string_view id);
-
 /// Each input row's id as the cell layer's GeoJSON output writes it: `text[row]`, the id as a
-/// JSON string (append_json_string(): site_id, the feature id), and `element[row]`,
-/// append_escaped_id_list_element() of the id. Views into `storage`, whose strings are on the
-/// heap, so moving a CellIdTexts keeps them valid.
+/// JSON string (append_json_string(): site_id, the feature id, and an element of the lists).
+/// Views into `storage`, whose strings are on the heap, so moving a CellIdTexts keeps them valid.
 struct CellIdTexts {
   std::vector<std::string> storage;
-  std::vector<std::string_view> text, element;
+  std::vector<std::string_view> text;
 };
 
 /// The CellIdTexts of table's rows, made on `threads` threads (0: one per core; one per 4,096

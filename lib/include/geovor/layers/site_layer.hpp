@@ -3,12 +3,12 @@
 /// moved from a start position and the attributes of its input row (what `geovor relax
 /// --sites-output` writes).
 ///
-/// Fields (site_layer_schema()): site_index (Integer), site_id (String: the id of the row the
+/// Fields (site_layer_schema()): site_index (Integer64), site_id (String: the id of the row the
 /// site was built from; the GeoJSON feature id), lat_deg, lon_deg (Real: the site's geodetic
 /// position now), moved_m (Real: great-circle distance from its start position on the sphere
 /// of radius SiteEncoder::kEarthRadiusM), then the input columns but the positions (latitude
-/// and longitude, or the ECEF X, Y, Z, which no longer hold), each named as in the input, or
-/// src_<name> when the name equals a field before it (ASCII case-insensitively).
+/// and longitude, or the ECEF X, Y, Z, which no longer hold), with their types, named as in the
+/// input or renamed by input_columns.hpp's rule.
 /// Features are written in site id order.
 #pragma once
 

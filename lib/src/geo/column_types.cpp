@@ -1,0 +1,172 @@
+#include "geovor/geo/column_types.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+
+namespace geovor {
+namespace {
+
+bool digit(char c) { return c >= '0' && c <= '9'; }
+
+// The number of leading digits of s from `at`.
+std::size_t digits(std::string_view s, std::size_t at) {
+  std::size_t n = at;
+  while (n < s.size() && digit(s[n])) ++n;
+  return n - at;
+}
+
+// The two-digit number at s[at] (both digits checked by the caller's length test), or -1.
+int two(std::string_view s, std::size_t at) {
+  if (!digit(s[at]) || !digit(s[at + 1])) return -1;
+  return (s[at] - '0') * 10 + (s[at + 1] - '0');
+}
+
+// YYYY-MM-DD, a real day of the (proleptic Gregorian) calendar.
+bool is_date(std::string_view s) {
+  if (s.size() < 10 || s[4] != '-' || s[7] != '-' || digits(s, 0) != 4) return false;
+  const int year = (s[0] - '0') * 1000 + (s[1] - '0') * 100 + (s[2] - '0') * 10 + (s[3] - '0');
+  const int month = two(s, 5), day = two(s, 8);
+  if (month < 1 || month > 12 || day < 1) return false;
+  static constexpr int kDays[] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  const bool leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
+  return day <= kDays[month - 1] + (month == 2 && leap ? 1 : 0);
+}
+
+// What follows a date in a DateTime: [T ]HH:MM[:SS[.s{1,3}]][Z|+HH|+HHMM|+HH:MM].
+bool is_time_part(std::string_view s) {
+  if (s.size() < 6 || (s[0] != 'T' && s[0] != ' ') || s[3] != ':') return false;
+  const int hour = two(s, 1), minute = two(s, 4);
+  if (hour < 0 || hour > 23 || minute < 0 || minute > 59) return false;
+  std::size_t at = 6;
+  if (at < s.size() && s[at] == ':') {
+    if (s.size() < at + 3) return false;
+    const int second = two(s, at + 1);
+    if (second < 0 || second > 60) return false;  // 60: a leap second
+    at += 3;
+    if (at < s.size() && s[at] == '.') {
+      const std::size_t n = digits(s, at + 1);
+      if (n < 1 || n > 3) return false;  // GDAL keeps milliseconds: more would be cut
+      at += 1 + n;
+    }
+  }
+  if (at == s.size()) return true;
+  if (s[at] == 'Z') return at + 1 == s.size();
+  if (s[at] != '+' && s[at] != '-') return false;
+  const std::string_view zone = s.substr(at + 1);
+  int zone_minutes = 0;
+  if (zone.size() == 2) {
+    zone_minutes = 0;
+  } else if (zone.size() == 4) {
+    zone_minutes = two(zone, 2);
+  } else if (zone.size() == 5 && zone[2] == ':') {
+    zone_minutes = two(zone, 3);
+  } else {
+    return false;
+  }
+  const int zone_hours = two(zone, 0);
+  // GDAL holds an offset in quarters of an hour.
+  return zone_hours >= 0 && zone_hours <= 14 && zone_minutes >= 0 && zone_minutes % 15 == 0;
+}
+
+// Whether the integer text t (digits, an optional '-' before) fits the bounds of 32 or 64 bits.
+bool fits(std::string_view t, const char* max_positive, const char* max_negative) {
+  const bool negative = t[0] == '-';
+  const std::string_view d = negative ? t.substr(1) : t;
+  const std::string_view max = negative ? max_negative : max_positive;
+  if (d.size() != max.size()) return d.size() < max.size();
+  return d <= max;
+}
+
+}  // namespace
+
+FieldType value_type(std::string_view s) {
+  if (s.empty()) return FieldType::String;
+  const char c = s[0];
+  if (c == '-' || digit(c)) {
+    std::size_t at = c == '-' ? 1 : 0;
+    const std::size_t whole = digits(s, at);
+    if (whole == 0) return FieldType::String;
+    if (whole == 4 && at == 0 && s.size() >= 10 && s[4] == '-') {
+      if (!is_date(s)) return FieldType::String;
+      if (s.size() == 10) return FieldType::Date;
+      return is_time_part(s.substr(10)) ? FieldType::DateTime : FieldType::String;
+    }
+    if (s[at] == '0' && whole > 1) return FieldType::String;  // a leading zero: an identifier
+    at += whole;
+    if (at == s.size()) {
+      if (fits(s, "2147483647", "2147483648")) return FieldType::Integer;
+      return fits(s, "9223372036854775807", "9223372036854775808") ? FieldType::Integer64 : FieldType::String;
+    }
+    if (s[at] == '.') {
+      const std::size_t n = digits(s, at + 1);
+      if (n == 0) return FieldType::String;
+      at += 1 + n;
+    }
+    bool exponent = false;
+    if (at < s.size() && (s[at] == 'e' || s[at] == 'E')) {
+      ++at;
+      if (at < s.size() && (s[at] == '+' || s[at] == '-')) ++at;
+      const std::size_t n = digits(s, at);
+      if (n == 0) return FieldType::String;
+      at += n;
+      exponent = true;
+    }
+    if (at != s.size()) return FieldType::String;
+    if (exponent) {  // 1e999 is no double
+      double v = 0;
+      const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+      if (r.ec != std::errc() || !std::isfinite(v)) return FieldType::String;
+    }
+    return FieldType::Real;
+  }
+  return FieldType::String;
+}
+
+FieldType wider_type(FieldType a, FieldType b) {
+  if (a == b) return a;
+  auto number = [](FieldType t) {
+    return t == FieldType::Integer || t == FieldType::Integer64 || t == FieldType::Real;
+  };
+  auto date = [](FieldType t) { return t == FieldType::Date || t == FieldType::DateTime; };
+  if (number(a) && number(b)) {
+    if (a == FieldType::Real || b == FieldType::Real) return FieldType::Real;
+    return FieldType::Integer64;
+  }
+  if (date(a) && date(b)) return FieldType::DateTime;
+  return FieldType::String;
+}
+
+std::vector<FieldType> detect_column_types(const SiteTable& table) {
+  const std::size_t columns = table.columns.size();
+  std::vector<FieldType> types(columns, FieldType::String);
+  std::vector<bool> seen(columns, false);  // a non-empty value was met
+  std::vector<std::size_t> open;           // columns not yet String
+  for (std::size_t c = 0; c < columns; ++c)
+    if (static_cast<int>(c) != table.id_column) open.push_back(c);
+  for (const InputSite& site : table.sites) {
+    if (open.empty()) break;
+    for (std::size_t k = 0; k < open.size();) {
+      const std::size_t c = open[k];
+      if (c >= site.fields.size() || site.fields[c].empty()) {
+        ++k;
+        continue;
+      }
+      const FieldType t = value_type(site.fields[c]);
+      types[c] = seen[c] ? wider_type(types[c], t) : t;
+      seen[c] = true;
+      if (types[c] == FieldType::String) {
+        open[k] = open.back();
+        open.pop_back();
+      } else {
+        ++k;
+      }
+    }
+  }
+  for (std::size_t c = 0; c < columns; ++c)
+    if (!seen[c]) types[c] = FieldType::String;
+  return types;
+}
+
+}  // namespace geovor

@@ -1,0 +1,70 @@
+# Field types, names and values as GDAL reads them back (issue 16): every expected type and value
+# is from datasets/fixtures/typed_columns.csv by hand (datasets/README.md), read back by ogrinfo.
+set(fields_out ${CMAKE_CURRENT_BINARY_DIR}/fields)
+file(MAKE_DIRECTORY ${fields_out})
+set(typed ${fixtures}/typed_columns.csv)
+set(has_fields "sh ${CMAKE_CURRENT_SOURCE_DIR}/has_fields.sh")
+
+# CSV columns typed by their values; identifiers (the id column, leading zeros) stay text; an
+# all-empty column is String; fid, GEOM and area_m2 renamed src_* (GeoPackage refused fid/geom).
+geovor_cli_expect(cli.fields.csv_types_gpkg 0 SCRIPT
+  "rm -f ${fields_out}/t.gpkg && \"$0\" cells ${typed} -o ${fields_out}/t.gpkg -q && ${has_fields} ${fields_out}/t.gpkg 'site_index: Integer64' 'ids: String(JSON)' 'neighbors: String(JSON)' 'id: String' 'name: String' 'lat: Real' 'lon: Real' 'pop: Integer' 'big: Integer64' 'elev: Real' 'founded: Date' 'updated: DateTime' 'zip: String' 'note: String' 'src_fid: Integer' 'src_GEOM: String' 'src_area_m2: Real'")
+# Values: an empty Integer or Date is NULL; a Real, a date and a zip code read back as written.
+geovor_cli_expect(cli.fields.csv_values_gpkg 0 STDOUT "pop \\(Integer\\) = \\(null\\).*big \\(Integer64\\) = 1\n.*elev \\(Real\\) = -3\n.*founded \\(Date\\) = 1850/12/31\n.*updated \\(DateTime\\) = 2024/03/01 00:00:00\\+00\n.*zip \\(String\\) = 90210" SCRIPT
+  "rm -f ${fields_out}/v.gpkg && \"$0\" cells ${typed} -o ${fields_out}/v.gpkg -q && ogrinfo -ro -q ${fields_out}/v.gpkg -sql \"SELECT pop, big, elev, founded, updated, zip FROM cells WHERE id = '002'\"")
+geovor_cli_expect(cli.fields.csv_null_date 0 STDOUT "founded \\(Date\\) = \\(null\\)" SCRIPT
+  "rm -f ${fields_out}/d.gpkg && \"$0\" cells ${typed} -o ${fields_out}/d.gpkg -q && ogrinfo -ro -q ${fields_out}/d.gpkg -sql \"SELECT founded FROM cells WHERE id = '003'\"")
+# The bundled stations' coordinates are Real.
+geovor_cli_expect(cli.fields.weather_stations_real 0 SCRIPT
+  "rm -f ${fields_out}/w.fgb && \"$0\" cells datasets/weather_stations.csv -o ${fields_out}/w.fgb -q 2>/dev/null && ${has_fields} ${fields_out}/w.fgb 'icao: String' 'name: String' 'lat_deg: Real' 'lon_deg: Real'")
+# --all-text keeps every column String.
+geovor_cli_expect(cli.fields.all_text 0 SCRIPT
+  "rm -f ${fields_out}/a.gpkg && \"$0\" cells ${typed} -o ${fields_out}/a.gpkg -q --all-text && ${has_fields} ${fields_out}/a.gpkg 'lat: String' 'pop: String' 'founded: String' 'src_fid: String' 'n_rows: Integer64'")
+# FlatGeobuf and Shapefile in their own types. FlatGeobuf stores a Date as a DateTime (its driver
+# does: GDAL reads it back so); a Shapefile has no DateTime: String (the nearest type that loses
+# nothing), as text; GDAL reads a DBF integer 10 digits wide (2147483647) back as Integer64.
+geovor_cli_expect(cli.fields.csv_types_fgb 0 SCRIPT
+  "rm -f ${fields_out}/t.fgb && \"$0\" cells ${typed} -o ${fields_out}/t.fgb -q && ${has_fields} ${fields_out}/t.fgb 'pop: Integer' 'big: Integer64' 'elev: Real' 'founded: DateTime' 'updated: DateTime' 'zip: String' 'src_fid: Integer'")
+geovor_cli_expect(cli.fields.csv_types_shp 0 SCRIPT
+  "rm -f ${fields_out}/t.shp ${fields_out}/t.dbf ${fields_out}/t.shx ${fields_out}/t.prj ${fields_out}/t.cpg && \"$0\" cells ${typed} -o ${fields_out}/t.shp -q 2>/dev/null && ${has_fields} ${fields_out}/t.shp 'pop: Integer64' 'big: Integer64' 'elev: Real' 'founded: Date' 'updated: String' 'zip: String' 'src_fid: Integer' && ogrinfo -ro -q ${fields_out}/t.shp -sql \"SELECT updated FROM t WHERE id = '001'\" | grep -q 'updated (String) = 2024-02-29T13:05:00Z'")
+# GeoJSON: numbers unquoted, identifiers quoted, ids and neighbors JSON arrays, empty values null.
+geovor_cli_expect(cli.fields.geojson_numbers 0 SCRIPT
+  "rm -f ${fields_out}/t.geojson && \"$0\" cells ${typed} -o ${fields_out}/t.geojson -q && grep -qF '\"id\":\"002\",\"bbox\"' ${fields_out}/t.geojson && grep -q '\"ids\":.\"001\".,\"n_rows\":1,' ${fields_out}/t.geojson && grep -q '\"neighbors\":.\"00' ${fields_out}/t.geojson && grep -qF '\"id\":\"002\",\"name\":\"Beta\",\"lat\":-33.25,\"lon\":151,\"pop\":null,\"big\":1,\"elev\":-3,\"founded\":\"1850-12-31\",\"updated\":\"2024-03-01T00:00:00Z\",\"zip\":\"90210\",\"note\":\"\",\"src_fid\":2,\"src_GEOM\":\"g2\",\"src_area_m2\":2}' ${fields_out}/t.geojson")
+# GDAL reads the GeoJSON arrays back as lists.
+geovor_cli_expect(cli.fields.geojson_arrays_for_gdal 0 SCRIPT
+  "rm -f ${fields_out}/l.geojson && \"$0\" cells ${typed} -o ${fields_out}/l.geojson -q && ${has_fields} ${fields_out}/l.geojson 'ids: StringList' 'neighbors: StringList' 'pop: Integer' 'big: Integer64'")
+# An OGR input keeps its fields' types (here GDAL's own detection of the CSV's).
+geovor_cli_expect(cli.fields.ogr_input_types 0 SCRIPT
+  "rm -f ${fields_out}/in.gpkg ${fields_out}/o.fgb && ogr2ogr -f GPKG ${fields_out}/in.gpkg ${typed} -oo X_POSSIBLE_NAMES=lon -oo Y_POSSIBLE_NAMES=lat -oo AUTODETECT_TYPE=YES -select name,pop,elev,founded,updated && \"$0\" cells ${fields_out}/in.gpkg -o ${fields_out}/o.fgb -q && ${has_fields} ${fields_out}/o.fgb 'name: String' 'pop: Integer' 'elev: Real' 'updated: DateTime' && ${has_fields} ${fields_out}/in.gpkg 'name: String' 'pop: Integer' 'elev: Real' 'updated: DateTime'")
+# relax --sites-output carries the types too.
+geovor_cli_expect(cli.fields.sites_output_types 0 SCRIPT
+  "rm -f ${fields_out}/c.gpkg ${fields_out}/s.gpkg && \"$0\" relax ${typed} -o ${fields_out}/c.gpkg --sites-output ${fields_out}/s.gpkg -n 1 -q && ${has_fields} ${fields_out}/s.gpkg 'site_index: Integer64' 'pop: Integer' 'updated: DateTime' 'src_fid: Integer'")
+
+# Shapefile: nothing cut. 60 rows at one position make an ids list of 60 * 9 bytes: refused with
+# the limit and a format that holds it (exit 3), nothing written.
+set(many_rows "printf 'id,lat,lon\\nother,-10,-20\\nthird,0,100\\n' > ${fields_out}/merged.csv && seq 1 60 | sed 's/.*/row_&,10,20/' >> ${fields_out}/merged.csv")
+geovor_cli_expect(cli.fields.shp_long_ids_refused 3 STDERR "field 'ids': [0-9]+ bytes, but a field of format ESRI Shapefile holds at most 254 bytes .the value would be cut.. write GeoPackage" SCRIPT
+  "${many_rows} && rm -f ${fields_out}/m.shp && \"$0\" cells ${fields_out}/merged.csv -o ${fields_out}/m.shp -q")
+geovor_cli_expect(cli.fields.shp_long_ids_nothing_written 0 SCRIPT
+  "${many_rows} && rm -f ${fields_out}/m2.* && ! \"$0\" cells ${fields_out}/merged.csv -o ${fields_out}/m2.shp -q 2>/dev/null && ! ls ${fields_out}/m2.* 2>/dev/null && ! ls -a ${fields_out} | grep -q 'm2.*tmp'")
+# The same ids in full in a GeoPackage.
+geovor_cli_expect(cli.fields.gpkg_long_ids_whole 0 STDOUT "v \\(Integer\\) = 60" SCRIPT
+  "${many_rows} && rm -f ${fields_out}/m.gpkg && \"$0\" cells ${fields_out}/merged.csv -o ${fields_out}/m.gpkg -q && ogrinfo -ro -q ${fields_out}/m.gpkg -dialect SQLite -sql \"SELECT json_array_length(ids) AS v FROM cells WHERE site_id = 'row_1'\"")
+# A long text value is refused too.
+geovor_cli_expect(cli.fields.shp_long_value_refused 3 STDERR "field 'note': 300 bytes, but a field of format ESRI Shapefile holds at most 254 bytes" SCRIPT
+  "printf 'id,lat,lon,note\\na,0,0,%0300d\\nb,0,90,x\\nc,45,45,y\\n' 0 > ${fields_out}/long.csv && \"$0\" cells ${fields_out}/long.csv -o ${fields_out}/long.shp --overwrite -q")
+# Field names cut to 10 characters are said, as GDAL says it.
+geovor_cli_expect(cli.fields.shp_laundered_names_said 0 STDERR "laundered field name: 'circumradius_m' to 'circumradi'" SCRIPT
+  "\"$0\" delaunay ${fixtures}/three_sites.csv -o ${fields_out}/tri.shp --overwrite -q")
+
+# MapInfo has no Integer64: the counts go to Real (exact below 2^53), as ogr2ogr maps them.
+geovor_cli_expect(cli.fields.mapinfo_works 0 SCRIPT
+  "rm -f ${fields_out}/t.tab ${fields_out}/t.dat ${fields_out}/t.map ${fields_out}/t.id && \"$0\" cells ${typed} -o ${fields_out}/t.tab -q && ${has_fields} ${fields_out}/t.tab 'site_index: Real' 'big: Real' 'pop: Integer' 'elev: Real' 'founded: Date' 'updated: DateTime' && ogrinfo -ro -q ${fields_out}/t.tab -sql 'SELECT name FROM t WHERE site_index = 3' | grep -q 'name (String) = Delta'")
+# Spreadsheets store no geometry: refused up front with the reason (exit 2), nothing written.
+foreach(ext ods xlsx)
+  geovor_cli_expect(cli.fields.${ext}_refused 2 STDERR "stores no geometry.*write CSV" SCRIPT
+    "rm -f ${fields_out}/t.${ext} && \"$0\" cells ${typed} -o ${fields_out}/t.${ext} -q || ( test ! -e ${fields_out}/t.${ext} && exit 2 )")
+endforeach()
+# A format without attribute fields is refused before anything is written, with GDAL's reason.
+geovor_cli_expect(cli.fields.dxf_refused 2 STDERR "format DXF cannot hold the field 'site_index' \\(Integer64\\) \\(GDAL: DXF layer does not support arbitrary field creation" SCRIPT
+  "rm -f ${fields_out}/t.dxf && \"$0\" cells ${typed} -o ${fields_out}/t.dxf -q || ( test ! -e ${fields_out}/t.dxf && exit 2 )")
