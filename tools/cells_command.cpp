@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
 #include "geovor/core/output_target.hpp"
@@ -31,9 +32,10 @@ void write_report(OutputFile& out, const SiteTable& table, const BuildReport& re
                   const std::vector<UnwrittenCell>& unwritten, int precision) {
   std::FILE* f = out.get();
   std::fprintf(f, "row,line,id,status,site_index,detail\n");
-  auto quoted = [](const std::string& s) {
+  // Control characters escaped (printable): one line per row, and a NUL cannot cut a field.
+  auto quoted = [](const std::string& raw) {
     std::string q = "\"";
-    for (const char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    for (const char c : printable(raw)) q += c == '"' ? std::string("\"\"") : std::string(1, c);
     return q + "\"";
   };
   std::vector<char> merged(table.sites.size(), 0);
