@@ -1,8 +1,11 @@
 #include "geovor/geo/site_reader.hpp"
 
+#include <algorithm>
 #include <cstddef>
+#include <unordered_map>
 
 #include "geovor/core/ascii.hpp"
+#include "geovor/core/error.hpp"
 #include "geovor/geo/csv_site_scan.hpp"
 #include "geo/trim.hpp"
 
@@ -20,6 +23,44 @@ SiteTable read_sites_csv(std::istream& in, const std::string& source, const Site
 
 SiteTable read_sites_csv_file(const std::string& path, const SiteReaderOptions& options) {
   return CsvSiteScan::open(path, options).finish();
+}
+
+void require_sites(const SiteTable& table) {
+  if (!table.sites.empty()) return;
+  std::string message = table.source + ": no usable site (" + std::to_string(table.rows_read) + " rows, " +
+                        std::to_string(table.rejected.size()) + " rejected)";
+  if (table.rows_read == 0) message += ": the table has no data row";
+  if (!table.rejected.empty()) {
+    const RejectedRow& first = table.rejected.front();
+    message += ": every row was rejected, the first (row " + std::to_string(first.row) + ") for " + first.reason;
+    // Metres in degree columns: every rejection is a coordinate out of range.
+    const bool all_out_of_range = std::all_of(table.rejected.begin(), table.rejected.end(), [](const RejectedRow& r) {
+      return r.reason.find("is beyond +-90") != std::string::npos ||
+             r.reason.find("is out of range [-540, 540]") != std::string::npos;
+    });
+    if (all_out_of_range) message += "; projected coordinates (metres)? give their CRS with --s-srs";
+  }
+  throw Error(ErrorCode::BadData, message);
+}
+
+DuplicateIds find_duplicate_ids(const SiteTable& table) {
+  DuplicateIds out;
+  if (table.id_column < 0) return out;
+  std::unordered_map<std::string_view, std::size_t> first;  // id -> its first site
+  first.reserve(table.sites.size());
+  for (std::size_t i = 0; i < table.sites.size(); ++i) {
+    const auto [it, fresh] = first.try_emplace(table.sites[i].id, i);
+    if (fresh) continue;
+    ++out.rows;
+    const std::string& id = table.sites[i].id;
+    auto e = std::find_if(out.examples.begin(), out.examples.end(), [&](const auto& x) { return x.id == id; });
+    if (e == out.examples.end() && out.examples.size() < 3) {
+      out.examples.push_back({id, {table.sites[it->second].row}});
+      e = out.examples.end() - 1;
+    }
+    if (e != out.examples.end() && e->rows.size() < 3) e->rows.push_back(table.sites[i].row);
+  }
+  return out;
 }
 
 int find_column(const std::vector<std::string>& columns, std::string_view name) {
