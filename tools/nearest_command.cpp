@@ -121,11 +121,7 @@ Command add_nearest_command(CLI::App& app) {
   cmd->add_option("--metric", args->metric, "sphere (great circle on the mean-radius sphere, default) or geodesic (WGS84)");
   cmd->add_option("--threads", args->threads, "Threads (default 1); the output order is the input order");
   cmd->add_flag("--strict", args->strict, "Stop at the first malformed query line (exit 3)");
-  args->site_options.push_back(cmd->add_option("--lat-field", args->sites.reader.lat_field, "Latitude column of the site table"));
-  args->site_options.push_back(cmd->add_option("--lon-field", args->sites.reader.lon_field, "Longitude column of the site table"));
-  args->site_options.push_back(cmd->add_option("--id-field", args->sites.reader.id_field,
-                                               "Identifier column of the site table (default: id, icao, code or name; else the row number)"));
-  args->site_options.push_back(cmd->add_option("--ecef-fields", args->sites.ecef_fields, "X,Y,Z ECEF columns of the site table"));
+  args->site_options = add_site_table_options(cmd, args->sites);  // of a site table, not an index
   args->site_options.push_back(cmd->add_option("--merge-m", args->sites.merge_m, "Merge sites closer than this many metres"));
   cmd->footer(
       "Writes CSV: query_id,site_index,site_id,distance_m (with --k: query_id,rank,site_index,site_id,\n"
