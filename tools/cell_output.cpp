@@ -19,6 +19,7 @@ CellLayerReport write_cells(const CellOutputArgs& args, const SiteTable& table, 
   writer_options.layer = "cells";
   writer_options.precision = args.precision;
   writer_options.overwrite = args.overwrite;
+  if (args.ids_repeat) writer_options.id_field = "site_index";  // feature ids stay unique
   const auto writer = open_cell_layer_writer(args.output, table.columns, writer_options);
   Progress progress(dt.num_sites(), args.quiet);
   CellLayerOptions options;

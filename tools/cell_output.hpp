@@ -21,6 +21,7 @@ struct CellOutputArgs {
   bool overwrite = false;
   bool quiet = false;
   int threads = 0;  // 0: one per core
+  bool ids_repeat = false;  // the input's ids are not unique: site_index is the feature id
 };
 
 /// Whether args.output is GeoJSON or GeoJSONSeq (the formats written natively, which use CellIdTexts).

@@ -85,6 +85,7 @@ int run(CellsArgs& args) {
   const SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
   removal.wait();
   const SiteTable& table = input.table();
+  args.out.ids_repeat = input.ids_repeat();
   if (!args.out.quiet) report_merges(table, report);  // merged rows stay in the cells' ids and the report
   const int precision = writes_geojson(args.out) ? args.out.precision : kFullPrecision;
   const std::size_t written = write_cells(
@@ -122,7 +123,7 @@ Command add_cells_command(CLI::App& app) {
   cmd->add_option("--threads", args->out.threads, "Threads converting the coordinates and computing and formatting the cells (default: one per core); the output is the same")
       ->check(CLI::NonNegativeNumber);
   cmd->footer(
-      "Each cell carries: site_index, site_id (also the feature id), ids (JSON array of the ids of every\n"
+      "Each cell carries: site_index, site_id (also the feature id; site_index is when ids repeat), ids (JSON array of the ids of every\n"
       "row merged into the site), n_rows, area_m2 (WGS84 ellipsoid, of the ring as written), area_sr\n"
       "(sphere, of the exact cell), n_vertices,\n"
       "neighbors (JSON array of the neighbours' ids), then every input column.\n"

@@ -44,6 +44,7 @@ void write_sites(const RelaxArgs& args, const SiteTable& table, const BuildRepor
   options.layer = "sites";
   options.precision = args.cells.precision;
   options.overwrite = args.cells.overwrite;
+  if (args.cells.ids_repeat) options.id_field = "site_index";  // feature ids stay unique
   const auto writer = open_site_layer_writer(args.sites_output, table, options);
   write_site_layer(*writer, table, rows_of_sites(report, dt.site_capacity()), dt, start);
   writer->finish();
@@ -67,7 +68,9 @@ int run(RelaxArgs& args) {
   check_writable(args.cells.output, args.cells.overwrite);
   check_writable(args.sites_output, args.cells.overwrite);
 
-  const SiteTable table = read_site_input(args.sites);
+  DuplicateIds duplicates;
+  const SiteTable table = read_site_input(args.sites, &duplicates);
+  args.cells.ids_repeat = duplicates.rows > 0;
   const std::vector<Vec3> points = site_points(table);
   BuildReport report;
   SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);

@@ -101,12 +101,14 @@ bool site_input_needs_gdal(const SiteInputArgs& args) {
   return !args.layer.empty() || !args.reader.s_srs.empty() || !is_csv_site_path(args.input);
 }
 
-SiteTable read_site_input(SiteInputArgs& args) {
+SiteTable read_site_input(SiteInputArgs& args, DuplicateIds* duplicates) {
   prepare(args);
   SiteTable table = read_whole(args);
   list_rejected(table);
   require_sites(table);
-  warn_duplicate_ids(table, find_duplicate_ids(table));
+  const DuplicateIds found = find_duplicate_ids(table);
+  warn_duplicate_ids(table, found);
+  if (duplicates) *duplicates = found;
   return table;
 }
 

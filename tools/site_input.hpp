@@ -38,7 +38,7 @@ bool site_input_needs_gdal(const SiteInputArgs& args);
 
 /// Reads the sites; rejected rows go to stderr (file, row, line, reason), then a warning when
 /// ids repeat. Throws Error(BadData) when no site remains (require_sites).
-SiteTable read_site_input(SiteInputArgs& args);
+SiteTable read_site_input(SiteInputArgs& args, DuplicateIds* duplicates = nullptr);
 
 /// The sites in two stages, so that the triangulation can start on the positions while the rest
 /// is done: the rows' strings of CSV input (CsvSiteScan; OGR input is read whole at once), then
@@ -52,6 +52,8 @@ class StagedSiteInput {
   /// The accepted rows' unit vectors, in row order (valid while this object lives).
   std::span<const Vec3> positions() const { return positions_; }
   const SiteTable& table();
+  /// Whether two accepted rows share an id (known once table() returned).
+  bool ids_repeat() const { return duplicates_.rows > 0; }
 
  private:
   std::unique_ptr<CsvSiteScan> scan_;

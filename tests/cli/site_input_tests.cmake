@@ -122,6 +122,10 @@ file(WRITE ${si}/repeated_names.csv "name,lat,lon\nSan Jose,37.34,-121.89\nSan J
 geovor_cli_expect(cli.site_input.duplicate_ids_warned 0
   STDERR "repeated_names\\.csv: warning: 3 rows have the id of an earlier row \\(id column 'name'; e\\.g\\. 'San Jose' rows 1 2 4; 'Paris' rows 3 5\\); --id-field '#row' makes the row number the id"
   COMMAND cells ${si}/repeated_names.csv -o - -q)
+# Feature ids stay unique: with repeated ids, the feature id is the site index.
+geovor_cli_expect(cli.site_input.duplicate_ids_feature_ids 0
+  STDOUT "{\"type\":\"Feature\",\"id\":0,[^\n]*\"site_id\":\"San Jose\"[^\n]*\n{\"type\":\"Feature\",\"id\":1,[^\n]*\"site_id\":\"San Jose\""
+  COMMAND cells ${si}/repeated_names.csv -o - -q)
 geovor_cli_expect(cli.site_input.row_number_ids 0
   STDOUT "\"id\":\"1\",[^\n]*\"site_id\":\"1\",[^\n]*\"name\":\"San Jose\"[^\n]*\n[^\n]*\"id\":\"2\",[^\n]*\"name\":\"San Jose\""
   COMMAND cells ${si}/repeated_names.csv -o - -q --id-field "#row")

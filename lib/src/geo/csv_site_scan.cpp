@@ -67,6 +67,24 @@ bool looks_like_dms(std::string_view s) {
                                         std::isdigit(static_cast<unsigned char>(s[s.size() - 2])) != 0));
 }
 
+// Why `s` (its number part `digits`) did not parse, where from_chars stopped at `ptr` with `ec`;
+// "" when it is a number with a decimal comma after all. Out of line: the hot path stays small.
+[[gnu::noinline]] std::string parse_failure(std::string_view s, std::string_view digits, const char* ptr,
+                                            std::errc ec, double& value, bool decimal_comma) {
+  if (ec == std::errc::result_out_of_range) return quoted(s) + " is out of the range of a double";
+  if (decimal_comma && *ptr == ',' && digits.size() < 64 && digits.find('.') == std::string_view::npos &&
+      std::count(digits.begin(), digits.end(), ',') == 1) {
+    char point[64];
+    std::memcpy(point, digits.data(), digits.size());
+    point[ptr - digits.data()] = '.';
+    const auto [p2, ec2] = std::from_chars(point, point + digits.size(), value);
+    if (ec2 == std::errc::result_out_of_range) return quoted(s) + " is out of the range of a double";
+    if (ec2 == std::errc() && p2 == point + digits.size()) return "";
+  }
+  if (looks_like_dms(s)) return quoted(s) + " is in degrees, minutes and seconds; geovor reads decimal degrees";
+  return quoted(s) + " is not a number";
+}
+
 // Parse one number; "" on success, else the reason (without the column name). `decimal_comma`:
 // one ',' and no '.' is read as the decimal point ("48,85" in a semicolon-delimited file).
 std::string parse_double(std::string_view text, double& value, bool decimal_comma = false) {
@@ -79,19 +97,7 @@ std::string parse_double(std::string_view text, double& value, bool decimal_comm
   }
   const char* const last = digits.data() + digits.size();
   const auto [ptr, ec] = std::from_chars(digits.data(), last, value);
-  if (ec == std::errc::result_out_of_range) return quoted(s) + " is out of the range of a double";
-  if (ec != std::errc() || ptr != last) {
-    if (decimal_comma && *ptr == ',' && digits.size() < 64 && digits.find('.') == std::string_view::npos &&
-        std::count(digits.begin(), digits.end(), ',') == 1) {
-      char point[64];
-      std::memcpy(point, digits.data(), digits.size());
-      point[ptr - digits.data()] = '.';
-      const auto [p2, ec2] = std::from_chars(point, point + digits.size(), value);
-      if (ec2 == std::errc() && p2 == point + digits.size()) return "";
-    }
-    if (looks_like_dms(s)) return quoted(s) + " is in degrees, minutes and seconds; geovor reads decimal degrees";
-    return quoted(s) + " is not a number";
-  }
+  if (ec != std::errc() || ptr != last) [[unlikely]] return parse_failure(s, digits, ptr, ec, value, decimal_comma);
   return "";
 }
 
@@ -294,13 +300,15 @@ struct RawRecord {
 // CsvReader's state machine (csv_reader.hpp) over [pos, end) of a buffer, which it decodes in
 // place: a record's decoded fields never run past its raw bytes, so they are written from its
 // first byte on.
+// The delimiter is a template argument: a constant in the hot loop, as ',' was.
+template <char kDelimiter>
 class Tokenizer {
  public:
-  Tokenizer(char* buf, std::size_t pos, std::size_t end, char delimiter)
-      : buf_(buf), pos_(pos), end_(end), delim_(delimiter) {}
+  Tokenizer(char* buf, std::size_t pos, std::size_t end) : buf_(buf), pos_(pos), end_(end) {}
 
   // The next record, or false at the end of the range; fields point into the buffer.
   bool next(RawRecord& r, std::vector<std::string_view>& fields) {
+    constexpr char delim = kDelimiter;
     fields.clear();
     // Empty lines are not records, but are counted.
     for (;;) {
@@ -337,7 +345,7 @@ class Tokenizer {
               prev_cr = true;
             } else {
               prev_cr = false;
-              if (c == delim_) r.comma_in_field = true;
+              if (c == delim) r.comma_in_field = true;
             }
           }
           move_run(w, static_cast<std::size_t>(p - first));
@@ -361,9 +369,9 @@ class Tokenizer {
           return true;
         }
         const char c = buf_[pos_];
-        if (c == delim_) {
+        if (c == delim) {
           end_field();
-          buf_[w++] = delim_;
+          buf_[w++] = delim;
           ++pos_;
           field_begin = w;
           continue;
@@ -381,7 +389,7 @@ class Tokenizer {
       const char* const first = buf_ + pos_;
       const char* const last = buf_ + end_;
       const char* p = first;
-      while (p != last && *p != delim_ && *p != '\n' && *p != '\r') ++p;
+      while (p != last && *p != delim && *p != '\n' && *p != '\r') ++p;
       move_run(w, static_cast<std::size_t>(p - first));
       if (pos_ == end_) {
         end_field();
@@ -389,8 +397,8 @@ class Tokenizer {
         return true;
       }
       end_field();
-      if (buf_[pos_] == delim_) {
-        buf_[w++] = delim_;
+      if (buf_[pos_] == delim) {
+        buf_[w++] = delim;
         ++pos_;
         field_begin = w;
         continue;
@@ -421,7 +429,6 @@ class Tokenizer {
 
   char* buf_;
   std::size_t pos_, end_;
-  char delim_;
   std::uint64_t next_line_ = 1;
 };
 
@@ -528,11 +535,18 @@ struct Chunk {
 };
 
 // The offset of the first byte of [p, p + n) that is not part of valid UTF-8 (no overlong form,
-// no surrogate, nothing beyond U+10FFFF); n if there is none. ASCII runs go 8 bytes at a time.
+// no surrogate, nothing beyond U+10FFFF); n if there is none.
 std::size_t invalid_utf8_at(const char* text, std::size_t n) {
   const auto* p = reinterpret_cast<const unsigned char*>(text);
   std::size_t i = 0;
   while (i < n) {
+    while (i + 16 <= n) {  // ASCII runs, 16 bytes at a time
+      std::uint64_t a, b;
+      std::memcpy(&a, p + i, 8);
+      std::memcpy(&b, p + i + 8, 8);
+      if (((a | b) & 0x8080808080808080ULL) != 0) break;
+      i += 16;
+    }
     if (i + 8 <= n) {
       std::uint64_t word;
       std::memcpy(&word, p + i, 8);
@@ -578,6 +592,7 @@ std::string utf8_reason(const std::string& name, std::string_view field, std::si
 }
 
 // Tokenises and locates the chunk's rows.
+template <char kDelimiter>
 void scan_chunk(char* buf, const SiteTable& table, const ScanRules& rules, Chunk& chunk) {
   const std::size_t columns = rules.total;
   const std::size_t named = rules.named;
@@ -589,12 +604,17 @@ void scan_chunk(char* buf, const SiteTable& table, const ScanRules& rules, Chunk
   chunk.units.reserve(lines + 1);
   if (ecef) chunk.heights_m.reserve(lines + 1);
 
-  Tokenizer tokens(buf, chunk.begin, chunk.end, rules.delimiter);
+  Tokenizer<kDelimiter> tokens(buf, chunk.begin, chunk.end);
   RawRecord record;
   std::vector<std::string_view> fields;
   std::uint64_t row = 0;
+  // The next byte that is not UTF-8, in the raw text ahead of the tokeniser (chunk.end: none);
+  // only a record whose raw bytes hold it is checked field by field.
+  std::size_t next_bad = chunk.begin + invalid_utf8_at(buf + chunk.begin, chunk.end - chunk.begin);
   while (tokens.next(record, fields)) {
     ++row;
+    const bool maybe_bad = next_bad < tokens.pos();
+    if (maybe_bad) next_bad = tokens.pos() + invalid_utf8_at(buf + tokens.pos(), chunk.end - tokens.pos());
     auto reject = [&](std::string reason) {
       chunk.rejected.push_back(RejectedRow{row, record.line, std::move(reason)});
     };
@@ -605,7 +625,8 @@ void scan_chunk(char* buf, const SiteTable& table, const ScanRules& rules, Chunk
       reject("");  // the reason names the absolute line: made once lines are numbered
       continue;
     }
-    if (const std::size_t bad = invalid_utf8_at(buf + record.begin, record.end - record.begin);
+    if (const std::size_t bad = maybe_bad ? invalid_utf8_at(buf + record.begin, record.end - record.begin)
+                                          : record.end - record.begin;
         bad != record.end - record.begin) {
       const char* at = buf + record.begin + bad;
       std::size_t c = 0;
@@ -689,6 +710,17 @@ std::vector<std::size_t> chunk_starts(const char* buf, std::size_t body, std::si
     starts.push_back(start);
   }
   return starts;
+}
+
+// f(std::integral_constant<char, d>{}) for the delimiters the reader knows.
+template <typename F>
+decltype(auto) with_delimiter(char d, F&& f) {
+  switch (d) {
+    case ';': return f(std::integral_constant<char, ';'>{});
+    case '\t': return f(std::integral_constant<char, '\t'>{});
+    case '|': return f(std::integral_constant<char, '|'>{});
+    default: return f(std::integral_constant<char, ','>{});
+  }
 }
 
 // The delimiter of the header line starting at `begin`: the most frequent of ',', ';', TAB and
@@ -816,18 +848,27 @@ void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tu
   const std::size_t start = size >= 3 && std::memcmp(buf, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
   ScanRules& rules = s.rules;
   rules.delimiter = options.delimiter != 0 ? options.delimiter : sniff_delimiter(buf, start, size);
+  if (std::string_view(",;\t|").find(rules.delimiter) == std::string_view::npos)
+    throw Error(ErrorCode::InvalidArgument, "the delimiter must be ',', ';', TAB or '|'");
   rules.decimal_comma = rules.delimiter != ',';
   rules.projected = !options.s_srs.empty();
   // A read error: CsvReader would have met it when it needed the first byte after the good ones,
   // which is at the end of the header unless the header is cut short.
   const std::uint64_t error_line = s.text.failed ? read_error_line(buf, start, size, rules.delimiter) : 0;
 
-  Tokenizer header(buf, start, size, rules.delimiter);
   RawRecord record;
   std::vector<std::string_view> fields;
-  const bool has_header = header.next(record, fields);
+  std::size_t body = 0;                // where the rows start
+  std::uint64_t header_next_line = 1;  // the line after the header
+  const bool has_header = with_delimiter(rules.delimiter, [&](auto d) {
+    Tokenizer<decltype(d)::value> header(buf, start, size);
+    const bool found = header.next(record, fields);
+    body = header.pos();
+    header_next_line = header.next_line();
+    return found;
+  });
   if (s.text.failed && (!has_header || !record.line_end ||
-                        (header.pos() == size && buf[size - 1] == '\r'))) {
+                        (body == size && buf[size - 1] == '\r'))) {
     throw read_error(source, error_line);
   }
   if (!has_header) throw Error(ErrorCode::BadData, source + ": empty file, no header");
@@ -852,7 +893,6 @@ void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tu
   if (s.text.failed) throw read_error(source, error_line);
 
   // One chunk per thread, each with at least min_chunk_bytes of rows.
-  const std::size_t body = header.pos();
   std::vector<std::size_t> targets = tuning.cuts;
   if (targets.empty()) {
     const std::size_t wanted = thread_count(options.threads);
@@ -870,11 +910,12 @@ void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tu
   // One slice per chunk (the first chunk's error, by chunk order, is rethrown).
   const std::size_t chunks = s.chunks.size();
   parallel_for(chunks, static_cast<unsigned>(chunks), [&](unsigned, std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k < end; ++k) scan_chunk(buf, table, rules, s.chunks[k]);
+    for (std::size_t k = begin; k < end; ++k)
+      with_delimiter(rules.delimiter, [&](auto d) { scan_chunk<decltype(d)::value>(buf, table, rules, s.chunks[k]); });
   });
 
   // Rows and lines numbered across chunks; rejected rows in row order, chunk after chunk.
-  std::uint64_t rows = 0, line = header.next_line() - 1;
+  std::uint64_t rows = 0, line = header_next_line - 1;
   std::size_t sites = 0, rejected = 0;
   for (const Chunk& c : s.chunks) {
     s.row_base.push_back(rows);

@@ -264,7 +264,7 @@ std::vector<Field> cell_layer_schema(const std::vector<std::string>& input_colum
 std::unique_ptr<FeatureWriter> open_cell_layer_writer(const std::string& path,
                                                       const std::vector<std::string>& input_columns,
                                                       WriterOptions options) {
-  options.id_field = "site_id";
+  if (options.id_field.empty()) options.id_field = "site_id";
   return open_feature_writer(path, GeometryType::MultiPolygon, cell_layer_schema(input_columns), options);
 }
 

@@ -48,7 +48,8 @@ struct SiteReaderOptions {
   /// vectors), each on its share of the input (0: one per core); see CsvSiteScan. DEFAULT: 1.
   /// The result does not depend on it.
   unsigned threads = 1;
-  /// The field delimiter; 0 (DEFAULT): sniffed from the header line (see above).
+  /// The field delimiter: ',', ';', '\t' or '|' (another is Error(InvalidArgument)); 0 (DEFAULT):
+  /// sniffed from the header line (see above).
   char delimiter = 0;
   /// The text's encoding for iconv (ISO-8859-1, CP1252, UTF-16, ...); empty (DEFAULT): UTF-8.
   std::string encoding;
