@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cstddef>
-#include <unordered_map>
+#include <functional>
 
 #include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
@@ -46,16 +46,25 @@ void require_sites(const SiteTable& table) {
 DuplicateIds find_duplicate_ids(const SiteTable& table) {
   DuplicateIds out;
   if (table.id_column < 0) return out;
-  std::unordered_map<std::string_view, std::size_t> first;  // id -> its first site
-  first.reserve(table.sites.size());
-  for (std::size_t i = 0; i < table.sites.size(); ++i) {
-    const auto [it, fresh] = first.try_emplace(table.sites[i].id, i);
-    if (fresh) continue;
-    ++out.rows;
+  // Open addressing over the sites' indices (no allocation per id): slot -> the id's first site.
+  const std::size_t n = table.sites.size();
+  std::size_t capacity = 16;
+  while (capacity < 2 * n) capacity <<= 1;
+  constexpr std::size_t kEmpty = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> slots(capacity, kEmpty);
+  const std::hash<std::string_view> hash;
+  for (std::size_t i = 0; i < n; ++i) {
     const std::string& id = table.sites[i].id;
+    std::size_t h = hash(id) & (capacity - 1);
+    while (slots[h] != kEmpty && table.sites[slots[h]].id != id) h = (h + 1) & (capacity - 1);
+    if (slots[h] == kEmpty) {
+      slots[h] = i;
+      continue;
+    }
+    ++out.rows;
     auto e = std::find_if(out.examples.begin(), out.examples.end(), [&](const auto& x) { return x.id == id; });
     if (e == out.examples.end() && out.examples.size() < 3) {
-      out.examples.push_back({id, {table.sites[it->second].row}});
+      out.examples.push_back({id, {table.sites[slots[h]].row}});
       e = out.examples.end() - 1;
     }
     if (e != out.examples.end() && e->rows.size() < 3) e->rows.push_back(table.sites[i].row);
