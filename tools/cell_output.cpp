@@ -17,6 +17,7 @@ WriterOptions cell_writer_options(const CellOutputArgs& args) {
   writer_options.layer = "cells";
   writer_options.precision = args.precision;
   writer_options.overwrite = args.overwrite;
+  if (args.ids_repeat) writer_options.id_field = "site_index";  // feature ids stay unique
   apply_output_model(args.model, writer_options);
   return writer_options;
 }

@@ -23,6 +23,7 @@ struct CellOutputArgs {
   bool overwrite = false;
   bool quiet = false;
   int threads = 0;  // 0: one per core
+  bool ids_repeat = false;  // the input's ids are not unique: site_index is the feature id
 };
 
 /// The writer options of the cells file (layer `cells` unless --nln).

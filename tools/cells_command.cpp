@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
 #include "geovor/core/output_target.hpp"
@@ -32,9 +33,10 @@ void write_report(OutputFile& out, const SiteTable& table, const BuildReport& re
                   const std::vector<UnwrittenCell>& unwritten, int precision) {
   std::FILE* f = out.get();
   std::fprintf(f, "row,line,id,status,site_index,detail\n");
-  auto quoted = [](const std::string& s) {
+  // Control characters escaped (printable): one line per row, and a NUL cannot cut a field.
+  auto quoted = [](const std::string& raw) {
     std::string q = "\"";
-    for (const char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    for (const char c : printable(raw)) q += c == '"' ? std::string("\"\"") : std::string(1, c);
     return q + "\"";
   };
   std::vector<char> merged(table.sites.size(), 0);
@@ -85,6 +87,7 @@ int run(CellsArgs& args) {
   const SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
   removal.wait();
   const SiteTable& table = input.table();
+  args.out.ids_repeat = input.ids_repeat();
   if (!args.out.quiet) report_merges(table, report);  // merged rows stay in the cells' ids and the report
   const int precision = writes_geojson(args.out) ? args.out.precision : kFullPrecision;
   const std::size_t written = write_cells(
@@ -121,7 +124,7 @@ Command add_cells_command(CLI::App& app) {
   cmd->add_option("--threads", args->out.threads, "Threads converting the coordinates and computing and formatting the cells (default: one per core); the output is the same")
       ->check(integer_in(0, kMaxThreads));
   cmd->footer(
-      "Each cell carries: site_index, site_id (also the feature id), ids (JSON array of the ids of every\n"
+      "Each cell carries: site_index, site_id (also the feature id; site_index is when ids repeat), ids (JSON array of the ids of every\n"
       "row merged into the site), n_rows, area_m2 (WGS84 ellipsoid, of the ring as written), area_sr\n"
       "(sphere, of the exact cell), n_vertices,\n"
       "neighbors (JSON array of the neighbours' ids), then every input column with its type (CSV columns\n"

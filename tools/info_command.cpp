@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "geovor/core/ascii.hpp"
 #include "geovor/kernel/predicates.hpp"
 #include "site_input.hpp"
 
@@ -51,7 +52,7 @@ int run(InfoArgs& args) {
   const double validate_s = seconds_since(t0);
   for (const std::string& e : valid.errors) std::fprintf(stderr, "validate: %s\n", e.c_str());
 
-  std::printf("input: %s\n", table.source.c_str());
+  std::printf("input: %s\n", printable(table.source).c_str());
   std::printf("rows: %llu\n", static_cast<unsigned long long>(table.rows_read));
   std::printf("sites: %zu\n", dt.num_sites());
   std::printf("merged: %zu\n", report.merges.size());

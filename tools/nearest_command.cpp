@@ -208,11 +208,7 @@ Command add_nearest_command(CLI::App& app) {
       ->check(integer_in(1, kMaxThreads));
   cmd->add_flag("--strict", args->strict, "Stop at the first malformed query line (exit 3)");
   cmd->add_flag("-q,--quiet", args->sites.quiet, "Do not list the merged sites of a site table nor count the queries without a match (malformed queries are still listed)");
-  args->site_options.push_back(cmd->add_option("--lat-field", args->sites.reader.lat_field, "Latitude column of the site table"));
-  args->site_options.push_back(cmd->add_option("--lon-field", args->sites.reader.lon_field, "Longitude column of the site table"));
-  args->site_options.push_back(cmd->add_option("--id-field", args->sites.reader.id_field,
-                                               "Identifier column of the site table (default: id, icao, code or name; else the row number)"));
-  args->site_options.push_back(cmd->add_option("--ecef-fields", args->sites.ecef_fields, "X,Y,Z ECEF columns of the site table"));
+  args->site_options = add_site_table_options(cmd, args->sites);  // of a site table, not an index
   args->site_options.push_back(cmd->add_option("--merge-m", args->sites.merge_m, "Merge sites closer than this many metres")
                                                    ->check(finite_above(0, true)));
   cmd->footer(

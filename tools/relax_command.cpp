@@ -46,6 +46,7 @@ void write_sites(const RelaxArgs& args, const SiteTable& table, const BuildRepor
   options.precision = args.cells.precision;
   options.overwrite = args.cells.overwrite;
   options.update = into_cells_source || (args.cells.model.update && format_holds_layers(args.sites_output, ""));
+  if (args.cells.ids_repeat) options.id_field = "site_index";  // feature ids stay unique
   const auto writer = open_site_layer_writer(args.sites_output, table, options);
   write_site_layer(*writer, table, rows_of_sites(report, dt.site_capacity()), dt, start);
   writer->finish();
@@ -75,7 +76,9 @@ int run(RelaxArgs& args) {
     check_writable(args.sites_output, args.cells.overwrite || (args.cells.model.update && !args.sites_output.empty() &&
                                                                format_holds_layers(args.sites_output, "")));
 
-  const SiteTable table = read_site_input(args.sites);
+  DuplicateIds duplicates;
+  const SiteTable table = read_site_input(args.sites, &duplicates);
+  args.cells.ids_repeat = duplicates.rows > 0;
   const std::vector<Vec3> points = site_points(table);
   BuildReport report;
   SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);

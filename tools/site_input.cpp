@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/delaunay/site_rows.hpp"
 #include "geovor/geo/csv_site_scan.hpp"
@@ -17,12 +18,7 @@ void add_site_input_options(CLI::App* cmd, SiteInputArgs& args) {
   cmd->add_option("INPUT", args.input,
                   "Sites: CSV with a header (- for stdin) or any OGR point layer (GeoPackage, Shapefile, GeoJSON, FlatGeobuf)")
       ->required();
-  cmd->add_option("--lat-field", args.reader.lat_field, "Latitude column (default: lat, latitude, lat_deg or y)");
-  cmd->add_option("--lon-field", args.reader.lon_field,
-                  "Longitude column (default: lon, lng, long, longitude, lon_deg or x)");
-  cmd->add_option("--id-field", args.reader.id_field,
-                  "Identifier column (default: id, icao, code or name; else the row number)");
-  cmd->add_option("--ecef-fields", args.ecef_fields, "X,Y,Z columns of ECEF metres instead of latitude/longitude");
+  add_site_table_options(cmd, args);
   cmd->add_option("--layer", args.layer, "Layer of a multi-layer OGR input (GeoPackage, ...); not for CSV");
   cmd->add_flag("--all-text", [&args](std::int64_t) { args.reader.detect_types = false; },
                "Keep every input column as text (String), as read; by default CSV columns are typed by their values "
@@ -30,6 +26,25 @@ void add_site_input_options(CLI::App* cmd, SiteInputArgs& args) {
   cmd->add_option("--merge-m", args.merge_m,
                   "Merge sites closer than this many metres (default and minimum: 2^-24 R = 0.38 m)")
       ->check(finite_above(0, true));
+}
+
+std::vector<CLI::Option*> add_site_table_options(CLI::App* cmd, SiteInputArgs& args) {
+  return {
+      cmd->add_option("--lat-field", args.reader.lat_field,
+                      "Latitude (or y) column (default: found by name, case-insensitive: lat, Latitude (deg), "
+                      "stop_lat, decimalLatitude, latitude_deg, POINT_Y, y...; several equally good ones are refused)"),
+      cmd->add_option("--lon-field", args.reader.lon_field,
+                      "Longitude (or x) column (default: found by name: lon, lng, long, Longitude, stop_lon, "
+                      "decimalLongitude, longitude_deg, POINT_X, x...)"),
+      cmd->add_option("--id-field", args.reader.id_field,
+                      "Identifier column (default: id, icao, code or name; else the row number); '#row': the row number"),
+      cmd->add_option("--ecef-fields", args.ecef_fields, "X,Y,Z columns of ECEF metres instead of latitude/longitude"),
+      cmd->add_option("--encoding", args.reader.encoding,
+                      "Encoding of a CSV input that is not UTF-8 (ISO-8859-1, CP1252, UTF-16...; iconv's names)"),
+      cmd->add_option("--s-srs", args.reader.s_srs,
+                      "Coordinate system of the input's coordinates (EPSG:2154, a WKT, a PROJ string): CSV x/y "
+                      "columns are transformed to WGS84 (rows outside its area of use rejected); replaces an OGR layer's own"),
+  };
 }
 
 namespace {
@@ -51,15 +66,33 @@ void prepare(SiteInputArgs& args) {
     throw Error(ErrorCode::InvalidArgument, args.input + ": --layer is for OGR sources; a CSV file has one table");
 }
 
+// Control characters (a NUL, a line break in a value) escaped: one line per row, never cut.
 void list_rejected(const SiteTable& table) {
+  const std::string source = printable(table.source);
   for (const RejectedRow& r : table.rejected) {
     if (r.line > 0)  // CSV rows have a line; OGR features do not (their reason names the feature)
-      std::fprintf(stderr, "%s: row %llu (line %llu) rejected: %s\n", table.source.c_str(),
-                   static_cast<unsigned long long>(r.row), static_cast<unsigned long long>(r.line), r.reason.c_str());
+      std::fprintf(stderr, "%s: row %llu (line %llu) rejected: %s\n", source.c_str(),
+                   static_cast<unsigned long long>(r.row), static_cast<unsigned long long>(r.line), printable(r.reason).c_str());
     else
-      std::fprintf(stderr, "%s: row %llu rejected: %s\n", table.source.c_str(),
-                   static_cast<unsigned long long>(r.row), r.reason.c_str());
+      std::fprintf(stderr, "%s: row %llu rejected: %s\n", source.c_str(),
+                   static_cast<unsigned long long>(r.row), printable(r.reason).c_str());
   }
+}
+
+// Ids that several sites share, said once (they stay as they are).
+void warn_duplicate_ids(const SiteTable& table, const DuplicateIds& duplicates) {
+  if (duplicates.rows == 0) return;
+  std::string examples;
+  for (const DuplicateIds::Example& e : duplicates.examples) {
+    if (!examples.empty()) examples += "; ";
+    examples += "'" + printable(e.id) + "' rows";
+    for (const std::uint64_t row : e.rows) examples += " " + std::to_string(row);
+  }
+  std::fprintf(stderr, "%s: warning: %llu rows have the id of an earlier row (id column '%s'; e.g. %s); "
+               "--id-field '#row' makes the row number the id\n",
+               printable(table.source).c_str(), static_cast<unsigned long long>(duplicates.rows),
+               table.id_column >= 0 ? printable(table.columns[static_cast<std::size_t>(table.id_column)]).c_str() : "",
+               examples.c_str());
 }
 
 // The whole table at once, by the reader the path calls for (a --layer is OGR's).
@@ -69,18 +102,24 @@ SiteTable read_whole(const SiteInputArgs& args) {
 
 }  // namespace
 
-bool site_input_needs_gdal(const SiteInputArgs& args) { return !args.layer.empty() || !is_csv_site_path(args.input); }
+bool site_input_needs_gdal(const SiteInputArgs& args) {
+  return !args.layer.empty() || !args.reader.s_srs.empty() || !is_csv_site_path(args.input);
+}
 
-SiteTable read_site_input(SiteInputArgs& args) {
+SiteTable read_site_input(SiteInputArgs& args, DuplicateIds* duplicates) {
   prepare(args);
   SiteTable table = read_whole(args);
   list_rejected(table);
+  require_sites(table);
+  const DuplicateIds found = find_duplicate_ids(table);
+  warn_duplicate_ids(table, found);
+  if (duplicates) *duplicates = found;
   return table;
 }
 
 StagedSiteInput::StagedSiteInput(SiteInputArgs& args, bool in_background, std::function<void(const SiteTable&)> then) {
   prepare(args);
-  if (!site_input_needs_gdal(args)) {
+  if (!site_input_needs_gdal(args)) {  // needs GDAL: with --s-srs, read_sites() reprojects
     scan_ = std::make_unique<CsvSiteScan>(CsvSiteScan::open(args.input, args.reader));
     positions_ = scan_->positions();
   } else {
@@ -88,12 +127,19 @@ StagedSiteInput::StagedSiteInput(SiteInputArgs& args, bool in_background, std::f
     points_ = site_points(table_);
     positions_ = points_;
   }
-  // The rest: a CSV table's strings, then `then`.
+  // The rest: a CSV table's strings, the duplicate ids, then `then`.
   auto rest = [this, then = std::move(then)] {
     SiteTable table = scan_ ? std::move(*scan_).finish() : std::move(table_);
+    duplicates_ = find_duplicate_ids(table);
     if (then) then(table);
     table_ = std::move(table);
   };
+  // No site: the rows are listed, and the command stops before it creates any output.
+  if (positions_.empty()) {
+    rest();
+    list_rejected(table_);
+    require_sites(table_);
+  }
   if (in_background) {
     pending_ = std::make_unique<TaskGroup>();
     pending_->run(std::move(rest));
@@ -107,7 +153,10 @@ const SiteTable& StagedSiteInput::table() {
     const std::unique_ptr<TaskGroup> pending = std::move(pending_);
     pending->wait();
   }
-  if (!listed_) list_rejected(table_);
+  if (!listed_) {
+    list_rejected(table_);
+    warn_duplicate_ids(table_, duplicates_);
+  }
   listed_ = true;
   return table_;
 }
@@ -140,8 +189,8 @@ void report_merges(const SiteTable& table, const BuildReport& report) {
       std::snprintf(why, sizeof why, "%.3g m apart, closer than the merge distance%s",
                     m.chord * SiteEncoder::kEarthRadiusM, m.hidden ? " (hidden)" : "");
     std::fprintf(stderr, "%s: row %llu (id %s) merged into the site of row %llu (id %s): %s\n",
-                 table.source.c_str(), static_cast<unsigned long long>(row.row), row.id.c_str(),
-                 static_cast<unsigned long long>(kept.row), kept.id.c_str(), why);
+                 printable(table.source).c_str(), static_cast<unsigned long long>(row.row), printable(row.id).c_str(),
+                 static_cast<unsigned long long>(kept.row), printable(kept.id).c_str(), why);
   }
 }
 

@@ -31,29 +31,37 @@ struct SiteInputArgs {
 /// Adds INPUT and the column options to a subcommand.
 void add_site_input_options(CLI::App* cmd, SiteInputArgs& args);
 
+/// Adds the options that say how to read a site table (columns, encoding, CRS); returns them.
+std::vector<CLI::Option*> add_site_table_options(CLI::App* cmd, SiteInputArgs& args);
+
 /// Whether reading the sites needs GDAL: an OGR source (any path but CSV/TXT and "-") or --layer.
 bool site_input_needs_gdal(const SiteInputArgs& args);
 
-/// Reads the sites; rejected rows go to stderr (file, row, line, reason).
-SiteTable read_site_input(SiteInputArgs& args);
+/// Reads the sites; rejected rows go to stderr (file, row, line, reason), then a warning when
+/// ids repeat. Throws Error(BadData) when no site remains (require_sites).
+SiteTable read_site_input(SiteInputArgs& args, DuplicateIds* duplicates = nullptr);
 
 /// The sites in two stages, so that the triangulation can start on the positions while the rest
 /// is done: the rows' strings of CSV input (CsvSiteScan; OGR input is read whole at once), then
 /// `then(table)`, on another thread when `in_background`. table() waits for them and lists the
 /// rejected rows on stderr, as read_site_input does. Errors of the first stage are thrown by the
-/// constructor, those of the second by table().
+/// constructor, those of the second by table(); so is no site at all (require_sites), by the
+/// constructor, after the rejected rows are listed.
 class StagedSiteInput {
  public:
   StagedSiteInput(SiteInputArgs& args, bool in_background, std::function<void(const SiteTable&)> then = {});
   /// The accepted rows' unit vectors, in row order (valid while this object lives).
   std::span<const Vec3> positions() const { return positions_; }
   const SiteTable& table();
+  /// Whether two accepted rows share an id (known once table() returned).
+  bool ids_repeat() const { return duplicates_.rows > 0; }
 
  private:
   std::unique_ptr<CsvSiteScan> scan_;
   std::vector<Vec3> points_;
   std::span<const Vec3> positions_;
   SiteTable table_;
+  DuplicateIds duplicates_;
   bool listed_ = false;
   std::unique_ptr<TaskGroup> pending_;  // the second stage in the background (joined first)
 };

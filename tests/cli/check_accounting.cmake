@@ -20,6 +20,26 @@ set(failures)
 string(REPLACE "|" ";" EXTRA "${EXTRA}")
 
 # 1. geovor info.
+# No site: both commands stop with exit 3, listing the rejected rows, and write nothing.
+if(SITES EQUAL 0)
+  set(cells ${OUT}/${NAME}.geojson)
+  set(report ${OUT}/${NAME}_report.csv)
+  file(REMOVE ${cells} ${report})
+  execute_process(COMMAND ${GEOVOR} info ${INPUT} ${EXTRA} RESULT_VARIABLE rc ERROR_VARIABLE err)
+  string(REGEX MATCHALL "rejected: " listed "${err}")
+  list(LENGTH listed n_listed)
+  if(NOT rc EQUAL 3 OR NOT err MATCHES "no usable site \\(${ROWS} rows, ${REJECTED} rejected\\)" OR NOT n_listed EQUAL REJECTED)
+    message(FATAL_ERROR "geovor info ${INPUT}: exit ${rc}, expected 3, no usable site and ${REJECTED} rows listed: ${err}")
+  endif()
+  execute_process(COMMAND ${GEOVOR} cells ${INPUT} -o ${cells} --report ${report} --overwrite -q ${EXTRA}
+    RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(NOT rc EQUAL 3 OR EXISTS ${cells} OR EXISTS ${report})
+    message(FATAL_ERROR "geovor cells ${INPUT}: exit ${rc}, expected 3 and no output: ${err}")
+  endif()
+  message(STATUS "ok: no site, exit 3, nothing written")
+  return()
+endif()
+
 execute_process(COMMAND ${GEOVOR} info ${INPUT} ${EXTRA} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "geovor info ${INPUT} exited ${rc}: ${err}")

@@ -95,13 +95,12 @@ add_test(NAME cli.robust.empty_file_cells.nothing_written
 set_tests_properties(cli.robust.empty_file_cells.nothing_written PROPERTIES LABELS cli WILL_FAIL ON
   DEPENDS cli.robust.empty_file_cells)
 geovor_cli_expect(cli.robust.no_lat_lon_columns 3
-  STDERR "no_lat_lon\\.csv: no latitude/longitude columns; looked for lat, latitude, lat_deg, y and lon, lng, long, longitude, lon_deg, x; found columns: id, easting_m, northing_m; use --lat-field/--lon-field"
+  STDERR "no_lat_lon\\.csv: no latitude/longitude columns; looked for names such as lat, latitude, stop_lat, decimalLatitude, LATITUDE_DEG, POINT_Y, y and lon, lng, long, longitude, stop_lon, decimalLongitude, POINT_X, x; found columns: id, easting_m, northing_m; use --lat-field/--lon-field"
   COMMAND info ${robust_fixtures}/no_lat_lon.csv)
-# Header only: 0 rows is no error for info (nothing to reject) and cells (an empty collection),
-# but nearest has no site to answer with.
-geovor_cli_expect(cli.robust.header_only_info 0 STDOUT "\nrows: 0\nsites: 0\nmerged: 0\nrejected: 0\n.*degenerate: no sites\nvalid: yes"
+# Header only: no site, so every command stops with exit 3 before writing anything.
+geovor_cli_expect(cli.robust.header_only_info 3 STDERR "header_only\\.csv: no usable site \\(0 rows, 0 rejected\\): the table has no data row"
   COMMAND info ${robust_fixtures}/header_only.csv)
-geovor_cli_expect(cli.robust.header_only_cells 0 STDOUT "^{\"type\":\"FeatureCollection\",\"name\":\"cells\",\"features\":\\[\n\\]}\n$"
+geovor_cli_expect(cli.robust.header_only_cells 3 STDOUT "^$" STDERR "header_only\\.csv: no usable site"
   COMMAND cells ${robust_fixtures}/header_only.csv -o - -q)
 geovor_cli_expect(cli.robust.header_only_nearest 3 STDERR "header_only\\.csv: no usable site \\(0 rows, 0 rejected\\)"
   COMMAND nearest --sites ${robust_fixtures}/header_only.csv --queries ${robust_fixtures}/empty.csv)

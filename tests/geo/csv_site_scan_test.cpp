@@ -267,6 +267,8 @@ TEST(CsvSiteScan, ChunkBoundaryAtEveryByte) {
   }
 }
 
+// The header rules that came after the streaming reader (no column found, names repeated, ranks)
+// are site_reader_test's and coordinate_columns_test's.
 TEST(CsvSiteScan, HeaderAndOptionErrorsMatch) {
   SiteReaderOptions two_ecef;
   two_ecef.ecef_fields = {"X", "Y"};
@@ -281,9 +283,8 @@ TEST(CsvSiteScan, HeaderAndOptionErrorsMatch) {
       {"\n\r\n\r", {}},
       {"\x1f\x8b\x08\x00,lat,lon\n1,2", {}},
       {"\"lat,lon\n1,2\n", {}},
-      {"a,b\n1,2\n", {}},
       {"lat,x\n1,2\n", {}},
-      {"lat,lat\n1,2\n", SiteReaderOptions{"lat", "lat", "", {}, 1}},
+      {"lat,b\n1,2\n", SiteReaderOptions{"lat", "lat", "", {}, 1}},
       {"lat,lon\n1,2\n", two_ecef},
       {"lat,lon\n1,2\n", both},
       {"lat,lon\n1,2\n", missing},
@@ -350,6 +351,13 @@ TEST(CsvSiteScan, ReadErrorsMatch) {
         std::istream in(&buf);
         return std::move(CsvSiteScan::read(in, "t.csv", options)).finish();
       });
+      // The columns' error comes first; its list of names looked for is newer than the oracle.
+      const std::size_t looked = want.what.find("; looked for");
+      if (looked != std::string::npos) {
+        EXPECT_EQ(got.code, want.code) << i;
+        EXPECT_EQ(got.what.substr(0, looked + 1), want.what.substr(0, looked + 1)) << i;
+        continue;
+      }
       expect_same(got, want, "text " + std::to_string(i));
     }
   }

@@ -95,7 +95,7 @@ TEST(SiteReader, MissingColumnsThrowWithColumnList) {
   EXPECT_NE(what.find("test.csv: no latitude/longitude columns"), std::string::npos) << what;
   EXPECT_NE(what.find("found columns: a, b, c"), std::string::npos) << what;
   EXPECT_NE(what.find("--lat-field/--lon-field"), std::string::npos) << what;
-  EXPECT_NE(what.find("lat_deg"), std::string::npos) << what;  // says what was looked for
+  EXPECT_NE(what.find("decimalLatitude"), std::string::npos) << what;  // says what was looked for
   const Error half = error_of("name,latitude\nx,1\n");
   EXPECT_EQ(half.code(), ErrorCode::BadData);
   EXPECT_NE(std::string(half.what()).find("found columns: name, latitude"), std::string::npos);
@@ -124,14 +124,165 @@ TEST(SiteReader, DetectionIsCaseInsensitiveAndTrimmed) {
   ASSERT_EQ(t.sites.size(), 1u);
 }
 
-TEST(SiteReader, EarlierNameInListWins) {
-  const SiteTable t = read("y,x,lat_deg,lon_deg,lat,lon\n1,2,3,4,5,6\n");
+TEST(SiteReader, BetterNameWinsAndEqualOnesAreAmbiguous) {
+  const SiteTable t = read("y,x,stop_lat,stop_lon,lat,lon\n1,2,3,4,5,6\n");
   EXPECT_EQ(t.lat_column, 4);
   EXPECT_EQ(t.lon_column, 5);
   EXPECT_EQ(t.sites[0].lat_deg, 5.0);
-  const SiteTable u = read("longitude,lng,latitude,y\n1,2,3,4\n");
-  EXPECT_EQ(u.lon_column, 1);
-  EXPECT_EQ(u.lat_column, 2);
+  const SiteTable u = read("x,y,stop_lon,stop_lat\n1,2,3,4\n");
+  EXPECT_EQ(u.lon_column, 2);
+  EXPECT_EQ(u.lat_column, 3);
+  const Error e = error_of("longitude,lng,latitude\n1,2,3\n");
+  EXPECT_EQ(e.code(), ErrorCode::BadData);
+  EXPECT_STREQ(e.what(), "test.csv: ambiguous longitude column: 'longitude', 'lng' are equally likely; choose one with --lon-field");
+  SiteReaderOptions o;
+  o.lon_field = "lng";  // a named column wins
+  EXPECT_EQ(read("longitude,lng,latitude\n1,2,3\n", o).lon_column, 1);
+}
+
+TEST(SiteReader, DelimitersAreSniffedFromTheHeader) {
+  for (const std::string d : {",", ";", "\t", "|"}) {
+    const SiteTable t = read("id" + d + "lat" + d + "lon" + d + "name\nA" + d + "10" + d + "20" + d + "\"x" + d + "y\"\n");
+    ASSERT_EQ(t.sites.size(), 1u) << d;
+    EXPECT_EQ(t.columns, (std::vector<std::string>{"id", "lat", "lon", "name"})) << d;
+    EXPECT_EQ(t.sites[0].fields, (std::vector<std::string>{"A", "10", "20", "x" + d + "y"})) << d;
+  }
+  // A quoted delimiter in the header does not count: two ';' beat one quoted ',' and none outside.
+  const SiteTable q = read("\"a,b\";lat;lon\nx;1;2\n");
+  EXPECT_EQ(q.columns, (std::vector<std::string>{"a,b", "lat", "lon"}));
+  // A given delimiter wins.
+  SiteReaderOptions o;
+  o.delimiter = ',';
+  EXPECT_EQ(read("lat,lon,a;b;c;d\n1,2,x\n", o).columns.size(), 3u);
+}
+
+TEST(SiteReader, DecimalCommaWhereTheDelimiterIsNotAComma) {
+  const SiteTable t = read("name;lat;lon\nParis;48,8566;2,3522\nbad;1,2,3;4\nmixed;1.000,5;2\n");
+  ASSERT_EQ(t.sites.size(), 1u);
+  EXPECT_EQ(t.sites[0].lat_deg, 48.8566);
+  EXPECT_EQ(t.sites[0].lon_deg, 2.3522);
+  EXPECT_EQ(t.sites[0].fields[1], "48,8566");  // kept as read
+  ASSERT_EQ(t.rejected.size(), 2u);
+  EXPECT_EQ(t.rejected[0].reason, "lat: '1,2,3' is not a number");
+  EXPECT_EQ(t.rejected[1].reason, "lat: '1.000,5' is not a number");
+  const SiteTable tab = read("lat\tlon\n-33,5\t151,25\n");
+  ASSERT_EQ(tab.sites.size(), 1u);
+  EXPECT_EQ(tab.sites[0].lat_deg, -33.5);
+  // With ',' as delimiter, "48,85" is two fields.
+  EXPECT_EQ(read("lat,lon\n\"48,85\",2\n").rejected.at(0).reason, "lat: '48,85' is not a number");
+}
+
+TEST(SiteReader, DegreesMinutesSecondsAreNamed) {
+  const SiteTable t = read("lat,lon\n\"40°26'46\"\"N\",\"79°58'56\"\"W\"\n");
+  ASSERT_EQ(t.rejected.size(), 1u);
+  EXPECT_EQ(t.rejected[0].reason,
+            "lat: '40°26'46\"N' is in degrees, minutes and seconds; geovor reads decimal degrees");
+}
+
+TEST(SiteReader, InvalidUtf8RejectsTheRowWithItsColumn) {
+  // "Zürich" in ISO-8859-1: 0xFC is not UTF-8.
+  const SiteTable t = read("id,name,lat,lon\nA,Z\xFCrich,47.37,8.54\nB,Z\xC3\xBCrich,47.37,8.55\n");
+  ASSERT_EQ(t.sites.size(), 1u);
+  EXPECT_EQ(t.sites[0].id, "B");
+  ASSERT_EQ(t.rejected.size(), 1u);
+  EXPECT_EQ(t.rejected[0].row, 1u);
+  EXPECT_EQ(t.rejected[0].reason,
+            "name: not valid UTF-8 (byte 0xFC at byte 2 of the field); give the file's encoding, e.g. --encoding ISO-8859-1");
+  // Overlong forms and surrogates are not UTF-8 either.
+  EXPECT_EQ(read("lat,lon,n\n1,2,\xC0\xAF\n").rejected.size(), 1u);
+  EXPECT_EQ(read("lat,lon,n\n1,2,\xED\xA0\x80\n").rejected.size(), 1u);
+  // In the header: the file.
+  const Error e = error_of("id,n\xE4me,lat,lon\n");
+  EXPECT_EQ(e.code(), ErrorCode::BadData);
+  EXPECT_STREQ(e.what(),
+               "test.csv: header: column 2: not valid UTF-8 (byte 0xE4 at byte 2 of the field); give the file's "
+               "encoding, e.g. --encoding ISO-8859-1");
+}
+
+TEST(SiteReader, EncodingConvertsToUtf8) {
+  SiteReaderOptions o;
+  o.encoding = "ISO-8859-1";
+  const SiteTable t = read("id,name,lat,lon\nA,Z\xFCrich,47.37,8.54\n", o);
+  ASSERT_EQ(t.sites.size(), 1u);
+  EXPECT_EQ(t.sites[0].fields[1], "Z\xC3\xBCrich");
+  o.encoding = "UTF-16LE";
+  const std::string utf16 = std::string("l\0a\0t\0,\0l\0o\0n\0\n\0" "1\0,\0" "2\0\n\0", 22);
+  const SiteTable u = read(utf16, o);
+  ASSERT_EQ(u.sites.size(), 1u);
+  EXPECT_EQ(u.sites[0].lon_deg, 2.0);
+  o.encoding = "NO-SUCH-ENCODING";
+  EXPECT_EQ(error_of("lat,lon\n", o).code(), ErrorCode::InvalidArgument);
+}
+
+TEST(SiteReader, HeaderNamesMustTellColumnsApart) {
+  const Error twice = error_of("id,lat,lon,lat\nA,1,2,3\n");
+  EXPECT_EQ(twice.code(), ErrorCode::BadData);
+  EXPECT_STREQ(twice.what(), "test.csv: header: column 4 'lat' has the same name as column 2 'lat'; rename one of them");
+  EXPECT_EQ(error_of("id,,lat,lon\n").code(), ErrorCode::BadData);
+  // A trailing delimiter from a spreadsheet: dropped while every row leaves it empty (or omits it).
+  const SiteTable t = read("id,lat,lon,\nA,1,2,\nB,3,4\nC,5,6, \n");
+  EXPECT_EQ(t.columns, (std::vector<std::string>{"id", "lat", "lon"}));
+  ASSERT_EQ(t.sites.size(), 3u);
+  EXPECT_EQ(t.sites[0].fields, (std::vector<std::string>{"A", "1", "2"}));
+  EXPECT_EQ(t.sites[2].fields, (std::vector<std::string>{"C", "5", "6"}));
+  const Error value = error_of("id,lat,lon,\nA,1,2,\nB,3,4,lost\n");
+  EXPECT_EQ(value.code(), ErrorCode::BadData);
+  EXPECT_STREQ(value.what(), "test.csv: header: column 4 has no name, but row 2 (line 3) has a value there: 'lost'; name the column");
+}
+
+TEST(SiteReader, RowNumberAsId) {
+  SiteReaderOptions o;
+  o.id_field = std::string(kRowNumberId);
+  const SiteTable t = read("name,lat,lon\nX,1,2\nX,3,4\n", o);
+  EXPECT_EQ(t.id_column, -1);
+  ASSERT_EQ(t.sites.size(), 2u);
+  EXPECT_EQ(t.sites[0].id, "1");
+  EXPECT_EQ(t.sites[1].id, "2");
+  EXPECT_EQ(find_duplicate_ids(t).rows, 0u);
+}
+
+TEST(SiteReader, DuplicateIdsAreFound) {
+  const SiteTable t = read("name,lat,lon\nSan Jose,1,1\nA,2,2\nSan Jose,3,3\nB,4,4\nA,5,5\nSan Jose,6,6\nSan Jose,7,7\n");
+  const DuplicateIds d = find_duplicate_ids(t);
+  EXPECT_EQ(d.rows, 4u);
+  ASSERT_EQ(d.examples.size(), 2u);
+  EXPECT_EQ(d.examples[0].id, "San Jose");
+  EXPECT_EQ(d.examples[0].rows, (std::vector<std::uint64_t>{1, 3, 6}));
+  EXPECT_EQ(d.examples[1].id, "A");
+  EXPECT_EQ(d.examples[1].rows, (std::vector<std::uint64_t>{2, 5}));
+}
+
+TEST(SiteReader, RequireSites) {
+  const auto message = [](const std::string& text) -> std::string {
+    try {
+      require_sites(read(text));
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::BadData);
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(message("lat,lon\n1,2\n"), "");
+  EXPECT_EQ(message("lat,lon\n"), "test.csv: no usable site (0 rows, 0 rejected): the table has no data row");
+  EXPECT_EQ(message("lat,lon\nabc,1\n1\n"),
+            "test.csv: no usable site (2 rows, 2 rejected): every row was rejected, the first (row 1) for lat: 'abc' is "
+            "not a number");
+  EXPECT_EQ(message("lat,lon\n4649776,500000\n"),
+            "test.csv: no usable site (1 rows, 1 rejected): every row was rejected, the first (row 1) for lat: latitude "
+            "4649776 is beyond +-90; projected coordinates (metres)? give their CRS with --s-srs");
+}
+
+TEST(SiteReader, ProjectedRowsAreKeptAsRead) {
+  SiteReaderOptions o;
+  o.s_srs = "EPSG:2154";
+  const SiteTable t = read("name,X,Y\nParis,652469,6862035\nbad,inf,1\n", o);
+  EXPECT_EQ(t.lon_column, 1);
+  EXPECT_EQ(t.lat_column, 2);
+  ASSERT_EQ(t.sites.size(), 1u);
+  EXPECT_EQ(t.sites[0].lon_deg, 652469.0);
+  EXPECT_EQ(t.sites[0].lat_deg, 6862035.0);
+  ASSERT_EQ(t.rejected.size(), 1u);
+  EXPECT_EQ(t.rejected[0].reason, "X: 'inf' is not a finite number");
 }
 
 TEST(SiteReader, IdColumnPriority) {

@@ -7,6 +7,8 @@
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
+
+#include <chrono>
 #include <ogr_geometry.h>
 #include <ogr_spatialref.h>
 #include <ogrsf_frmts.h>
@@ -167,6 +169,62 @@ TEST(OgrSiteReader, ShapefileInWebMercatorIsReprojected) {
     EXPECT_EQ(t.sites[i].id, "S" + std::to_string(i));  // "name" is an id column
     EXPECT_EQ(t.sites[i].unit, SiteEncoder::from_lat_lon(t.sites[i].lat_deg, t.sites[i].lon_deg));
   }
+}
+
+// Points that PROJ would stall on (time growing with the magnitude) or wrap around the Earth are
+// rejected before the transformation; the edge of the area of use stays in.
+TEST(OgrSiteReader, PointsOutsideTheCrsDomainAreRejected) {
+  TempDir dir;
+  const std::string path = dir / "far.geojson";
+  create_layer(path, "GeoJSON", 3857, wkbPoint, {{"name", OFTString}},
+               {{"POINT (1e25 1e25)", {"huge"}},
+                {"POINT (30000000 0)", {"wrapped"}},
+                {"POINT (20037508.342789244 0)", {"edge"}},
+                {"POINT (10000000 0)", {"inside"}}});
+  const auto t0 = std::chrono::steady_clock::now();
+  const SiteTable t = read_sites(path);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+  expect_accounted(t);
+  ASSERT_EQ(t.sites.size(), 2u);
+  EXPECT_EQ(t.sites[0].id, "edge");
+  EXPECT_EQ(t.sites[0].lon_deg, -180.0);  // 180 reduced to [-180, 180)
+  EXPECT_EQ(t.sites[1].id, "inside");
+  EXPECT_NEAR(t.sites[1].lon_deg, 89.83152841195214, 1e-12);  // x / R in degrees, R = 6378137 m
+  ASSERT_EQ(t.rejected.size(), 2u);
+  EXPECT_EQ(t.rejected[0].reason,
+            "feature 1 (FID 0): point (1e+25, 1e+25) is far outside WGS 84 / Pseudo-Mercator (EPSG:3857) (a "
+            "coordinate beyond 1e9)");
+  EXPECT_EQ(t.rejected[1].reason.rfind("feature 2 (FID 1): point (30000000, 0) is outside the area of use of WGS 84 / "
+                                       "Pseudo-Mercator (EPSG:3857) (x from -20037508.34 to 20037508.34",
+                                       0),
+            0u)
+      << t.rejected[1].reason;
+}
+
+// --s-srs: CSV x/y columns in Lambert-93 (EPSG:2154), transformed as gdaltransform does
+// (echo "652469 6862035" | gdaltransform -s_srs EPSG:2154 -t_srs EPSG:4326 -output_xy).
+TEST(OgrSiteReader, CsvInAProjectedCrs) {
+  TempDir dir;
+  const std::string path = dir / "lambert93.csv";
+  std::ofstream(path) << "name;X;Y\nParis;652469;6862035\nfar;1e12;0\nTokyo?;-9000000;6862035\n";
+  SiteReaderOptions o;
+  o.s_srs = "EPSG:2154";
+  const SiteTable t = read_sites(path, o);
+  expect_accounted(t);
+  ASSERT_EQ(t.sites.size(), 1u);
+  EXPECT_NEAR(t.sites[0].lon_deg, 2.3521997195163, 1e-12);
+  EXPECT_NEAR(t.sites[0].lat_deg, 48.8565976653841, 1e-12);
+  EXPECT_EQ(t.sites[0].line, 2u);
+  EXPECT_EQ(t.sites[0].unit, SiteEncoder::from_lat_lon(t.sites[0].lat_deg, t.sites[0].lon_deg));
+  ASSERT_EQ(t.rejected.size(), 2u);
+  EXPECT_EQ(t.rejected[0].row, 2u);
+  EXPECT_EQ(t.rejected[0].reason.rfind("X, Y: point (1e+12, 0) is far outside RGF93 v1 / Lambert-93 (EPSG:2154)", 0), 0u)
+      << t.rejected[0].reason;
+  EXPECT_EQ(t.rejected[1].row, 3u);
+  EXPECT_NE(t.rejected[1].reason.find("is outside the area of use of RGF93 v1 / Lambert-93 (EPSG:2154)"), std::string::npos)
+      << t.rejected[1].reason;
+  o.s_srs = "EPSG:999999";
+  EXPECT_EQ(error_of([&] { read_sites(path, o); }).code(), ErrorCode::InvalidArgument);
 }
 
 TEST(OgrSiteReader, GeoJsonWithALineStringAndAMultiPoint) {

@@ -14,10 +14,30 @@ namespace geovor {
 namespace {
 
 TEST(SiteSource, CsvPathsByExtension) {
-  for (const char* path : {"-", "a.csv", "a.CSV", "dir.x/a.Csv", "a.txt", "a.TXT", "/tmp/b.c.csv"})
+  for (const char* path : {"-", "a.csv", "a.CSV", "dir.x/a.Csv", "a.txt", "a.TXT", "/tmp/b.c.csv", "a.tsv", "a.dat", "a.PSV"})
     EXPECT_TRUE(is_csv_site_path(path)) << path;
   for (const char* path : {"a.gpkg", "a.geojson", "a.shp", "a.csv.gz", "a", "csv", "a.csvx", "dir.csv/a", "/vsizip/a.zip/b.shp"})
     EXPECT_FALSE(is_csv_site_path(path)) << path;
+}
+
+// Any other extension, or none: delimited text by its first bytes; GDAL's formats never.
+TEST(SiteSource, DelimitedTextByContent) {
+  const std::string dir = testing::TempDir();
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir + name, std::ios::binary) << text;
+    return dir + name;
+  };
+  EXPECT_TRUE(is_csv_site_path(write("stations", "id;lat;lon\nA;1;2\n")));
+  EXPECT_TRUE(is_csv_site_path(write("stations.xyz", "lat\tlon\n1\t2\n")));
+  EXPECT_TRUE(is_csv_site_path(write("stations.2024", "\xEF\xBB\xBFlat|lon\n1|2\n")));
+  EXPECT_FALSE(is_csv_site_path(write("points", "{\"type\":\"FeatureCollection\",\"features\":[]}")));
+  EXPECT_FALSE(is_csv_site_path(write("points.xyz", "<?xml version=\"1.0\"?><kml/>")));
+  EXPECT_FALSE(is_csv_site_path(write("db", std::string("SQLite format 3\0,;", 19))));
+  EXPECT_FALSE(is_csv_site_path(write("oneword", "hello\n")));
+  EXPECT_FALSE(is_csv_site_path(write("points.json", "lat,lon\n1,2\n")));  // GDAL's extension: GDAL's
+  const SiteTable t = read_sites(dir + "stations");
+  ASSERT_EQ(t.sites.size(), 1u);
+  EXPECT_EQ(t.sites[0].line, 2u);  // read as text, with lines
 }
 
 TEST(SiteSource, ReadsCsvWithTheCsvReader) {

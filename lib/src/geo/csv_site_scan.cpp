@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <iconv.h>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -14,9 +17,11 @@
 #include <system_error>
 #include <utility>
 
+#include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
 #include "geovor/geo/column_types.hpp"
+#include "geovor/geo/coordinate_columns.hpp"
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geo/trim.hpp"
@@ -24,9 +29,6 @@
 namespace geovor {
 namespace {
 
-constexpr std::array<std::string_view, 4> kLatNames = {"lat", "latitude", "lat_deg", "y"};
-constexpr std::array<std::string_view, 6> kLonNames = {"lon",       "lng",     "long",
-                                                       "longitude", "lon_deg", "x"};
 constexpr std::array<std::string_view, 4> kIdNames = {"id", "icao", "code", "name"};
 
 // A value longer than this is cut in messages: a reason must stay one readable line.
@@ -57,8 +59,36 @@ std::string quoted(std::string_view value) {
          std::to_string(value.size()) + " characters)";
 }
 
-// Parse one number; "" on success, else the reason (without the column name).
-std::string parse_double(std::string_view text, double& value) {
+// Degrees, minutes and seconds (40°26'46"N, 40 26 46 N): said so rather than "not a number".
+bool looks_like_dms(std::string_view s) {
+  const bool degree_sign = s.find("\xC2\xB0") != std::string_view::npos || s.find("\xBA") != std::string_view::npos;
+  const bool hemisphere = !s.empty() && std::string_view("NSEWnsew").find(s.back()) != std::string_view::npos &&
+                          s.size() > 1 && (std::isdigit(static_cast<unsigned char>(s[0])) != 0);
+  return degree_sign || (hemisphere && (s.find('\'') != std::string_view::npos || s.find(' ') != std::string_view::npos ||
+                                        std::isdigit(static_cast<unsigned char>(s[s.size() - 2])) != 0));
+}
+
+// Why `s` (its number part `digits`) did not parse, where from_chars stopped at `ptr` with `ec`;
+// "" when it is a number with a decimal comma after all. Out of line: the hot path stays small.
+[[gnu::noinline]] std::string parse_failure(std::string_view s, std::string_view digits, const char* ptr,
+                                            std::errc ec, double& value, bool decimal_comma) {
+  if (ec == std::errc::result_out_of_range) return quoted(s) + " is out of the range of a double";
+  if (decimal_comma && *ptr == ',' && digits.size() < 64 && digits.find('.') == std::string_view::npos &&
+      std::count(digits.begin(), digits.end(), ',') == 1) {
+    char point[64];
+    std::memcpy(point, digits.data(), digits.size());
+    point[ptr - digits.data()] = '.';
+    const auto [p2, ec2] = std::from_chars(point, point + digits.size(), value);
+    if (ec2 == std::errc::result_out_of_range) return quoted(s) + " is out of the range of a double";
+    if (ec2 == std::errc() && p2 == point + digits.size()) return "";
+  }
+  if (looks_like_dms(s)) return quoted(s) + " is in degrees, minutes and seconds; geovor reads decimal degrees";
+  return quoted(s) + " is not a number";
+}
+
+// Parse one number; "" on success, else the reason (without the column name). `decimal_comma`:
+// one ',' and no '.' is read as the decimal point ("48,85" in a semicolon-delimited file).
+std::string parse_double(std::string_view text, double& value, bool decimal_comma = false) {
   const std::string_view s = trim(text);
   if (s.empty()) return "empty value";
   std::string_view digits = s;
@@ -68,8 +98,7 @@ std::string parse_double(std::string_view text, double& value) {
   }
   const char* const last = digits.data() + digits.size();
   const auto [ptr, ec] = std::from_chars(digits.data(), last, value);
-  if (ec == std::errc::result_out_of_range) return quoted(s) + " is out of the range of a double";
-  if (ec != std::errc() || ptr != last) return quoted(s) + " is not a number";
+  if (ec != std::errc() || ptr != last) [[unlikely]] return parse_failure(s, digits, ptr, ec, value, decimal_comma);
   return "";
 }
 
@@ -124,20 +153,23 @@ void choose_columns(SiteTable& table, const SiteReaderOptions& options) {
       table.ecef_columns.push_back(named_column(source, "ECEF", name, columns));
     }
   } else {
+    const bool projected = !options.s_srs.empty();
     table.lat_column = options.lat_field.empty()
-                           ? detect_column(columns, kLatNames)
+                           ? detect_coordinate_column(columns, Axis::Latitude, projected, source)
                            : named_column(source, "latitude", options.lat_field, columns);
     table.lon_column = options.lon_field.empty()
-                           ? detect_column(columns, kLonNames)
+                           ? detect_coordinate_column(columns, Axis::Longitude, projected, source)
                            : named_column(source, "longitude", options.lon_field, columns);
     if (table.lat_column < 0 || table.lon_column < 0) {
       std::string which;
       if (table.lat_column >= 0) which = " (found latitude '" + columns[table.lat_column] + "')";
       if (table.lon_column >= 0) which = " (found longitude '" + columns[table.lon_column] + "')";
       throw Error(ErrorCode::BadData,
-                  source + ": no latitude/longitude columns" + which + "; looked for " +
-                      join(kLatNames) + " and " + join(kLonNames) +
-                      "; found columns: " + column_list(columns) + "; use --lat-field/--lon-field");
+                  source + ": no " + (projected ? "x/y" : "latitude/longitude") + " columns" + which +
+                      "; looked for names such as lat, latitude, stop_lat, decimalLatitude, LATITUDE_DEG, "
+                      "POINT_Y, y and lon, lng, long, longitude, stop_lon, decimalLongitude, POINT_X, x" +
+                      (projected ? ", northing and easting" : "") + "; found columns: " + column_list(columns) +
+                      "; use --lat-field/--lon-field");
     }
     if (table.lat_column == table.lon_column) {
       throw Error(
@@ -145,9 +177,9 @@ void choose_columns(SiteTable& table, const SiteReaderOptions& options) {
           source + ": latitude and longitude are both column '" + columns[table.lat_column] + "'");
     }
   }
-  table.id_column = options.id_field.empty()
-                        ? detect_column(columns, kIdNames)
-                        : named_column(source, "id", options.id_field, columns);
+  table.id_column = options.id_field.empty()        ? detect_column(columns, kIdNames)
+                    : options.id_field == kRowNumberId ? -1
+                                                       : named_column(source, "id", options.id_field, columns);
 }
 
 // A row's position as InputSite holds it.
@@ -156,15 +188,24 @@ struct Located {
   Vec3 unit;
 };
 
+// How the rows are read, decided from the options and the header.
+struct ScanRules {
+  char delimiter = ',';
+  bool decimal_comma = false;      // the delimiter is not ','
+  bool projected = false;          // SiteReaderOptions::s_srs: x/y kept as read
+  std::size_t named = 0;           // columns with a name; those after it must stay empty
+  std::size_t total = 0;           // columns in the header
+};
+
 // The row's position; "" on success, else the reason naming the column.
 std::string locate_site(const SiteTable& table, std::span<const std::string_view> fields,
-                        Located& site) {
+                        Located& site, const ScanRules& rules) {
   const auto& columns = table.columns;
   if (!table.ecef_columns.empty()) {
     std::array<double, 3> xyz{};
     for (std::size_t k = 0; k < 3; ++k) {
       const auto c = static_cast<std::size_t>(table.ecef_columns[k]);
-      if (auto reason = parse_double(fields[c], xyz[k]); !reason.empty()) {
+      if (auto reason = parse_double(fields[c], xyz[k], rules.decimal_comma); !reason.empty()) {
         return columns[c] + ": " + reason;
       }
       if (!std::isfinite(xyz[k])) {
@@ -188,11 +229,16 @@ std::string locate_site(const SiteTable& table, std::span<const std::string_view
   } else {
     const auto lat_c = static_cast<std::size_t>(table.lat_column);
     const auto lon_c = static_cast<std::size_t>(table.lon_column);
-    if (auto reason = parse_double(fields[lat_c], site.lat_deg); !reason.empty()) {
+    if (auto reason = parse_double(fields[lat_c], site.lat_deg, rules.decimal_comma); !reason.empty()) {
       return columns[lat_c] + ": " + reason;
     }
-    if (auto reason = parse_double(fields[lon_c], site.lon_deg); !reason.empty()) {
+    if (auto reason = parse_double(fields[lon_c], site.lon_deg, rules.decimal_comma); !reason.empty()) {
       return columns[lon_c] + ": " + reason;
+    }
+    if (rules.projected) {  // reproject_sites() checks the rest and makes the unit vector
+      if (!std::isfinite(site.lat_deg)) return columns[lat_c] + ": " + quoted(trim(fields[lat_c])) + " is not a finite number";
+      if (!std::isfinite(site.lon_deg)) return columns[lon_c] + ": " + quoted(trim(fields[lon_c])) + " is not a finite number";
+      return "";
     }
     if (auto reason = normalize_lat_lon(site.lat_deg, site.lon_deg); !reason.empty()) {
       // normalize_lat_lon's reasons start with the coordinate they are about.
@@ -243,24 +289,27 @@ Text read_text(std::istream& in, std::size_t size_hint) {
 }
 
 // One record of the text, its fields decoded in place: [begin, end) holds them separated by
-// one ',' each (the text after a record's end is not touched).
+// one delimiter each (the text after a record's end is not touched).
 struct RawRecord {
   std::size_t begin = 0, end = 0;
   std::uint64_t line = 0;        // line where it starts, counted from the tokeniser's start (1)
   std::uint64_t quote_line = 0;  // an unterminated quoted field: its first line; else 0
-  bool comma_in_field = false;   // a quoted field holds ',': the fields cannot be split at ','
+  bool comma_in_field = false;   // a quoted field holds the delimiter: the fields cannot be split at it
   bool line_end = false;         // ended by a line end (not by the end of the text)
 };
 
 // CsvReader's state machine (csv_reader.hpp) over [pos, end) of a buffer, which it decodes in
 // place: a record's decoded fields never run past its raw bytes, so they are written from its
 // first byte on.
+// The delimiter is a template argument: a constant in the hot loop, as ',' was.
+template <char kDelimiter>
 class Tokenizer {
  public:
   Tokenizer(char* buf, std::size_t pos, std::size_t end) : buf_(buf), pos_(pos), end_(end) {}
 
   // The next record, or false at the end of the range; fields point into the buffer.
   bool next(RawRecord& r, std::vector<std::string_view>& fields) {
+    constexpr char delim = kDelimiter;
     fields.clear();
     // Empty lines are not records, but are counted.
     for (;;) {
@@ -297,7 +346,7 @@ class Tokenizer {
               prev_cr = true;
             } else {
               prev_cr = false;
-              if (c == ',') r.comma_in_field = true;
+              if (c == delim) r.comma_in_field = true;
             }
           }
           move_run(w, static_cast<std::size_t>(p - first));
@@ -321,9 +370,9 @@ class Tokenizer {
           return true;
         }
         const char c = buf_[pos_];
-        if (c == ',') {
+        if (c == delim) {
           end_field();
-          buf_[w++] = ',';
+          buf_[w++] = delim;
           ++pos_;
           field_begin = w;
           continue;
@@ -341,7 +390,7 @@ class Tokenizer {
       const char* const first = buf_ + pos_;
       const char* const last = buf_ + end_;
       const char* p = first;
-      while (p != last && *p != ',' && *p != '\n' && *p != '\r') ++p;
+      while (p != last && *p != delim && *p != '\n' && *p != '\r') ++p;
       move_run(w, static_cast<std::size_t>(p - first));
       if (pos_ == end_) {
         end_field();
@@ -349,8 +398,8 @@ class Tokenizer {
         return true;
       }
       end_field();
-      if (buf_[pos_] == ',') {
-        buf_[w++] = ',';
+      if (buf_[pos_] == delim) {
+        buf_[w++] = delim;
         ++pos_;
         field_begin = w;
         continue;
@@ -386,12 +435,12 @@ class Tokenizer {
 
 // Follows CsvReader's quoting over raw text from a record start, quote to quote (memchr), to
 // tell whether a position is inside a quoted field. A quote opens one at a field start (at
-// `begin`, or after ',' or a line end outside quotes) and right after a closing quote (a doubled
+// `begin`, or after the delimiter or a line end outside quotes) and right after a closing quote (a doubled
 // quote); inside, any quote closes it; elsewhere a quote is text.
 class QuoteWalker {
  public:
-  QuoteWalker(const char* buf, std::size_t begin, std::size_t end)
-      : buf_(buf), begin_(begin), end_(end), next_(begin) {}
+  QuoteWalker(const char* buf, std::size_t begin, std::size_t end, char delimiter)
+      : buf_(buf), begin_(begin), end_(end), next_(begin), delim_(delimiter) {}
 
   // Whether position e (>= every earlier e) is inside a quoted field.
   bool inside_at(std::size_t e) {
@@ -422,7 +471,7 @@ class QuoteWalker {
     if (inside_) {
       inside_ = false;
       after_close_ = p + 1;
-    } else if (p == begin_ || p == after_close_ || buf_[p - 1] == ',' || buf_[p - 1] == '\n' ||
+    } else if (p == begin_ || p == after_close_ || buf_[p - 1] == delim_ || buf_[p - 1] == '\n' ||
                buf_[p - 1] == '\r') {
       inside_ = true;
     }
@@ -431,19 +480,20 @@ class QuoteWalker {
 
   const char* buf_;
   std::size_t begin_, end_, next_;
+  char delim_;
   std::size_t after_close_ = std::numeric_limits<std::size_t>::max();
   bool inside_ = false;
 };
 
 // The line CsvReader was on when it met a read error after the good bytes [0, size): every line
 // end before counted, except a CR outside quotes at the very end (it was looking for its LF).
-std::uint64_t read_error_line(const char* buf, std::size_t begin, std::size_t size) {
+std::uint64_t read_error_line(const char* buf, std::size_t begin, std::size_t size, char delimiter) {
   std::uint64_t line = 1;
   for (std::size_t i = 0; i < size; ++i) {
     if (buf[i] == '\r' || (buf[i] == '\n' && (i == 0 || buf[i - 1] != '\r'))) ++line;
   }
   if (size > begin && buf[size - 1] == '\r') {
-    QuoteWalker quotes(buf, begin, size);
+    QuoteWalker quotes(buf, begin, size, delimiter);
     if (!quotes.inside_at(size - 1)) --line;
   }
   return line;
@@ -459,7 +509,7 @@ struct PendingSite {
   std::uint64_t line = 0;  // counted from 1 in its chunk
   std::uint64_t begin = 0;
   std::uint32_t size = 0;
-  std::uint32_t split = 0;  // 0: split at ','; else 1 + index of its field ends in Chunk::field_ends
+  std::uint32_t split = 0;  // 0: split at the delimiter; else 1 + index of its field ends in Chunk::field_ends
   double lat_deg = 0, lon_deg = 0;
 };
 
@@ -479,11 +529,74 @@ struct Chunk {
   // field's column.
   std::uint64_t unterminated = kNoUnterminated, quote_line = 0;
   std::size_t quote_column = 0;
+  // The first row with a value in a column without a name (row counted in the chunk; 0: none).
+  std::uint64_t unnamed_row = 0, unnamed_line = 0;
+  std::size_t unnamed_column = 0;
+  std::string unnamed_value;
 };
 
+// The offset of the first byte of [p, p + n) that is not part of valid UTF-8 (no overlong form,
+// no surrogate, nothing beyond U+10FFFF); n if there is none.
+std::size_t invalid_utf8_at(const char* text, std::size_t n) {
+  const auto* p = reinterpret_cast<const unsigned char*>(text);
+  std::size_t i = 0;
+  while (i < n) {
+    while (i + 16 <= n) {  // ASCII runs, 16 bytes at a time
+      std::uint64_t a, b;
+      std::memcpy(&a, p + i, 8);
+      std::memcpy(&b, p + i + 8, 8);
+      if (((a | b) & 0x8080808080808080ULL) != 0) break;
+      i += 16;
+    }
+    if (i + 8 <= n) {
+      std::uint64_t word;
+      std::memcpy(&word, p + i, 8);
+      if ((word & 0x8080808080808080ULL) == 0) {
+        i += 8;
+        continue;
+      }
+    }
+    const unsigned char c = p[i];
+    if (c < 0x80) {
+      ++i;
+      continue;
+    }
+    std::size_t len = 0;
+    unsigned char lo = 0x80, hi = 0xBF;  // the second byte's range
+    if (c >= 0xC2 && c <= 0xDF) {
+      len = 2;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+      len = 3;
+      if (c == 0xE0) lo = 0xA0;
+      if (c == 0xED) hi = 0x9F;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+      len = 4;
+      if (c == 0xF0) lo = 0x90;
+      if (c == 0xF4) hi = 0x8F;
+    } else {
+      return i;
+    }
+    if (i + len > n || p[i + 1] < lo || p[i + 1] > hi) return i;
+    for (std::size_t k = 2; k < len; ++k)
+      if ((p[i + k] & 0xC0) != 0x80) return i;
+    i += len;
+  }
+  return n;
+}
+
+// The reason for bytes that are not UTF-8 at `at` in `field` (column `name`).
+std::string utf8_reason(const std::string& name, std::string_view field, std::size_t at) {
+  char byte[8];
+  std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned>(static_cast<unsigned char>(field[at])));
+  return name + ": not valid UTF-8 (byte " + byte + " at byte " + std::to_string(at + 1) +
+         " of the field); give the file's encoding, e.g. --encoding ISO-8859-1";
+}
+
 // Tokenises and locates the chunk's rows.
-void scan_chunk(char* buf, const SiteTable& table, Chunk& chunk) {
-  const std::size_t columns = table.columns.size();
+template <char kDelimiter>
+void scan_chunk(char* buf, const SiteTable& table, const ScanRules& rules, Chunk& chunk) {
+  const std::size_t columns = rules.total;
+  const std::size_t named = rules.named;
   const bool ecef = !table.ecef_columns.empty();
   // Lines bound the records: reserve once rather than grow.
   std::size_t lines = static_cast<std::size_t>(std::count(buf + chunk.begin, buf + chunk.end, '\n'));
@@ -492,12 +605,17 @@ void scan_chunk(char* buf, const SiteTable& table, Chunk& chunk) {
   chunk.units.reserve(lines + 1);
   if (ecef) chunk.heights_m.reserve(lines + 1);
 
-  Tokenizer tokens(buf, chunk.begin, chunk.end);
+  Tokenizer<kDelimiter> tokens(buf, chunk.begin, chunk.end);
   RawRecord record;
   std::vector<std::string_view> fields;
   std::uint64_t row = 0;
+  // The next byte that is not UTF-8, in the raw text ahead of the tokeniser (chunk.end: none);
+  // only a record whose raw bytes hold it is checked field by field.
+  std::size_t next_bad = chunk.begin + invalid_utf8_at(buf + chunk.begin, chunk.end - chunk.begin);
   while (tokens.next(record, fields)) {
     ++row;
+    const bool maybe_bad = next_bad < tokens.pos();
+    if (maybe_bad) next_bad = tokens.pos() + invalid_utf8_at(buf + tokens.pos(), chunk.end - tokens.pos());
     auto reject = [&](std::string reason) {
       chunk.rejected.push_back(RejectedRow{row, record.line, std::move(reason)});
     };
@@ -508,10 +626,30 @@ void scan_chunk(char* buf, const SiteTable& table, Chunk& chunk) {
       reject("");  // the reason names the absolute line: made once lines are numbered
       continue;
     }
-    if (fields.size() != columns) {
+    if (const std::size_t bad = maybe_bad ? invalid_utf8_at(buf + record.begin, record.end - record.begin)
+                                          : record.end - record.begin;
+        bad != record.end - record.begin) {
+      const char* at = buf + record.begin + bad;
+      std::size_t c = 0;
+      while (c + 1 < fields.size() && at >= fields[c].data() + fields[c].size()) ++c;
+      const std::string name = c < named ? table.columns[c] : "field " + std::to_string(c + 1);
+      reject(utf8_reason(name, fields[c], static_cast<std::size_t>(at - fields[c].data())));
+      continue;
+    }
+    if (named < columns && fields.size() >= named && fields.size() <= columns) {
+      // Columns without a name: the row may omit them, but must leave them empty.
+      for (std::size_t c = named; c < fields.size(); ++c)
+        if (!trim(fields[c]).empty() && chunk.unnamed_row == 0) {
+          chunk.unnamed_row = row;
+          chunk.unnamed_line = record.line;
+          chunk.unnamed_column = c;
+          chunk.unnamed_value = quoted(fields[c]);
+        }
+      fields.resize(named);
+    } else if (fields.size() != columns) {
       std::string reason = "found " + std::to_string(fields.size()) + " fields, expected " +
                            std::to_string(columns) + " as in the header";
-      if (fields.size() < columns) {
+      if (fields.size() < named) {
         std::vector<std::string> missing(
             table.columns.begin() + static_cast<std::ptrdiff_t>(fields.size()),
             table.columns.end());
@@ -521,7 +659,7 @@ void scan_chunk(char* buf, const SiteTable& table, Chunk& chunk) {
       continue;
     }
     Located site;
-    if (std::string reason = locate_site(table, fields, site); !reason.empty()) {
+    if (std::string reason = locate_site(table, fields, site, rules); !reason.empty()) {
       reject(std::move(reason));
       continue;
     }
@@ -533,7 +671,7 @@ void scan_chunk(char* buf, const SiteTable& table, Chunk& chunk) {
     pending.lon_deg = site.lon_deg;
     const std::size_t size = record.end - record.begin;
     if (record.comma_in_field || size > std::numeric_limits<std::uint32_t>::max()) {
-      pending.split = static_cast<std::uint32_t>(chunk.field_ends.size() / columns + 1);
+      pending.split = static_cast<std::uint32_t>(chunk.field_ends.size() / named + 1);
       for (const std::string_view f : fields) {
         chunk.field_ends.push_back(static_cast<std::size_t>(f.data() + f.size() - buf));
       }
@@ -551,10 +689,10 @@ void scan_chunk(char* buf, const SiteTable& table, Chunk& chunk) {
 // Where the chunks start: every target moved forward to the next record start (after a line end
 // outside quotes, after the LF of a CRLF), found from the raw text before any thread decodes it.
 std::vector<std::size_t> chunk_starts(const char* buf, std::size_t body, std::size_t size,
-                                      std::vector<std::size_t> targets) {
+                                      std::vector<std::size_t> targets, char delimiter) {
   std::sort(targets.begin(), targets.end());
   std::vector<std::size_t> starts = {body};
-  QuoteWalker quotes(buf, body, size);
+  QuoteWalker quotes(buf, body, size, delimiter);
   for (const std::size_t target : targets) {
     std::size_t pos = std::max(target, starts.back());
     std::size_t start = size;
@@ -575,6 +713,69 @@ std::vector<std::size_t> chunk_starts(const char* buf, std::size_t body, std::si
   return starts;
 }
 
+// f(std::integral_constant<char, d>{}) for the delimiters the reader knows.
+template <typename F>
+decltype(auto) with_delimiter(char d, F&& f) {
+  switch (d) {
+    case ';': return f(std::integral_constant<char, ';'>{});
+    case '\t': return f(std::integral_constant<char, '\t'>{});
+    case '|': return f(std::integral_constant<char, '|'>{});
+    default: return f(std::integral_constant<char, ','>{});
+  }
+}
+
+// The delimiter of the header line starting at `begin`: the most frequent of ',', ';', TAB and
+// '|' outside quotes, ties to the earlier in that order; ',' when there is none.
+char sniff_delimiter(const char* buf, std::size_t begin, std::size_t size) {
+  constexpr char kCandidates[] = {',', ';', '\t', '|'};
+  std::size_t counts[4] = {};
+  bool inside = false;
+  for (std::size_t i = begin; i < size; ++i) {
+    const char c = buf[i];
+    if (c == '"') {
+      inside = !inside;  // a doubled quote toggles twice
+    } else if (!inside) {
+      if (c == '\n' || c == '\r') break;
+      for (int k = 0; k < 4; ++k)
+        if (c == kCandidates[k]) ++counts[k];
+    }
+  }
+  int best = 0;
+  for (int k = 1; k < 4; ++k)
+    if (counts[k] > counts[best]) best = k;
+  return kCandidates[best];
+}
+
+// The text converted from `encoding` to UTF-8 by iconv.
+Text to_utf8(const Text& text, const std::string& encoding, const std::string& source) {
+  iconv_t cd = iconv_open("UTF-8", encoding.c_str());
+  if (cd == reinterpret_cast<iconv_t>(-1))
+    throw Error(ErrorCode::InvalidArgument, "--encoding " + encoding + ": not an encoding iconv knows (iconv -l lists them)");
+  Text out;
+  std::size_t capacity = 4 * text.size + 16;  // UTF-8 takes at most 4 bytes per input byte
+  out.data = std::make_unique_for_overwrite<char[]>(capacity);
+  char* in = text.data.get();
+  std::size_t in_left = text.size;
+  char* o = out.data.get();
+  std::size_t out_left = capacity;
+  const std::size_t rc = iconv(cd, &in, &in_left, &o, &out_left);
+  const int err = errno;
+  iconv_close(cd);
+  if (rc == static_cast<std::size_t>(-1)) {
+    const std::size_t at = text.size - in_left;
+    const std::uint64_t line = 1 + static_cast<std::uint64_t>(std::count(text.data.get(), text.data.get() + at, '\n'));
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02X", at < text.size ? static_cast<unsigned>(static_cast<unsigned char>(text.data[at])) : 0u);
+    throw Error(ErrorCode::BadData, source + ": line " + std::to_string(line) + ": " +
+                                        (err == EINVAL ? std::string("text cut inside a character")
+                                                       : "byte " + std::string(byte) + " (byte " + std::to_string(at + 1) +
+                                                             " of the file) is not valid " + encoding));
+  }
+  out.size = capacity - out_left;
+  out.failed = text.failed;
+  return out;
+}
+
 }  // namespace
 
 struct CsvSiteScan::State {
@@ -584,6 +785,7 @@ struct CsvSiteScan::State {
   std::vector<std::uint64_t> row_base, line_base;  // per chunk: its first row and first line - 1
   std::size_t sites = 0;
   bool detect_types = true;  // SiteReaderOptions::detect_types
+  ScanRules rules;
 };
 
 CsvSiteScan::CsvSiteScan(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -640,19 +842,36 @@ void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tu
   std::vector<Vec3>& positions = positions_;
   SiteTable& table = s.table;
   const std::string& source = table.source;
+  if (!options.encoding.empty()) {
+    const std::string e = ascii_lower(options.encoding);
+    if (e != "utf-8" && e != "utf8") s.text = to_utf8(s.text, options.encoding, source);
+  }
   char* const buf = s.text.data.get();
   const std::size_t size = s.text.size;
   const std::size_t start = size >= 3 && std::memcmp(buf, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+  ScanRules& rules = s.rules;
+  rules.delimiter = options.delimiter != 0 ? options.delimiter : sniff_delimiter(buf, start, size);
+  if (std::string_view(",;\t|").find(rules.delimiter) == std::string_view::npos)
+    throw Error(ErrorCode::InvalidArgument, "the delimiter must be ',', ';', TAB or '|'");
+  rules.decimal_comma = rules.delimiter != ',';
+  rules.projected = !options.s_srs.empty();
   // A read error: CsvReader would have met it when it needed the first byte after the good ones,
   // which is at the end of the header unless the header is cut short.
-  const std::uint64_t error_line = s.text.failed ? read_error_line(buf, start, size) : 0;
+  const std::uint64_t error_line = s.text.failed ? read_error_line(buf, start, size, rules.delimiter) : 0;
 
-  Tokenizer header(buf, start, size);
   RawRecord record;
   std::vector<std::string_view> fields;
-  const bool has_header = header.next(record, fields);
+  std::size_t body = 0;                // where the rows start
+  std::uint64_t header_next_line = 1;  // the line after the header
+  const bool has_header = with_delimiter(rules.delimiter, [&](auto d) {
+    Tokenizer<decltype(d)::value> header(buf, start, size);
+    const bool found = header.next(record, fields);
+    body = header.pos();
+    header_next_line = header.next_line();
+    return found;
+  });
   if (s.text.failed && (!has_header || !record.line_end ||
-                        (header.pos() == size && buf[size - 1] == '\r'))) {
+                        (body == size && buf[size - 1] == '\r'))) {
     throw read_error(source, error_line);
   }
   if (!has_header) throw Error(ErrorCode::BadData, source + ": empty file, no header");
@@ -665,12 +884,18 @@ void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tu
     throw Error(ErrorCode::BadData, source + ": header: unterminated quoted field starting on line " +
                                         std::to_string(record.quote_line));
   }
+  for (std::size_t c = 0; c < fields.size(); ++c)
+    if (const std::size_t bad = invalid_utf8_at(fields[c].data(), fields[c].size()); bad != fields[c].size())
+      throw Error(ErrorCode::BadData, source + ": header: " + utf8_reason("column " + std::to_string(c + 1), fields[c], bad));
   table.columns.assign(fields.begin(), fields.end());
+  rules.named = table.columns.size() - check_header_names(table.columns, source);
+  if (rules.named == 0) throw Error(ErrorCode::BadData, source + ": header: no column has a name");
+  rules.total = table.columns.size();
+  table.columns.resize(rules.named);  // the empty trailing ones are dropped
   choose_columns(table, options);
   if (s.text.failed) throw read_error(source, error_line);
 
   // One chunk per thread, each with at least min_chunk_bytes of rows.
-  const std::size_t body = header.pos();
   std::vector<std::size_t> targets = tuning.cuts;
   if (targets.empty()) {
     const std::size_t wanted = thread_count(options.threads);
@@ -678,7 +903,7 @@ void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tu
         1, std::min(wanted, (size - body) / std::max<std::size_t>(1, tuning.min_chunk_bytes)));
     for (std::size_t k = 1; k < n; ++k) targets.push_back(body + (size - body) * k / n);
   }
-  const std::vector<std::size_t> starts = chunk_starts(buf, body, size, std::move(targets));
+  const std::vector<std::size_t> starts = chunk_starts(buf, body, size, std::move(targets), rules.delimiter);
   s.chunks.resize(starts.size());
   for (std::size_t k = 0; k < starts.size(); ++k) {
     s.chunks[k].begin = starts[k];
@@ -688,11 +913,12 @@ void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tu
   // One slice per chunk (the first chunk's error, by chunk order, is rethrown).
   const std::size_t chunks = s.chunks.size();
   parallel_for(chunks, static_cast<unsigned>(chunks), [&](unsigned, std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k < end; ++k) scan_chunk(buf, table, s.chunks[k]);
+    for (std::size_t k = begin; k < end; ++k)
+      with_delimiter(rules.delimiter, [&](auto d) { scan_chunk<decltype(d)::value>(buf, table, rules, s.chunks[k]); });
   });
 
   // Rows and lines numbered across chunks; rejected rows in row order, chunk after chunk.
-  std::uint64_t rows = 0, line = header.next_line() - 1;
+  std::uint64_t rows = 0, line = header_next_line - 1;
   std::size_t sites = 0, rejected = 0;
   for (const Chunk& c : s.chunks) {
     s.row_base.push_back(rows);
@@ -720,6 +946,14 @@ void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tu
     }
     c.rejected = {};
   }
+  for (std::size_t k = 0; k < s.chunks.size(); ++k) {
+    const Chunk& c = s.chunks[k];
+    if (c.unnamed_row != 0)
+      throw Error(ErrorCode::BadData, source + ": header: column " + std::to_string(c.unnamed_column + 1) +
+                                          " has no name, but row " + std::to_string(c.unnamed_row + s.row_base[k]) +
+                                          " (line " + std::to_string(c.unnamed_line + s.line_base[k]) +
+                                          ") has a value there: " + c.unnamed_value + "; name the column");
+  }
   if (s.chunks.size() == 1) {
     positions = std::move(s.chunks[0].units);
   } else {
@@ -738,6 +972,7 @@ SiteTable CsvSiteScan::finish() && {
   const char* const buf = s.text.data.get();
   const std::size_t columns = table.columns.size();
   const int id_column = table.id_column;
+  const char delimiter = s.rules.delimiter;
   table.sites.reserve(s.sites);
   std::size_t i = 0;  // index into positions_
   for (std::size_t k = 0; k < s.chunks.size(); ++k) {
@@ -756,7 +991,7 @@ SiteTable CsvSiteScan::finish() && {
         const char* f = buf + p.begin;
         const char* const last = f + p.size;
         for (;;) {
-          const char* comma = static_cast<const char*>(std::memchr(f, ',', static_cast<std::size_t>(last - f)));
+          const char* comma = static_cast<const char*>(std::memchr(f, delimiter, static_cast<std::size_t>(last - f)));
           if (comma == nullptr) {
             site.fields.emplace_back(f, last);
             break;
@@ -764,6 +999,7 @@ SiteTable CsvSiteScan::finish() && {
           site.fields.emplace_back(f, comma);
           f = comma + 1;
         }
+        if (site.fields.size() > columns) site.fields.resize(columns);  // empty columns without a name
       } else {
         const std::size_t* ends = c.field_ends.data() + (p.split - 1) * columns;
         std::size_t f = p.begin;

@@ -1,8 +1,11 @@
 #include "geovor/geo/site_reader.hpp"
 
+#include <algorithm>
 #include <cstddef>
+#include <functional>
 
 #include "geovor/core/ascii.hpp"
+#include "geovor/core/error.hpp"
 #include "geovor/geo/csv_site_scan.hpp"
 #include "geo/trim.hpp"
 
@@ -20,6 +23,53 @@ SiteTable read_sites_csv(std::istream& in, const std::string& source, const Site
 
 SiteTable read_sites_csv_file(const std::string& path, const SiteReaderOptions& options) {
   return CsvSiteScan::open(path, options).finish();
+}
+
+void require_sites(const SiteTable& table) {
+  if (!table.sites.empty()) return;
+  std::string message = table.source + ": no usable site (" + std::to_string(table.rows_read) + " rows, " +
+                        std::to_string(table.rejected.size()) + " rejected)";
+  if (table.rows_read == 0) message += ": the table has no data row";
+  if (!table.rejected.empty()) {
+    const RejectedRow& first = table.rejected.front();
+    message += ": every row was rejected, the first (row " + std::to_string(first.row) + ") for " + first.reason;
+    // Metres in degree columns: every rejection is a coordinate out of range.
+    const bool all_out_of_range = std::all_of(table.rejected.begin(), table.rejected.end(), [](const RejectedRow& r) {
+      return r.reason.find("is beyond +-90") != std::string::npos ||
+             r.reason.find("is out of range [-540, 540]") != std::string::npos;
+    });
+    if (all_out_of_range) message += "; projected coordinates (metres)? give their CRS with --s-srs";
+  }
+  throw Error(ErrorCode::BadData, message);
+}
+
+DuplicateIds find_duplicate_ids(const SiteTable& table) {
+  DuplicateIds out;
+  if (table.id_column < 0) return out;
+  // Open addressing over the sites' indices (no allocation per id): slot -> the id's first site.
+  const std::size_t n = table.sites.size();
+  std::size_t capacity = 16;
+  while (capacity < 2 * n) capacity <<= 1;
+  constexpr std::size_t kEmpty = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> slots(capacity, kEmpty);
+  const std::hash<std::string_view> hash;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string& id = table.sites[i].id;
+    std::size_t h = hash(id) & (capacity - 1);
+    while (slots[h] != kEmpty && table.sites[slots[h]].id != id) h = (h + 1) & (capacity - 1);
+    if (slots[h] == kEmpty) {
+      slots[h] = i;
+      continue;
+    }
+    ++out.rows;
+    auto e = std::find_if(out.examples.begin(), out.examples.end(), [&](const auto& x) { return x.id == id; });
+    if (e == out.examples.end() && out.examples.size() < 3) {
+      out.examples.push_back({id, {table.sites[slots[h]].row}});
+      e = out.examples.end() - 1;
+    }
+    if (e != out.examples.end() && e->rows.size() < 3) e->rows.push_back(table.sites[i].row);
+  }
+  return out;
 }
 
 int find_column(const std::vector<std::string>& columns, std::string_view name) {

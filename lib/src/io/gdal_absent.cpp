@@ -21,6 +21,8 @@ SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions&, cons
   absent(path, "reading an OGR source");
 }
 
+void reproject_sites(SiteTable& table, const std::string&) { absent(table.source, "--s-srs (reprojecting sites)"); }
+
 namespace gdal_detail {
 
 std::string driver_for_extension(const std::string& path) { absent(path, "choosing a GDAL driver"); }

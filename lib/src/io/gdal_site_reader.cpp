@@ -15,6 +15,9 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <optional>
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <string_view>
 #include <system_error>
@@ -145,7 +148,10 @@ SiteTable read_attribute_positions(OGRLayer& layer, const std::string& source,
                                    std::to_string(fids.size() + 1) + capture.detail());
   }
   std::istringstream in(csv);
-  SiteTable table = read_sites_csv(in, source, options);
+  SiteReaderOptions csv_options = options;
+  csv_options.delimiter = ',';  // as written above, whatever the names hold
+  csv_options.encoding.clear();  // GDAL gives UTF-8
+  SiteTable table = read_sites_csv(in, source, csv_options);
   for (InputSite& s : table.sites) s.line = 0;
   for (RejectedRow& r : table.rejected) {
     r.reason = feature_name(r.row, r.row - 1 < fids.size() ? fids[r.row - 1] : OGRNullFID) +
@@ -155,7 +161,129 @@ SiteTable read_attribute_positions(OGRLayer& layer, const std::string& source,
   return table;
 }
 
+// The transformation of a source CRS to EPSG:4326 (longitude first) and the source coordinates
+// it accepts (reproject_sites() in ogr_site_reader.hpp documents the domain).
+class SourceTransform {
+ public:
+  // `srs` with any axis mapping; throws when it cannot be transformed.
+  SourceTransform(const OGRSpatialReference& srs, const std::string& source, ErrorCapture& capture) {
+    OGRSpatialReference source_srs(srs);
+    source_srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    OGRSpatialReference wgs84;
+    wgs84.importFromEPSG(4326);
+    wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    const char* same_options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES",
+                                  "CRITERION=EQUIVALENT_EXCEPT_AXIS_ORDER_GEOGCRS", nullptr};
+    if (source_srs.IsSame(&wgs84, same_options)) return;
+    name_ = source_srs.GetName() != nullptr ? source_srs.GetName() : "the source SRS";
+    if (const char* code = source_srs.GetAuthorityCode(nullptr)) {
+      const char* auth = source_srs.GetAuthorityName(nullptr);
+      name_ += std::string(" (") + (auth != nullptr ? auth : "") + ":" + code + ")";
+    }
+    transform_.reset(OGRCreateCoordinateTransformation(&source_srs, &wgs84));
+    if (!transform_)
+      throw Error(ErrorCode::BadData, source + ": cannot transform " + name_ + " to EPSG:4326" + capture.detail());
+    double west = 0, south = 0, east = 0, north = 0;
+    const char* area = nullptr;
+    if (!source_srs.GetAreaOfUse(&west, &south, &east, &north, &area) || west < -1000) return;
+    if (east < west) east += 360;  // an area across the antimeridian
+    const double lon_margin = std::max(15.0, east - west), lat_margin = std::max(15.0, north - south);
+    west = std::max(-180.0, west - lon_margin);
+    east = std::min(180.0, east + lon_margin);
+    south = std::max(-90.0, south - lat_margin);
+    north = std::min(90.0, north + lat_margin);
+    std::unique_ptr<OGRCoordinateTransformation> inverse(OGRCreateCoordinateTransformation(&wgs84, &source_srs));
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    if (inverse && inverse->TransformBounds(west, south, east, north, &x0, &y0, &x1, &y1, 21)) {
+      // A hair wider, so that a point on the edge (x = 20037508.342789244 in Web Mercator) stays in.
+      const double tx = 1e-9 * (std::abs(x0) + std::abs(x1)), ty = 1e-9 * (std::abs(y0) + std::abs(y1));
+      bounds_ = {x0 - tx, y0 - ty, x1 + tx, y1 + ty};
+      has_bounds_ = std::isfinite(x0) || std::isfinite(x1) || std::isfinite(y0) || std::isfinite(y1);
+      bounds_text_ = "x from " + number(x0) + " to " + number(x1) + ", y from " + number(y0) + " to " + number(y1);
+    }
+    capture.clear();
+  }
+
+  bool identity() const { return !transform_; }
+  const std::string& name() const { return name_; }
+
+  // (x, y) to longitude/latitude; "" on success, else the reason.
+  std::string to_lon_lat(double& x, double& y) {
+    if (!transform_) return "";
+    const std::string point = "point (" + number(x) + ", " + number(y) + ")";
+    if (!std::isfinite(x) || !std::isfinite(y)) return point + " is not finite";
+    if (std::abs(x) > kMaxMagnitude || std::abs(y) > kMaxMagnitude)
+      return point + " is far outside " + name_ + " (a coordinate beyond 1e9)";
+    // NaN-free comparisons: an infinite bound (a pole in Mercator) bounds nothing.
+    if (has_bounds_ && (x < bounds_[0] || x > bounds_[2] || y < bounds_[1] || y > bounds_[3]))
+      return point + " is outside the area of use of " + name_ + " (" + bounds_text_ + ", with a margin)";
+    int ok = 0;
+    const double x_in = x, y_in = y;
+    if (!transform_->Transform(1, &x, &y, nullptr, &ok) || !ok) {
+      x = x_in;
+      y = y_in;
+      return point + " cannot be transformed from " + name_ + " to EPSG:4326";
+    }
+    return "";
+  }
+
+ private:
+  static constexpr double kMaxMagnitude = 1e9;
+  static std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.10g", v);
+    return buf;
+  }
+  std::unique_ptr<OGRCoordinateTransformation> transform_;
+  std::string name_;
+  std::array<double, 4> bounds_{};
+  bool has_bounds_ = false;
+  std::string bounds_text_;
+};
+
+// The SRS a user named (--s-srs): anything SetFromUserInput takes.
+OGRSpatialReference user_srs(const std::string& text) {
+  OGRSpatialReference srs;
+  if (srs.SetFromUserInput(text.c_str()) != OGRERR_NONE)
+    throw Error(ErrorCode::InvalidArgument, "--s-srs " + text + ": not a coordinate system GDAL knows (EPSG:2154, a WKT or a PROJ string)");
+  return srs;
+}
+
 }  // namespace
+
+void reproject_sites(SiteTable& table, const std::string& srs_text) {
+  gdal_detail::register_gdal();
+  ErrorCapture capture;
+  const OGRSpatialReference srs = user_srs(srs_text);
+  SourceTransform transform(srs, table.source, capture);
+  std::string columns;
+  if (table.lon_column >= 0 && table.lat_column >= 0)
+    columns = table.columns[static_cast<std::size_t>(table.lon_column)] + ", " +
+              table.columns[static_cast<std::size_t>(table.lat_column)] + ": ";
+  std::vector<InputSite> kept;
+  kept.reserve(table.sites.size());
+  const std::size_t rejected_before = table.rejected.size();
+  for (InputSite& site : table.sites) {
+    double x = site.lon_deg, y = site.lat_deg;
+    std::string reason = transform.to_lon_lat(x, y);
+    if (reason.empty()) {
+      site.lon_deg = x;
+      site.lat_deg = y;
+      reason = normalize_lat_lon(site.lat_deg, site.lon_deg);
+    }
+    if (!reason.empty()) {
+      table.rejected.push_back(RejectedRow{site.row, site.line, columns + reason});
+      continue;
+    }
+    site.unit = SiteEncoder::from_lat_lon(site.lat_deg, site.lon_deg);
+    kept.push_back(std::move(site));
+  }
+  capture.clear();
+  table.sites = std::move(kept);
+  if (table.rejected.size() > rejected_before)
+    std::sort(table.rejected.begin(), table.rejected.end(),
+              [](const RejectedRow& a, const RejectedRow& b) { return a.row < b.row; });
+}
 
 SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& options,
                          const std::string& layer_name) {
@@ -221,10 +349,13 @@ SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& optio
   if (attribute_positions) {
     SiteTable from_attributes = read_attribute_positions(*layer, path, table.columns, options, capture);
     from_attributes.column_types = table.column_types;  // the layer's own types, not guessed ones
+    if (!options.s_srs.empty()) reproject_sites(from_attributes, options.s_srs);
     return from_attributes;
   }
 
-  if (!options.id_field.empty()) {
+  if (options.id_field == kRowNumberId) {
+    table.id_column = -1;
+  } else if (!options.id_field.empty()) {
     table.id_column = find_column(table.columns, options.id_field);
     if (table.id_column < 0) {
       throw Error(ErrorCode::InvalidArgument, path + ": id field '" + options.id_field +
@@ -238,29 +369,11 @@ SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& optio
   }
 
   // The transformation to EPSG:4326, longitude first; none when the layer is already in it.
-  OGRSpatialReference wgs84;
-  wgs84.importFromEPSG(4326);
-  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  std::unique_ptr<OGRCoordinateTransformation> transform;
-  std::string srs_name;
-  if (const OGRSpatialReference* layer_srs = layer->GetSpatialRef()) {
-    OGRSpatialReference source_srs(*layer_srs);
-    source_srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    const char* same_options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES",
-                                  "CRITERION=EQUIVALENT_EXCEPT_AXIS_ORDER_GEOGCRS", nullptr};
-    if (!source_srs.IsSame(&wgs84, same_options)) {
-      srs_name = source_srs.GetName() != nullptr ? source_srs.GetName() : "the layer's SRS";
-      if (const char* code = source_srs.GetAuthorityCode(nullptr)) {
-        const char* auth = source_srs.GetAuthorityName(nullptr);
-        srs_name += std::string(" (") + (auth != nullptr ? auth : "") + ":" + code + ")";
-      }
-      transform.reset(OGRCreateCoordinateTransformation(&source_srs, &wgs84));
-      if (!transform) {
-        throw Error(ErrorCode::BadData, path + ": cannot transform " + srs_name +
-                                            " to EPSG:4326" + capture.detail());
-      }
-    }
-  }
+  std::optional<SourceTransform> transform;
+  if (!options.s_srs.empty())
+    transform.emplace(user_srs(options.s_srs), path, capture);
+  else if (const OGRSpatialReference* layer_srs = layer->GetSpatialRef())
+    transform.emplace(*layer_srs, path, capture);
 
   const int field_count = defn->GetFieldCount();
   layer->ResetReading();
@@ -298,11 +411,9 @@ SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& optio
     double x = point->getX();
     double y = point->getY();
     if (transform) {
-      int ok = 0;
-      if (!transform->Transform(1, &x, &y, nullptr, &ok) || !ok) {
+      if (std::string reason = transform->to_lon_lat(x, y); !reason.empty()) {
         capture.clear();  // PROJ's message for this point is handled by the rejection
-        reject("point (" + std::to_string(point->getX()) + ", " + std::to_string(point->getY()) +
-               ") cannot be transformed from " + srs_name + " to EPSG:4326");
+        reject(reason);
         continue;
       }
     }

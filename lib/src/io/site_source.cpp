@@ -1,22 +1,62 @@
 // read_sites: which reader a path calls for. Kept apart from the OGR reader, which alone needs
 // GDAL: the geovor tool reads CSV without loading GDAL at all.
+#include <algorithm>
+#include <array>
+#include <cstdio>
 #include <filesystem>
 #include <string>
+#include <string_view>
 
+#include "geovor/core/ascii.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
 
 namespace geovor {
+namespace {
+
+// Extensions of delimited text, read by the CSV reader whatever their content.
+constexpr std::array<std::string_view, 5> kTextExtensions = {".csv", ".tsv", ".txt", ".dat", ".psv"};
+// Extensions of formats GDAL reads: never sniffed as text (a GeoJSON or KML file is text too).
+constexpr std::array<std::string_view, 32> kOgrExtensions = {
+    ".gpkg", ".geojson", ".json", ".geojsonl", ".geojsons", ".shp", ".dbf", ".shx", ".fgb", ".gml", ".kml",
+    ".kmz", ".gpx", ".tab", ".mif", ".sqlite", ".db", ".gdb", ".xlsx", ".xls", ".ods", ".zip", ".gz",
+    ".vrt", ".osm", ".pbf", ".parquet", ".arrow", ".feather", ".mbtiles", ".pmtiles", ".xml"};
+
+// Whether the file's first bytes are delimited text: no NUL byte, not JSON or XML, and a first
+// line holding a delimiter (',', ';', TAB or '|').
+bool looks_like_delimited_text(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) return false;
+  char buf[4096];
+  const std::size_t n = std::fread(buf, 1, sizeof buf, f);
+  std::fclose(f);
+  const std::string_view text(buf, n);
+  if (n == 0 || text.find('\0') != std::string_view::npos) return false;
+  std::size_t first = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
+  first = text.find_first_not_of(" \t\r\n", first);
+  if (first == std::string_view::npos || std::string_view("{[<").find(text[first]) != std::string_view::npos) return false;
+  const std::string_view line = text.substr(first, text.find_first_of("\r\n", first) - first);
+  return line.find_first_of(",;\t|") != std::string_view::npos;
+}
+
+}  // namespace
 
 bool is_csv_site_path(const std::string& path) {
   if (path == "-") return true;
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext)
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  return ext == ".csv" || ext == ".txt";
+  const std::string ext = ascii_lower(std::filesystem::path(path).extension().string());
+  // GDAL's virtual file systems and connection strings (PG:..., /vsizip/...) are OGR's.
+  if (path.starts_with("/vsi")) return false;
+  if (std::find(kTextExtensions.begin(), kTextExtensions.end(), ext) != kTextExtensions.end()) return true;
+  if (path.find(':') != std::string::npos) return false;
+  if (std::find(kOgrExtensions.begin(), kOgrExtensions.end(), ext) != kOgrExtensions.end()) return false;
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec) && looks_like_delimited_text(path);
 }
 
 SiteTable read_sites(const std::string& path, const SiteReaderOptions& options) {
-  return is_csv_site_path(path) ? read_sites_csv_file(path, options) : read_sites_ogr(path, options);
+  if (!is_csv_site_path(path)) return read_sites_ogr(path, options);
+  SiteTable table = read_sites_csv_file(path, options);
+  if (!options.s_srs.empty()) reproject_sites(table, options.s_srs);
+  return table;
 }
 
 }  // namespace geovor

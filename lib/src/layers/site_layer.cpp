@@ -36,7 +36,7 @@ std::vector<Field> site_layer_schema(const SiteTable& table) {
 
 std::unique_ptr<FeatureWriter> open_site_layer_writer(const std::string& path, const SiteTable& table,
                                                       WriterOptions options) {
-  options.id_field = "site_id";
+  if (options.id_field.empty()) options.id_field = "site_id";
   return open_feature_writer(path, GeometryType::Point, site_layer_schema(table), options);
 }
 

@@ -1,6 +1,6 @@
 /// \file ascii.hpp
 /// \brief ASCII case folding for names (columns, formats, extensions): locale-independent, bytes
-/// outside A-Z (UTF-8 included) unchanged.
+/// outside A-Z (UTF-8 included) unchanged; and control characters made visible for messages.
 #pragma once
 
 #include <string>
@@ -25,6 +25,34 @@ inline bool ascii_iequals(std::string_view a, std::string_view b) {
     if (x != y) return false;
   }
   return true;
+}
+
+/// `text` with every ASCII control character (0x00-0x1F, 0x7F) written as an escape (\0, \t,
+/// \n, \r, else \xHH), so that a message or a report line stays one line and a NUL cannot cut
+/// it. Other bytes (UTF-8 included) are unchanged.
+inline std::string printable(std::string_view text) {
+  std::string s;
+  s.reserve(text.size());
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u != 0x7F) {
+      s += c;
+    } else if (c == '\0') {
+      s += "\\0";
+    } else if (c == '\t') {
+      s += "\\t";
+    } else if (c == '\n') {
+      s += "\\n";
+    } else if (c == '\r') {
+      s += "\\r";
+    } else {
+      constexpr char kHex[] = "0123456789ABCDEF";
+      s += "\\x";
+      s += kHex[u >> 4];
+      s += kHex[u & 15];
+    }
+  }
+  return s;
 }
 
 }  // namespace geovor

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "geovor/core/ascii.hpp"
+
 namespace geovor {
 
 /// What kind of failure an Error reports; the command maps it to an exit code.
@@ -18,7 +20,9 @@ enum class ErrorCode : int {
 
 class Error : public std::runtime_error {
  public:
-  Error(ErrorCode code, const std::string& what) : std::runtime_error(what), code_(code) {}
+  /// Control characters in `what` (a NUL or a line break from a file name or a value) are
+  /// escaped (printable()): what() is one line, never cut.
+  Error(ErrorCode code, const std::string& what) : std::runtime_error(printable(what)), code_(code) {}
   ErrorCode code() const noexcept { return code_; }
 
  private:

@@ -10,8 +10,12 @@
 /// the InputSites' strings from those byte ranges without tokenising again.
 ///
 /// The result is the same, field by field, as the streaming reader that came before (CsvReader
-/// record by record; tests/support/reference_site_reader.cpp keeps it as the oracle): the CSV
-/// dialect of csv_reader.hpp, the columns, reasons, row and line numbers of site_reader.hpp.
+/// record by record; tests/support/reference_site_reader.cpp keeps it as the oracle) on the
+/// comma-delimited UTF-8 tables that reader knew: the CSV dialect of csv_reader.hpp, the columns,
+/// reasons, row and line numbers of site_reader.hpp. What came after it (site_reader.hpp): the
+/// sniffed delimiter (a template argument of the tokeniser, so ',' costs what it did), decimal
+/// commas, --encoding, the UTF-8 check (the raw text of each chunk checked once, a record field
+/// by field only when it holds an invalid byte), the header's checks and the column ranks.
 ///
 /// Costs on the 171,075 GeoNames cities (5.6 MB; geovor_bench_csv_read, 2 cores): open() with 2
 /// threads 14 ms when the second core is free (1 ms reading, 12-13 ms tokenising and locating on

@@ -2,17 +2,26 @@
 /// \brief read_sites_csv: a table of sites (latitude/longitude or ECEF columns) from CSV, with
 /// every data row either accepted as a site or rejected with a reason.
 ///
-/// Column detection (names compared trimmed and case-insensitively; within each list the earlier
-/// name wins when several are present):
-/// - latitude: lat, latitude, lat_deg, y;
-/// - longitude: lon, lng, long, longitude, lon_deg, x;
-/// - id: id, icao, code, name; without one, a site's id is its row number.
+/// The text: RFC 4180 records (csv_reader.hpp) whose delimiter is sniffed from the header line:
+/// the most frequent of ',', ';', TAB and '|' outside quotes (ties in that order; none: ','),
+/// unless SiteReaderOptions::delimiter names it. With ';', TAB or '|' as delimiter a coordinate
+/// may use a decimal comma ("48,85"; one comma, no point). UTF-8 (an optional byte order mark);
+/// SiteReaderOptions::encoding converts other text (iconv) first. Without it, a row holding
+/// bytes that are not UTF-8 is rejected with the column ("name: not valid UTF-8 (byte 0xE9 at
+/// byte 3); give the file's encoding, e.g. --encoding ISO-8859-1"), and so is the file when its
+/// header holds them.
 ///
-/// What throws Error (the table cannot be used at all): an unreadable file (ErrorCode::Io), an
-/// empty file or no latitude/longitude columns (ErrorCode::BadData), an option naming a column
-/// that does not exist (ErrorCode::InvalidArgument). What does not throw: every problem of a
-/// single row becomes a RejectedRow whose reason names the column, e.g.
-/// "lat_deg: 'abc' is not a number"; so rows_read == sites.size() + rejected.size() always.
+/// The header (coordinate_columns.hpp): a name that repeats another (trimmed, case-insensitive)
+/// or an empty name is refused, except empty names in the last columns while every row leaves
+/// those fields empty (a trailing delimiter from a spreadsheet): they are then dropped.
+///
+/// Column detection (names compared trimmed and case-insensitively):
+/// - latitude and longitude: by the ranked words of coordinate_columns.hpp (lat, Latitude (deg),
+///   stop_lat, decimalLatitude, latitude_deg, LAT, POINT_Y, y ...); several equally good
+///   candidates are refused, naming them;
+/// - id: id, icao, code, name (the first present in that order); without one, or with the id
+///   field "#row", a site's id is its row number.
+///
 #pragma once
 
 #include <cstdint>
@@ -30,7 +39,8 @@ namespace geovor {
 struct SiteReaderOptions {
   std::string lat_field;  ///< latitude column (degrees); empty: detect
   std::string lon_field;  ///< longitude column (degrees); empty: detect
-  std::string id_field;   ///< id column; empty: detect id/icao/code/name, else the row number
+  std::string id_field;   ///< id column; empty: detect id/icao/code/name, else the row number;
+                          ///< kRowNumberId: the row number
   /// Exactly 3 column names (X, Y, Z earth-centred earth-fixed WGS84, metres), or empty for
   /// latitude/longitude input. Exclusive with lat_field/lon_field.
   std::vector<std::string> ecef_fields;
@@ -41,7 +51,21 @@ struct SiteReaderOptions {
   /// vectors), each on its share of the input (0: one per core); see CsvSiteScan. DEFAULT: 1.
   /// The result does not depend on it.
   unsigned threads = 1;
+  /// The field delimiter: ',', ';', '\t' or '|' (another is Error(InvalidArgument)); 0 (DEFAULT):
+  /// sniffed from the header line (see above).
+  char delimiter = 0;
+  /// The text's encoding for iconv (ISO-8859-1, CP1252, UTF-16, ...); empty (DEFAULT): UTF-8.
+  std::string encoding;
+  /// The coordinate system of the coordinate columns (anything GDAL's SetFromUserInput takes:
+  /// EPSG:2154, a WKT, a PROJ string), or empty (DEFAULT) for WGS84 degrees. Set, the columns are
+  /// found as x/y (coordinate_columns.hpp), rows keep their x in lon_deg and y in lat_deg without
+  /// any range check but finiteness, and reproject_sites() (ogr_site_reader.hpp, GDAL) makes them
+  /// WGS84 sites; read_sites() does both.
+  std::string s_srs;
 };
+
+/// The id field that makes a site's id its row number (--id-field '#row').
+inline constexpr std::string_view kRowNumberId = "#row";
 
 /// One accepted data row.
 struct InputSite {
@@ -94,6 +118,24 @@ SiteTable read_sites_csv(std::istream& in, const std::string& source,
 /// \throw Error (ErrorCode::Io) naming the path and the system's reason when it cannot be read;
 ///   otherwise as read_sites_csv.
 SiteTable read_sites_csv_file(const std::string& path, const SiteReaderOptions& options = {});
+
+/// Throws Error(ErrorCode::BadData) when no site remains in `table` (an empty table, every row
+/// rejected): "FILE: no usable site (N rows, M rejected)" and, when every row was rejected, the
+/// first reason and a hint when all the rejected latitudes are beyond +-90 (projected metres).
+void require_sites(const SiteTable& table);
+
+/// Accepted rows whose id an earlier accepted row has (ids are kept as they are; this only says so).
+struct DuplicateIds {
+  std::uint64_t rows = 0;  ///< rows whose id is not the first use of that id
+  struct Example {
+    std::string id;
+    std::vector<std::uint64_t> rows;  ///< its first rows (at most 3)
+  };
+  std::vector<Example> examples;  ///< the first repeated ids, in order of their repeat (at most 3)
+};
+
+/// The ids of `table.sites` that repeat; none when the ids are row numbers (id_column < 0).
+DuplicateIds find_duplicate_ids(const SiteTable& table);
 
 /// Index of the column whose name, trimmed and case-insensitive, is `name`; -1 if none.
 int find_column(const std::vector<std::string>& columns, std::string_view name);

@@ -7,9 +7,13 @@
 ///   do not apply);
 /// - the position is the feature's Point geometry (a MultiPoint of exactly one point is taken
 ///   as that point; a Z value is ignored, height_m stays 0 as for latitude/longitude CSV input),
-///   reprojected to EPSG:4326 (OAMS_TRADITIONAL_GIS_ORDER) when the layer has another SRS; a
+///   reprojected to EPSG:4326 (OAMS_TRADITIONAL_GIS_ORDER) when the layer has another SRS
+///   (SiteReaderOptions::s_srs, when set, replaces the layer's own, as ogr2ogr -s_srs); a
 ///   layer without an SRS is taken as longitude/latitude degrees. Then normalize_lat_lon()
 ///   applies as for CSV;
+/// - a point is checked before it reaches the transformation (source_domain below): a point
+///   outside it is rejected ("point (1e+25, 1e+25) is outside the area of use of WGS 84 /
+///   Pseudo-Mercator (EPSG:3857) ..."), never wrapped around the Earth nor left to stall PROJ;
 /// - rejected with a reason naming the feature: a null or empty geometry, a geometry that is not
 ///   a point ("feature 4 (FID 3): geometry is a LineString, not a Point"), a point that cannot
 ///   be transformed, a latitude beyond +-90;
@@ -42,12 +46,33 @@ namespace geovor {
 SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& options = {},
                          const std::string& layer = "");
 
-/// Reads sites with the reader `path` calls for: "-" and the extensions .csv and .txt
-/// (case-insensitive) go to read_sites_csv_file(); every other path to read_sites_ogr() (GDAL
-/// recognises the format from the content and extension).
+/// Makes WGS84 sites of rows read with SiteReaderOptions::s_srs (x in lon_deg, y in lat_deg, in
+/// the coordinates of `srs`): each point is checked against the domain of `srs` (below), then
+/// transformed to EPSG:4326, normalised (normalize_lat_lon) and given its unit vector; a row that
+/// fails is moved to the rejected rows with its reason (naming the columns), which stay in row
+/// order.
+///
+/// The domain of a CRS: finite coordinates of magnitude at most 1e9 (PROJ spends time growing
+/// with the magnitude: 1e18 m took 19 s in Web Mercator), and inside its area of use (PROJ's,
+/// in degrees) widened by max(15 degrees, its width) in longitude and max(15 degrees, its height)
+/// in latitude, cut at +-180 and +-90, then mapped into the CRS: so Norway in UTM zone 33 is
+/// kept, while x beyond +-20037508.34 m in Web Mercator (another turn around the Earth) is
+/// rejected. A CRS without an area of use is checked for finite magnitudes only.
+/// 	hrow Error(ErrorCode::InvalidArgument) when GDAL does not know `srs`; Error(BadData) when it
+///   cannot be transformed to EPSG:4326.
+void reproject_sites(SiteTable& table, const std::string& srs);
+
+/// Reads sites with the reader `path` calls for: is_csv_site_path() ones with
+/// read_sites_csv_file() (then reproject_sites() with SiteReaderOptions::s_srs, when set), every
+/// other path with read_sites_ogr() (GDAL recognises the format from the content and extension).
 SiteTable read_sites(const std::string& path, const SiteReaderOptions& options = {});
 
-/// True when read_sites() reads `path` with the CSV reader.
+/// True when read_sites() reads `path` as delimited text: "-"; the extensions .csv, .tsv, .txt,
+/// .dat and .psv (any case); and a regular file with no or another extension than GDAL's formats
+/// (.gpkg, .geojson, .json, .shp, .fgb, .gml, .kml, .tab, .xlsx, .zip, .gz, ... never) whose
+/// first 4 KiB hold no NUL byte, do not start with '{', '[' or '<' (JSON, XML) and whose first
+/// line holds a delimiter (',', ';', TAB or '|'). Every other path (GDAL's /vsi... files and
+/// connection strings, directories, missing files) is OGR's.
 bool is_csv_site_path(const std::string& path);
 
 }  // namespace geovor

@@ -39,7 +39,8 @@ namespace geovor {
 std::vector<Field> cell_layer_schema(const SiteTable& table);
 
 /// open_feature_writer(path, MultiPolygon, cell_layer_schema(table), options) with
-/// options.id_field set to "site_id" (options.layer defaults to "cells").
+/// options.id_field set to "site_id" unless the caller chose another field, such as "site_index"
+/// when ids repeat, so that feature ids stay unique (options.layer defaults to "cells").
 /// @exception Error as open_feature_writer().
 std::unique_ptr<FeatureWriter> open_cell_layer_writer(const std::string& path, const SiteTable& table,
                                                       WriterOptions options);

@@ -28,7 +28,7 @@ namespace geovor {
 std::vector<Field> site_layer_schema(const SiteTable& table);
 
 /// open_feature_writer(path, Point, site_layer_schema(table), options) with options.id_field set
-/// to "site_id". @exception Error as open_feature_writer().
+/// to "site_id" unless the caller chose another field ("site_index" when ids repeat). @exception Error as open_feature_writer().
 std::unique_ptr<FeatureWriter> open_site_layer_writer(const std::string& path, const SiteTable& table,
                                                       WriterOptions options);
 
