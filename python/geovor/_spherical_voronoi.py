@@ -61,18 +61,18 @@ class SphericalVoronoi:
         self.center = np.zeros(3) if center is None else np.array(center, dtype=np.float64)
         if self.center.shape != (3,):
             raise ValueError(f"center must have shape (3,), not {self.center.shape}")
-        relative = (self.points - self.center) / self.radius
-        norms = np.linalg.norm(relative, axis=1)
+        trivial = self.radius == 1 and not self.center.any()
+        relative = self.points if trivial else (self.points - self.center) / self.radius
+        norms = np.sqrt(np.einsum("ij,ij->i", relative, relative))
         if len(norms):
             worst = int(np.argmax(np.abs(norms - 1)))
             if abs(norms[worst] - 1) >= threshold:
                 raise ValueError(
                     f"Radius inconsistent with generators: point {worst} is at distance "
                     f"{norms[worst] * self.radius!r} from the center, radius is {self.radius!r}")
-        unit = relative / norms[:, None] if len(norms) else relative
-        diagram = _geovor.spherical_voronoi(unit)
+        diagram = _geovor.spherical_voronoi(relative)  # normalized there
         unit_vertices = diagram["vertices"]
-        if self.radius == 1 and not self.center.any():
+        if trivial:
             self.vertices = unit_vertices
         else:
             self.vertices = unit_vertices * self.radius + self.center

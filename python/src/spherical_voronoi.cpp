@@ -1,11 +1,13 @@
-// spherical_voronoi(points): the exact Voronoi diagram of unit vectors, in flat arrays by input
+// spherical_voronoi(points): the exact Voronoi diagram of the directions of points, in flat arrays by input
 // point, for geovor.SphericalVoronoi (python/geovor/_spherical_voronoi.py).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include "bindings.hpp"
@@ -26,7 +28,12 @@ py::dict spherical_voronoi(const py::array_t<double, py::array::c_style | py::ar
   const std::size_t n = static_cast<std::size_t>(points.shape(0));
   const double* p = points.data();
   std::vector<Vec3> unit(n);
-  for (std::size_t i = 0; i < n; ++i) unit[i] = {p[3 * i], p[3 * i + 1], p[3 * i + 2]};
+  // Divided by the length as numpy's points / np.linalg.norm(points, axis=1)[:, None] does.
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
+    const double len = std::sqrt(x * x + y * y + z * z);
+    unit[i] = {x / len, y / len, z / len};
+  }
 
   BuildReport report;
   SphericalDelaunay dt;
@@ -38,7 +45,6 @@ py::dict spherical_voronoi(const py::array_t<double, py::array::c_style | py::ar
   }
   // The arrays are numpy's own, filled in place (no copies of the large ones).
   const std::size_t nv = vd.num_vertices();
-  py::array_t<double> vertices({static_cast<py::ssize_t>(nv), py::ssize_t{3}});
   py::array_t<std::int64_t> site_of_input(static_cast<py::ssize_t>(n)), offsets(static_cast<py::ssize_t>(n + 1));
   py::array_t<double> areas(static_cast<py::ssize_t>(n));
   std::vector<std::int64_t> merged;  // pairs: input, the input whose site it went into
@@ -58,13 +64,6 @@ py::dict spherical_voronoi(const py::array_t<double, py::array::c_style | py::ar
       merged.push_back(mg.input);
       merged.push_back(mg.site == kNoIndex ? -1 : input_of_site[mg.site]);
     }
-    double* v = vertices.mutable_data();
-    parallel_for(nv, threads, [&](unsigned, std::size_t begin, std::size_t end) {
-      for (std::size_t t = begin; t < end; ++t) {
-        const Vec3& x = vd.vertex(static_cast<TriId>(t));
-        v[3 * t] = x.x, v[3 * t + 1] = x.y, v[3 * t + 2] = x.z;
-      }
-    });
     region_offset[0] = 0;
     for (std::size_t i = 0; i < n; ++i)
       region_offset[i + 1] = region_offset[i] + (is_merged[i] || site[i] < 0 ? 0 : static_cast<std::int64_t>(
@@ -98,6 +97,13 @@ py::dict spherical_voronoi(const py::array_t<double, py::array::c_style | py::ar
   }
   py::array_t<std::int64_t> merged_array({static_cast<py::ssize_t>(merged.size() / 2), py::ssize_t{2}});
   std::copy(merged.begin(), merged.end(), merged_array.mutable_data());
+  // The vertices are the diagram's own array, handed to numpy (no copy of 2n - 4 vertices).
+  static_assert(sizeof(Vec3) == 3 * sizeof(double) && std::is_standard_layout_v<Vec3>);
+  auto* owned = new std::vector<Vec3>(vd.release_vertices());
+  py::capsule owner(owned, [](void* v) { delete static_cast<std::vector<Vec3>*>(v); });
+  py::array_t<double> vertices({static_cast<py::ssize_t>(nv), py::ssize_t{3}},
+                               {static_cast<py::ssize_t>(sizeof(Vec3)), static_cast<py::ssize_t>(sizeof(double))},
+                               owned->empty() ? nullptr : &owned->front().x, owner);
   py::dict out;
   out["site_of_input"] = site_of_input;
   out["vertices"] = vertices;
@@ -151,7 +157,7 @@ py::list regions_lists(const py::array_t<std::int64_t, py::array::c_style | py::
 
 void bind_spherical_voronoi(py::module_& m) {
   m.def("spherical_voronoi", &spherical_voronoi, py::arg("points"), py::arg("threads") = 0,
-        "The exact Voronoi diagram of unit vectors (n, 3): a dict of flat arrays by input point.");
+        "The exact Voronoi diagram of the directions of points (n, 3), normalized here: a dict of flat arrays by input point.");
   m.def("regions_lists", &regions_lists, py::arg("offsets"), py::arg("flat"),
         "[flat[offsets[i]:offsets[i + 1]] as a list of ints for each i].");
 }

@@ -173,6 +173,20 @@ def test_regions_are_one_list_object_kept_like_scipys():
     assert sv.regions == [[1, 2, 3]]
 
 
+def test_vertices_outlive_the_diagram():
+    """vertices is the diagram's own array (no copy), kept alive by numpy after the object is gone."""
+    points = sphere_points(100, 6)
+    sv = geovor.SphericalVoronoi(points)
+    vertices = sv.vertices
+    expected = vertices.copy()
+    del sv
+    import gc
+    gc.collect()
+    geovor.SphericalVoronoi(sphere_points(100, 7))  # reuses freed memory, if any was freed
+    assert np.array_equal(vertices, expected)
+    assert np.allclose(np.linalg.norm(vertices, axis=1), 1, rtol=0, atol=1e-15)
+
+
 def test_regions_lists_checks_its_arrays():
     assert _geovor.regions_lists(np.array([0, 2, 2, 3]), np.array([7, 8, 7], dtype=np.uint32)) == [[7, 8], [], [7]]
     with pytest.raises(ValueError):

@@ -73,6 +73,9 @@ class VoronoiDiagram {
   /// The Voronoi vertex of triangle t: a unit vector (|v|^2 within a few ulps of 1).
   const Vec3& vertex(TriId t) const { return vertices_[t]; }
   std::span<const Vec3> vertices() const { return vertices_; }
+  /// Moves the vertices out, for a binding that hands them to numpy without a copy; the diagram
+  /// then has no vertices (vertex(), the geometry and the areas need them) until assign().
+  std::vector<Vec3> release_vertices() { return std::move(vertices_); }
   /// The triangles around s, counter-clockwise: the ids of the vertices of its cell, in order.
   /// Empty unless kind() == Kind::Cells and has_cell(s).
   std::span<const TriId> cell_vertices(SiteId s) const;
