@@ -35,7 +35,7 @@ file(WRITE ${si}/europe.csv "Name;Latitude (deg);Longitude (deg);Einwohner\nPari
 # The decimal commas are read (Berlin's latitude is 52.52, so the cell of (52.5, 13.4) is Berlin's)
 # and the fields are kept as written.
 file(WRITE ${si}/berlin_query.csv "id,lat,lon\nq,52.52,13.405\n")
-geovor_cli_expect(cli.site_input.semicolon_decimal_comma 0 STDOUT "^query_id,site_index,site_id,distance_m\nq,1,Berlin,0\n$"
+geovor_cli_expect(cli.site_input.semicolon_decimal_comma 0 STDOUT "^query_id,site_index,site_id,distance_m,id,lat,lon\nq,1,Berlin,0,q,52.52,13.405\n$"
   COMMAND nearest --sites ${si}/europe.csv --queries ${si}/berlin_query.csv)
 geovor_cli_expect(cli.site_input.semicolon_fields_kept 0 STDOUT "\"Latitude \\(deg\\)\":\"48,8566\""
   COMMAND cells ${si}/europe.csv -o - -q)
@@ -73,7 +73,7 @@ geovor_cli_expect(cli.site_input.unnamed_column 3 STDERR "unnamed_column\\.csv: 
   COMMAND cells ${si}/unnamed_column.csv -o ${si}/never.geojson)
 # A trailing comma from a spreadsheet: an unnamed last column, dropped while every row leaves it empty.
 file(WRITE ${si}/trailing_comma.csv "id,lat,lon,\nA,1,2,\nB,3,4,\n")
-geovor_cli_expect(cli.site_input.trailing_comma 0 STDOUT "\"id\":\"B\",\"lat\":\"3\",\"lon\":\"4\"}"
+geovor_cli_expect(cli.site_input.trailing_comma 0 STDOUT "\"id\":\"B\",\"lat\":3,\"lon\":4}"
   COMMAND cells ${si}/trailing_comma.csv -o - -q)
 file(WRITE ${si}/trailing_value.csv "id,lat,lon,\nA,1,2,\nB,3,4,lost\n")
 geovor_cli_expect(cli.site_input.trailing_value 3
@@ -102,7 +102,7 @@ geovor_cli_expect(cli.site_input.polygon_layer_cells 3 STDERR "polygons_only\\.g
 # CRS's area of use is rejected.
 file(WRITE ${si}/lambert93.csv "name;X;Y\nParis;652469;6862035\nMars;1e12;0\n")
 file(WRITE ${si}/paris_query.csv "id,lat,lon\nq,48.8565976653841,2.3521997195163\n")
-geovor_cli_expect(cli.site_input.s_srs 0 STDOUT "^query_id,site_index,site_id,distance_m\nq,0,Paris,(0|[0-9.]+e-[0-9]+|0\\.00[0-9]*)\n$"
+geovor_cli_expect(cli.site_input.s_srs 0 STDOUT "^query_id,site_index,site_id,distance_m,id,lat,lon\nq,0,Paris,(0|[0-9.]+e-[0-9]+|0\\.00[0-9]*),q,"
   STDERR "lambert93\\.csv: row 2 \\(line 3\\) rejected: X, Y: point \\(1e\\+12, 0\\) is far outside RGF93 v1 / Lambert-93 \\(EPSG:2154\\)"
   COMMAND nearest --sites ${si}/lambert93.csv --s-srs EPSG:2154 --queries ${si}/paris_query.csv)
 # A GeoJSON in Web Mercator with a corrupt point at (1e25, 1e25): rejected at once instead of

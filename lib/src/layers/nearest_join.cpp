@@ -494,7 +494,7 @@ std::vector<Field> fields_of(const std::vector<std::string>& names, bool rank) {
   for (std::size_t i = 0; i < names.size(); ++i) {
     const std::size_t own = i - (rank ? 1 : 0);
     FieldType t = FieldType::String;
-    if ((rank && i == 1) || own == 1) t = FieldType::Integer;
+    if ((rank && i == 1) || own == 1) t = FieldType::Integer64;
     if (own == 3) t = FieldType::Real;
     fields.push_back({names[i], t});
   }
