@@ -185,9 +185,9 @@ Command add_nearest_command(CLI::App& app) {
       ->required();
   cmd->add_option("--queries", args->queries,
                   "Queries: CSV, lat,lon[,id] lines with or without a header (default -: stdin), or any OGR point layer");
-  cmd->add_option("--query-lat-field", args->query_columns.lat_field, "Latitude column of the queries (default: lat, latitude, lat_deg or y)");
+  cmd->add_option("--query-lat-field", args->query_columns.lat_field, "Latitude column of the queries (default: found by name as for sites: lat, Latitude (deg), stop_lat, decimalLatitude, y...)");
   cmd->add_option("--query-lon-field", args->query_columns.lon_field,
-                  "Longitude column of the queries (default: lon, lng, long, longitude, lon_deg or x)");
+                  "Longitude column of the queries (default: found by name as for sites: lon, lng, Longitude, stop_lon, x...)");
   cmd->add_option("--query-id-field", args->query_columns.id_field,
                   "Identifier column of the queries (default: query_id, id, icao, code or name; else the line number)");
   cmd->add_option("--layer", args->query_layer, "Layer of a multi-layer OGR query source (GeoPackage, ...); not for CSV");

@@ -103,3 +103,18 @@ ogrinfo -ro -q ${join_dir}/trips.geojson -sql 'SELECT query_id FROM nearest WHER
 ogrinfo -ro -q ${join_dir}/trips.geojson -sql 'SELECT query_id FROM nearest WHERE OGR_GEOMETRY IS NOT NULL' | sed -n 's/ *query_id (String) = //p' | paste -sd, -
 ")
 geovor_cli_expect(cli.nearest_join.geojson_null_points 0 STDOUT "^t3,5\nt1,t2,t5\n$" SCRIPT "sh ${join_dir}/geojson.sh \"$0\"")
+
+# Query columns found by name as the sites' are: pickup_latitude alone is the latitude (before,
+# only lat, latitude, lat_deg and y were looked for: "no latitude/longitude columns"); pickup and
+# dropoff together are ambiguous, and a name twice is a header error, both exit 3 naming them.
+geovor_cli_expect(cli.nearest_join.detected_query_columns 0
+  STDOUT "^query_id,site_index,site_id,distance_m,trip_id,pickup_latitude,pickup_longitude,fare\nt1,0,AGGH,0,"
+  COMMAND nearest --sites ${stations} --queries ${join_dir}/trips.csv --query-id-field trip_id -q)
+file(WRITE ${join_dir}/two_trips.csv "pickup_latitude,pickup_longitude,dropoff_latitude,dropoff_longitude\n1,2,3,4\n")
+geovor_cli_expect(cli.nearest_join.ambiguous_query_columns 3
+  STDERR "two_trips\\.csv: ambiguous latitude column: 'pickup_latitude', 'dropoff_latitude' are equally likely; choose one with --query-lat-field"
+  COMMAND nearest --sites ${stations} --queries ${join_dir}/two_trips.csv)
+file(WRITE ${join_dir}/twice.csv "stop_id,stop_lat,stop_lon,stop_lat\ns,1,2,3\n")
+geovor_cli_expect(cli.nearest_join.query_name_twice 3
+  STDERR "twice\\.csv: header: column 4 'stop_lat' has the same name as column 2 'stop_lat'"
+  COMMAND nearest --sites ${stations} --queries ${join_dir}/twice.csv)

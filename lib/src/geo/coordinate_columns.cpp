@@ -84,7 +84,7 @@ int coordinate_name_rank(std::string_view name, Axis axis, bool projected) {
 }
 
 int detect_coordinate_column(const std::vector<std::string>& columns, Axis axis, bool projected,
-                             const std::string& source) {
+                             const std::string& source, std::string_view option_prefix) {
   int best_rank = 0;
   std::vector<int> best;
   for (std::size_t i = 0; i < columns.size(); ++i) {
@@ -98,7 +98,7 @@ int detect_coordinate_column(const std::vector<std::string>& columns, Axis axis,
   if (best.size() > 1) {
     std::string names;
     for (const int c : best) names += (names.empty() ? "'" : ", '") + columns[static_cast<std::size_t>(c)] + "'";
-    const std::string option = axis == Axis::Latitude ? "--lat-field" : "--lon-field";
+    const std::string option = "--" + std::string(option_prefix) + (axis == Axis::Latitude ? "lat-field" : "lon-field");
     throw Error(ErrorCode::BadData, source + ": ambiguous " + axis_name(axis) + " column: " + names +
                                         " are equally likely; choose one with " + option);
   }

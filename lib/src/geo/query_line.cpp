@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "geovor/core/error.hpp"
+#include "geovor/geo/coordinate_columns.hpp"
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/geo/site_reader.hpp"
 #include "geo/trim.hpp"
@@ -15,8 +16,6 @@
 namespace geovor {
 namespace {
 
-constexpr std::string_view kLatNames[] = {"lat", "latitude", "lat_deg", "y"};
-constexpr std::string_view kLonNames[] = {"lon", "lng", "long", "longitude", "lon_deg", "x"};
 constexpr std::string_view kIdNames[] = {"query_id", "id", "icao", "code", "name"};
 
 template <std::size_t N>
@@ -107,6 +106,7 @@ QueryFormat detect_query_format(std::string_view first, const std::string& sourc
   fmt.header = true;
   for (const std::string_view f : fields) fmt.columns.emplace_back(trim(f));
   fmt.fields = fmt.columns.size();
+  check_header_names(fmt.columns, source);  // a name twice or an empty one: exit 3, as for sites
   // A named column must exist; an unnamed one is detected.
   auto column = [&](const std::string& name, const char* option, int detected) {
     if (name.empty()) return detected;
@@ -117,15 +117,20 @@ QueryFormat detect_query_format(std::string_view first, const std::string& sourc
     throw Error(ErrorCode::InvalidArgument,
                 source + ": " + option + " '" + name + "' is not a column of the header (" + found + ")");
   };
-  fmt.lat = column(names.lat_field, "--query-lat-field", detect(fmt.columns, kLatNames));
-  fmt.lon = column(names.lon_field, "--query-lon-field", detect(fmt.columns, kLonNames));
+  // Unnamed coordinate columns are found as the sites' are (geo/coordinate_columns.hpp).
+  auto coordinate = [&](Axis axis, const std::string& name) {
+    return name.empty() ? detect_coordinate_column(fmt.columns, axis, false, source, "query-") : -1;
+  };
+  fmt.lat = column(names.lat_field, "--query-lat-field", coordinate(Axis::Latitude, names.lat_field));
+  fmt.lon = column(names.lon_field, "--query-lon-field", coordinate(Axis::Longitude, names.lon_field));
   fmt.id = column(names.id_field, "--query-id-field", detect(fmt.columns, kIdNames));
   if (fmt.lat < 0 || fmt.lon < 0 || fmt.lat == fmt.lon) {
     std::string found;
     for (const auto& c : fmt.columns) found += (found.empty() ? "" : ", ") + c;
     throw Error(ErrorCode::BadData,
                 source + ": no latitude/longitude columns in the header line (" + found +
-                    "); looked for lat, latitude, lat_deg, y and lon, lng, long, longitude, lon_deg, x; "
+                    "); looked for names such as lat, latitude, stop_lat, decimalLatitude, y and lon, lng, "
+                    "longitude, stop_lon, x (docs/user-guide.md, Input); "
                     "name them with --query-lat-field and --query-lon-field, "
                     "or give lines of lat,lon[,id] without a header");
   }

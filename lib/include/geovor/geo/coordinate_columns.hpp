@@ -32,9 +32,10 @@ int coordinate_name_rank(std::string_view name, Axis axis, bool projected = fals
 
 /// The column of `columns` with the best rank for `axis`; -1 when none has a rank.
 /// \throw Error(ErrorCode::BadData) when several columns share the best rank: the message names
-///   `source`, the axis and every candidate, and says which option picks one.
+///   `source`, the axis and every candidate, and says which option picks one
+///   (--<option_prefix>lat-field: "" for sites, "query-" for nearest's queries).
 int detect_coordinate_column(const std::vector<std::string>& columns, Axis axis, bool projected,
-                             const std::string& source);
+                             const std::string& source, std::string_view option_prefix = "");
 
 /// Refuses a header whose names cannot tell its columns apart: a name that repeats an earlier one
 /// (trimmed, case-insensitive, as columns are looked up and as GIS formats compare field names),

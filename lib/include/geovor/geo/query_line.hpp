@@ -4,8 +4,8 @@
 /// (the nearest command parses more than a million lines per second with it).
 ///
 /// A query stream is CSV lines `lat,lon[,id]` without a header, or a header line whose columns
-/// are detected by name as the site reader does (latitude: lat, latitude, lat_deg, y; longitude:
-/// lon, lng, long, longitude, lon_deg, x; id: query_id, id, icao, code, name). Unlike a site
+/// are detected by name as the site reader's (geo/coordinate_columns.hpp; id: query_id, id, icao,
+/// code, name), the header checked as a site table's (check_header_names). Unlike a site
 /// table, a query cannot span lines: a quoted field must close on its line.
 #pragma once
 
