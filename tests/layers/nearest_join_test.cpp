@@ -451,7 +451,7 @@ TEST(NearestJoin, FeaturesCarryTheCsvRowsAndNullPointsForMalformedQueries) {
   std::vector<std::string> names;
   for (const Field& fl : fields) names.push_back(fl.name);
   EXPECT_EQ(names, (std::vector<std::string>{"query_id", "site_index", "site_id", "distance_m", "src_site_id", "lat", "lon"}));
-  EXPECT_EQ(fields[1].type, FieldType::Integer);
+  EXPECT_EQ(fields[1].type, FieldType::Integer64);
   EXPECT_EQ(fields[3].type, FieldType::Real);
   ASSERT_EQ(rec.features.size(), queries.size() + 1);
   for (std::size_t i = 0, q = 0; i < rec.features.size(); ++i) {
