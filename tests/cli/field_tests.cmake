@@ -68,3 +68,7 @@ endforeach()
 # A format without attribute fields is refused before anything is written, with GDAL's reason.
 geovor_cli_expect(cli.fields.dxf_refused 2 STDERR "format DXF cannot hold the field 'site_index' \\(Integer64\\) \\(GDAL: DXF layer does not support arbitrary field creation" SCRIPT
   "rm -f ${fields_out}/t.dxf && \"$0\" cells ${typed} -o ${fields_out}/t.dxf -q || ( test ! -e ${fields_out}/t.dxf && exit 2 )")
+# GPX holds no polygons: GDAL's reason, without its closing newline (written "\n" before, since
+# messages escape control characters), and no file.
+geovor_cli_expect(cli.fields.gpx_refused 4 STDERR "cannot create layer 'cells' \\(GDAL: Geometry type of `Multi Polygon' not supported in GPX\\.\\)\n$" SCRIPT
+  "rm -f ${fields_out}/t.gpx && \"$0\" cells ${typed} -o ${fields_out}/t.gpx -q || ( test ! -e ${fields_out}/t.gpx && exit 4 )")

@@ -22,6 +22,7 @@
 #include <mutex>
 #include <set>
 #include <span>
+#include <string_view>
 #include <system_error>
 #include <utility>
 
@@ -606,8 +607,11 @@ void ErrorCapture::record(int error_class, const char* message) {
   if (error_class < CE_Failure || message == nullptr) return;
   constexpr std::size_t kMax = 400;
   if (message_.size() >= kMax) return;
+  std::string_view text(message);
+  while (!text.empty() && (text.back() == '\n' || text.back() == '\r' || text.back() == ' ')) text.remove_suffix(1);
+  if (text.empty()) return;
   if (!message_.empty()) message_ += "; ";
-  message_ += message;
+  message_ += text;  // without GDAL's closing newline (messages escape control characters)
   if (message_.size() > kMax) message_ = message_.substr(0, kMax) + "...";
 }
 
