@@ -118,3 +118,8 @@ file(WRITE ${join_dir}/twice.csv "stop_id,stop_lat,stop_lon,stop_lat\ns,1,2,3\n"
 geovor_cli_expect(cli.nearest_join.query_name_twice 3
   STDERR "twice\\.csv: header: column 4 'stop_lat' has the same name as column 2 'stop_lat'"
   COMMAND nearest --sites ${stations} --queries ${join_dir}/twice.csv)
+# An OGR query layer's field types carry over to point output (before: every query column String),
+# read back by ogrinfo: Integer, Real and Date stay so, an empty Integer is null.
+geovor_cli_expect(cli.nearest_join.query_types_kept 0
+  STDOUT "trip: String.*pop: Integer .*elev: Real.*when: Date.*site_id \\(String\\) = LFPO.*pop \\(Integer\\) = 2100000\n  elev \\(Real\\) = 35\\.5\n  when \\(Date\\) = 2024/05/01.*site_id \\(String\\) = AGGH.*pop \\(Integer\\) = \\(null\\)\n  elev \\(Real\\) = 8\\.25"
+  SCRIPT "rm -f ${join_dir}/typed.gpkg ${join_dir}/typed_out.gpkg && printf 'trip,lat,lon,pop,elev,when\\nt1,48.85,2.35,2100000,35.5,2024-05-01\\nt2,-9.4166645,160.0500018,,8.25,2023-01-02\\n' > ${join_dir}/typed.csv && ogr2ogr -f GPKG ${join_dir}/typed.gpkg ${join_dir}/typed.csv -nln q -oo X_POSSIBLE_NAMES=lon -oo Y_POSSIBLE_NAMES=lat -oo AUTODETECT_TYPE=YES && \"$0\" nearest --sites ${stations} --queries ${join_dir}/typed.gpkg -o ${join_dir}/typed_out.gpkg -q && ogrinfo -ro -so ${join_dir}/typed_out.gpkg nearest && ogrinfo -ro -q ${join_dir}/typed_out.gpkg nearest")

@@ -37,10 +37,7 @@ std::vector<Field> input_column_fields(const SiteTable& table, std::span<const s
   return fields;
 }
 
-FieldValue input_value(const SiteTable& table, const InputSite& site, std::size_t c) {
-  if (c >= site.fields.size()) return {};
-  const std::string& text = site.fields[c];
-  const FieldType type = table.column_type(c);
+FieldValue typed_value(FieldType type, const std::string& text) {
   if (type == FieldType::String) return text;
   if (text.empty()) return {};
   if (type == FieldType::Integer || type == FieldType::Integer64) {
@@ -56,6 +53,11 @@ FieldValue input_value(const SiteTable& table, const InputSite& site, std::size_
     return v;
   }
   return text;  // Date, DateTime: ISO 8601 text
+}
+
+FieldValue input_value(const SiteTable& table, const InputSite& site, std::size_t c) {
+  if (c >= site.fields.size()) return {};
+  return typed_value(table.column_type(c), site.fields[c]);
 }
 
 void append_input_json(std::string& out, const SiteTable& table, const InputSite& site, std::size_t c) {

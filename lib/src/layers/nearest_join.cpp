@@ -15,6 +15,7 @@
 #include "geovor/core/parallel.hpp"
 #include "geovor/geo/query_line.hpp"
 #include "geovor/geo/site_encoder.hpp"
+#include "geovor/layers/input_columns.hpp"
 
 namespace geovor {
 namespace {
@@ -106,6 +107,7 @@ struct Context {
   const NearestJoinOptions* options = nullptr;
   QueryFormat format;
   bool features = false;  // rows as FeatureRow, not CSV text
+  std::vector<FieldType> query_types;  // an OGR query layer's column types; empty: text
   // Each site's id, CSV-quoted when needed, ready to copy (one lookup per answer).
   std::vector<std::string_view> site_ids;
   std::string quoted_site_ids;  // storage of the quoted ones
@@ -226,7 +228,9 @@ void write_feature_row(const Context& ctx, FeatureWriter& writer, const FeatureR
     values.emplace_back(res ? FieldValue(std::string(a.site_id(res->site))) : FieldValue());
     values.emplace_back(res ? FieldValue(res->dist_m) : FieldValue());
     for (std::size_t i = 0; i < ctx.format.columns.size(); ++i)
-      values.emplace_back(i < row.fields.size() ? FieldValue(row.fields[i]) : FieldValue());
+      values.emplace_back(i >= row.fields.size()           ? FieldValue()
+                          : i < ctx.query_types.size()     ? typed_value(ctx.query_types[i], row.fields[i])
+                                                           : FieldValue(row.fields[i]));
     if (res) {
       site_values(ctx, res->site, values);
     } else {
@@ -489,13 +493,17 @@ std::vector<std::string> field_names(const SiteIndex& index, const std::vector<s
   return names;
 }
 
-std::vector<Field> fields_of(const std::vector<std::string>& names, bool rank) {
+// query_types: the query columns' types (an OGR layer's), or empty (CSV text: String).
+std::vector<Field> fields_of(const std::vector<std::string>& names, bool rank,
+                             const std::vector<FieldType>& query_types = {}) {
   std::vector<Field> fields;
+  const std::size_t first_query = rank ? 5 : 4;
   for (std::size_t i = 0; i < names.size(); ++i) {
     const std::size_t own = i - (rank ? 1 : 0);
     FieldType t = FieldType::String;
     if ((rank && i == 1) || own == 1) t = FieldType::Integer64;
     if (own == 3) t = FieldType::Real;
+    if (i >= first_query && i - first_query < query_types.size()) t = query_types[i - first_query];
     fields.push_back({names[i], t});
   }
   return fields;
@@ -617,8 +625,10 @@ NearestJoinReport join_table(const SiteIndex& index, const SiteTable& queries, c
   ctx.format.columns = queries.columns;
   ctx.format.fields = queries.columns.size();
   const std::vector<std::string> names = field_names(index, ctx.format.columns, options, ctx.site_columns);
+  // An OGR layer's column types carry over to the features (CSV output is text either way).
+  if (sink.open) ctx.query_types = queries.column_types;
   if (sink.open)
-    sink.writer = (*sink.open)(fields_of(names, options.rank_column));
+    sink.writer = (*sink.open)(fields_of(names, options.rank_column, ctx.query_types));
   else
     (*sink.write)(csv_header(names));
   const int query_id_column = options.columns.id_field.empty() ? find_column(queries.columns, "query_id") : -1;

@@ -34,6 +34,10 @@ inline constexpr std::array<std::string_view, 9> kReservedFieldNames = {
 std::vector<Field> input_column_fields(const SiteTable& table, std::span<const std::size_t> columns,
                                        const std::vector<Field>& own);
 
+/// `text` as a value of a column of type `type` (column_types.hpp): a number column's text
+/// parsed (the type guarantees it parses: a bug otherwise), empty text null; other types as text.
+FieldValue typed_value(FieldType type, const std::string& text);
+
 /// The value of column c of `site` (the file comment).
 FieldValue input_value(const SiteTable& table, const InputSite& site, std::size_t c);
 

@@ -14,7 +14,9 @@
 /// (a stream without a header has none), named as in the input or src_NAME when the name equals
 /// a field before it (ASCII case-insensitively, repeated until unique), then options.site_fields
 /// (the site's first row's values) named likewise, or site_NAME. CSV fields are quoted when they
-/// hold a comma, a quote or a line break; a query's own fields are copied as written.
+/// hold a comma, a quote or a line break; a query's own fields are copied as written. In
+/// features an OGR query table's columns keep its column_types; stream columns and site fields
+/// are String.
 ///
 /// One row per answer, nearest first, and at least one per query, so that no query is lost:
 /// - no site within options.max_distance_m: one row with an empty match (site_index, site_id,
