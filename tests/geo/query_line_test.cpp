@@ -76,7 +76,7 @@ TEST(QueryLine, NamedColumns) {
 }
 
 TEST(QueryLine, HeaderWithoutCoordinatesIsBadData) {
-  for (const char* first : {"a,b", "lat", "", "\"unterminated,lat,lon", "lat,lat"}) {
+  for (const char* first : {"a,b", "lat", "", "\"unterminated,lat,lon"}) {
     try {
       detect_query_format(first, "q.csv");
       ADD_FAILURE() << "no error for '" << first << "'";
@@ -84,6 +84,22 @@ TEST(QueryLine, HeaderWithoutCoordinatesIsBadData) {
       EXPECT_EQ(e.code(), ErrorCode::BadData);
       EXPECT_NE(std::string(e.what()).find("q.csv: no latitude/longitude columns"), std::string::npos);
     }
+  }
+  // A name twice is a header error, as in a site table; two equally good names are ambiguous.
+  try {
+    detect_query_format("lat,lat", "q.csv");
+    ADD_FAILURE() << "no error for 'lat,lat'";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::BadData);
+    EXPECT_NE(std::string(e.what()).find("q.csv: header: column 2 'lat' has the same name as column 1 'lat'"),
+              std::string::npos) << e.what();
+  }
+  try {
+    detect_query_format("pickup_lat,dropoff_lat,lon", "q.csv");
+    ADD_FAILURE() << "no error for two latitudes";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::BadData);
+    EXPECT_NE(std::string(e.what()).find("choose one with --query-lat-field"), std::string::npos) << e.what();
   }
 }
 

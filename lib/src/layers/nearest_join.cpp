@@ -30,6 +30,7 @@ class OutBuf {
   void commit(char* end) { size_ = static_cast<std::size_t>(end - buf_.data()); }
   void put(char c) { *reserve(1) = c, ++size_; }
   void put(std::string_view s) {
+    if (s.empty()) return;  // an empty view may have a null data(), which memcpy must not get
     std::memcpy(reserve(s.size()), s.data(), s.size());
     size_ += s.size();
   }
