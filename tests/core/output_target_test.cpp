@@ -14,42 +14,22 @@
 #include <vector>
 
 #include "geovor/core/error.hpp"
+#include "support/file_text.hpp"
 #include "support/temp_dir.hpp"
 
 namespace geovor {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::slurp;
+using testing::spit;
+using testing::error_of;
+using testing::contains;
 
 class TempDir : public testing::TempDir {
  public:
   TempDir() : testing::TempDir("geovor_output_target") {}
 };
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void spit(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
-
-Error error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  return Error(ErrorCode::Internal, "no error thrown");
-}
-
-bool contains(const std::string& haystack, const std::string& needle) {
-  return haystack.find(needle) != std::string::npos;
-}
 
 // The commit: without overwrite an existing name is left alone (EEXIST), with overwrite replaced.
 TEST(OutputTarget, RenameIntoPlace) {

@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "geovor/core/error.hpp"
+#include "support/file_text.hpp"
 #include "support/temp_dir.hpp"
 #include "geovor/io/geojson_writer.hpp"
 #include "geovor/core/output_target.hpp"
@@ -46,6 +47,10 @@ namespace geovor {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::slurp;
+using testing::spit;
+using testing::error_of;
+using testing::contains;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
@@ -55,31 +60,6 @@ class TempDir : public testing::TempDir {
  public:
   TempDir() : testing::TempDir("geovor_io") {}
 };
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void spit(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
-
-Error error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  return Error(ErrorCode::Internal, "no error thrown");
-}
-
-bool contains(const std::string& haystack, const std::string& needle) {
-  return haystack.find(needle) != std::string::npos;
-}
 
 // Counter-clockwise rectangle.
 Ring box(double w, double s, double e, double n) { return {{w, s}, {e, s}, {e, n}, {w, n}, {w, s}}; }

@@ -626,12 +626,12 @@ NearestJoinReport join_table(const SiteIndex& index, const SiteTable& queries, c
   ctx.format.columns = queries.columns;
   ctx.format.fields = queries.columns.size();
   const std::vector<std::string> names = field_names(index, ctx.format.columns, options, ctx.site_columns);
-  // An OGR layer's column types carry over to the features (CSV output is text either way).
-  if (sink.open) ctx.query_types = queries.column_types;
-  if (sink.open)
+  if (sink.open) {
+    ctx.query_types = queries.column_types;  // an OGR layer's types carry over to the features
     sink.writer = (*sink.open)(fields_of(names, options.rank_column, ctx.query_types));
-  else
+  } else {
     (*sink.write)(csv_header(names));
+  }
   const int query_id_column = options.columns.id_field.empty() ? find_column(queries.columns, "query_id") : -1;
   Worker w(index.hierarchy, options.locator, ctx.format);
   NearestJoinReport report;
