@@ -40,16 +40,22 @@ geovor_cli_expect(cli.fields.ogr_input_types 0 SCRIPT
 geovor_cli_expect(cli.fields.sites_output_types 0 SCRIPT
   "rm -f ${fields_out}/c.gpkg ${fields_out}/s.gpkg && \"$0\" relax ${typed} -o ${fields_out}/c.gpkg --sites-output ${fields_out}/s.gpkg -n 1 -q && ${has_fields} ${fields_out}/s.gpkg 'site_index: Integer64' 'pop: Integer' 'updated: DateTime' 'src_fid: Integer'")
 
+# Each test writes its own copy: tests run in parallel, and two appending to one file made 120 rows.
+function(many_rows out csv)
+  set(${out} "printf 'id,lat,lon\\nother,-10,-20\\nthird,0,100\\n' > ${csv} && seq 1 60 | sed 's/.*/row_&,10,20/' >> ${csv}" PARENT_SCOPE)
+endfunction()
 # Shapefile: nothing cut. 60 rows at one position make an ids list of 60 * 9 bytes: refused with
 # the limit and a format that holds it (exit 3), nothing written.
-set(many_rows "printf 'id,lat,lon\\nother,-10,-20\\nthird,0,100\\n' > ${fields_out}/merged.csv && seq 1 60 | sed 's/.*/row_&,10,20/' >> ${fields_out}/merged.csv")
+many_rows(rows_shp_long_ids_refused ${fields_out}/shp_long_ids_refused.csv)
 geovor_cli_expect(cli.fields.shp_long_ids_refused 3 STDERR "field 'ids': [0-9]+ bytes, but a field of format ESRI Shapefile holds at most 254 bytes .the value would be cut.. write GeoPackage" SCRIPT
-  "${many_rows} && rm -f ${fields_out}/m.shp && \"$0\" cells ${fields_out}/merged.csv -o ${fields_out}/m.shp -q")
+  "${rows_shp_long_ids_refused} && rm -f ${fields_out}/m.shp && \"$0\" cells ${fields_out}/shp_long_ids_refused.csv -o ${fields_out}/m.shp -q")
+many_rows(rows_shp_long_ids_nothing_written ${fields_out}/shp_long_ids_nothing_written.csv)
 geovor_cli_expect(cli.fields.shp_long_ids_nothing_written 0 SCRIPT
-  "${many_rows} && rm -f ${fields_out}/m2.* && ! \"$0\" cells ${fields_out}/merged.csv -o ${fields_out}/m2.shp -q 2>/dev/null && ! ls ${fields_out}/m2.* 2>/dev/null && ! ls -a ${fields_out} | grep -q 'm2.*tmp'")
+  "${rows_shp_long_ids_nothing_written} && rm -f ${fields_out}/m2.* && ! \"$0\" cells ${fields_out}/shp_long_ids_nothing_written.csv -o ${fields_out}/m2.shp -q 2>/dev/null && ! ls ${fields_out}/m2.* 2>/dev/null && ! ls -a ${fields_out} | grep -q 'm2.*tmp'")
 # The same ids in full in a GeoPackage.
+many_rows(rows_gpkg_long_ids_whole ${fields_out}/gpkg_long_ids_whole.csv)
 geovor_cli_expect(cli.fields.gpkg_long_ids_whole 0 STDOUT "v \\(Integer\\) = 60" SCRIPT
-  "${many_rows} && rm -f ${fields_out}/m.gpkg && \"$0\" cells ${fields_out}/merged.csv -o ${fields_out}/m.gpkg -q && ogrinfo -ro -q ${fields_out}/m.gpkg -dialect SQLite -sql \"SELECT json_array_length(ids) AS v FROM cells WHERE site_id = 'row_1'\"")
+  "${rows_gpkg_long_ids_whole} && rm -f ${fields_out}/m.gpkg && \"$0\" cells ${fields_out}/gpkg_long_ids_whole.csv -o ${fields_out}/m.gpkg -q && ogrinfo -ro -q ${fields_out}/m.gpkg -dialect SQLite -sql \"SELECT json_array_length(ids) AS v FROM cells WHERE site_id = 'row_1'\"")
 # A long text value is refused too.
 geovor_cli_expect(cli.fields.shp_long_value_refused 3 STDERR "field 'note': 300 bytes, but a field of format ESRI Shapefile holds at most 254 bytes" SCRIPT
   "printf 'id,lat,lon,note\\na,0,0,%0300d\\nb,0,90,x\\nc,45,45,y\\n' 0 > ${fields_out}/long.csv && \"$0\" cells ${fields_out}/long.csv -o ${fields_out}/long.shp --overwrite -q")
