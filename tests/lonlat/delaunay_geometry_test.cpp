@@ -9,6 +9,8 @@
 #include <GeographicLib/Geodesic.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <numbers>
 #include <random>
@@ -396,6 +398,47 @@ TEST(DelaunayGeometry, ThinTrianglesAreNotEmpty) {
       EXPECT_NEAR(rel, 1, 0.5);
     }
   }
+}
+
+// A sliver (two sites 1 m apart, the third 2,600 km away) whose corner at the far site is
+// thinner than a decimal step over its last 10 km: rounding folds that corner onto one point, and
+// removing the spike would write a triangle without its site (oracle_check seed 1 case 18).
+// Every written triangle passes through each of its three sites as written (printf's rounding).
+TEST(DelaunayGeometry, WrittenTrianglesKeepTheirSites) {
+  const std::vector<LonLat> sites = {
+      {64.93604608695694, -37.38340987758078}, {64.93603592231648, -37.38341300834578},
+      {64.93604091440096, -37.38341927502397}, {64.93604351110281, -37.38342264474254},
+      {-152.35577851935213, 4.651352951316408}, {-85.75222770184473, 6.140191716453502},
+      {133.1339311681808, -25.695943749550025}, {60.78995774501737, -13.37028917490187},
+      {-147.05736811064142, -62.911937302446695}, {76.62040780034455, 12.426891871583878},
+      {-110.05524540328338, -0.04380195226806453}, {139.64996434300917, -43.58567344598608},
+      {-72.77297425274531, 28.438335168610685}};
+  std::vector<Vec3> pts;
+  for (const LonLat& p : sites) pts.push_back(testing::unit_of(p));
+  const SphericalDelaunay dt = SphericalDelaunay::build(pts);
+  ASSERT_EQ(dt.num_sites(), pts.size());
+  DelaunayGeometryOptions o;
+  o.precision = 7;
+  const DelaunayGeometry g(dt, o);
+  MultiPolygon mp;
+  std::size_t checked = 0;
+  for (TriId t = 0; t < dt.num_triangles(); ++t) {
+    if (g.kind(t) != FaceKind::Proper || g.triangle_polygon(t, mp) != WrittenStatus::Written) continue;
+    EXPECT_EQ(testing::geos_invalid(mp), "") << t;
+    for (int i = 0; i < 3; ++i) {
+      const SiteId s = dt.tri_site(t, i);
+      char lon[64], lat[64];
+      std::snprintf(lon, sizeof lon, "%.7f", sites[s].lon_deg);
+      std::snprintf(lat, sizeof lat, "%.7f", sites[s].lat_deg);
+      const LonLat at{std::strtod(lon, nullptr), std::strtod(lat, nullptr)};
+      bool found = false;
+      for (const Polygon& p : mp)
+        for (const LonLat& q : p.exterior) found |= q.lon_deg == at.lon_deg && q.lat_deg == at.lat_deg;
+      EXPECT_TRUE(found) << "triangle " << t << ": site " << s << " (" << lon << ", " << lat << ") not a vertex";
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 10u);
 }
 
 TEST(DelaunayGeometry, CircumradiusIsTheDistanceToTheVoronoiVertex) {

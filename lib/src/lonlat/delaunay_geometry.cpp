@@ -166,7 +166,24 @@ WrittenStatus DelaunayGeometry::triangle_polygon(TriId t, MultiPolygon& out) con
     append_canonical_arc(pu, pv, u, v, n, options_, edge_bound2(3 * t + j), sc.loop, sc.arc);
   }
   lonlat::loop_to_polygons(sc.loop, out, nullptr, options_.precision);
-  return certify_written(out);
+  bool cleaned = false;
+  const WrittenStatus status = certify_written(out, &cleaned);
+  if (status != WrittenStatus::Written || !cleaned) return status;
+  // A corner thinner than a decimal step folds onto one point and its spike is removed: what is
+  // left is valid but is no triangle of its three sites, so it is reported instead of written.
+  for (const SiteId site : s) {
+    const SitePt& p = sites_[site];
+    bool found = false;
+    for (const Polygon& poly : out)
+      for (const LonLat& q : poly.exterior)
+        found |= q.lat_deg == p.lat && (q.lon_deg == p.lon || lonlat::is_pole(p.lat) ||
+                                        (std::fabs(p.lon) == 180 && q.lon_deg == -p.lon));
+    if (!found) {
+      out.clear();
+      return WrittenStatus::Unwritable;
+    }
+  }
+  return WrittenStatus::Written;
 }
 
 void DelaunayGeometry::edge_line(HalfedgeId e, MultiLineString& out) const {
