@@ -265,7 +265,15 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
     m = midpoint(a.v, b.v);
     if (dot(a.v, b.v) >= cos_step_) {
       // Great-circle midpoint against the midpoint of the straight lon/lat segment.
-      if (norm2(m - lonlat_midpoint(a, b)) <= edge_tol2_) return;
+      const double dev2 = norm2(m - lonlat_midpoint(a, b));
+      if (dev2 <= edge_tol2_) {
+        bool clear = true;
+        for (const Vec3& g : guards_) {
+          const double h = dot(m, g);
+          clear &= 64 * dev2 <= h * h;
+        }
+        if (clear) return;
+      }
     }
   }
   const Pt mp = make_pt(m, precision_);

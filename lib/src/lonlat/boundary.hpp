@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include "geovor/core/coordinate_grid.hpp"
@@ -54,6 +55,12 @@ class Densifier {
   /// square root (pass +infinity for no bound).
   void edge(const Pt& a, const Pt& b, const Vec3& left, const Vec3& right, double site_chord2);
 
+  /// Unit normals of great circles that the next edges' written chords must keep clear of (the
+  /// other sides of a thin cell): a piece is also split while its midpoint's deviation exceeds
+  /// an eighth of the midpoint's distance to any of them, so that two chords, each within a
+  /// quarter of their distance, cannot cross. `normals` must outlive the calls; empty: none.
+  void set_guards(std::span<const Vec3> normals) { guards_ = normals; }
+
  private:
   const Vec3& axis();
   Vec3 midpoint(const Vec3& a, const Vec3& b);
@@ -68,6 +75,7 @@ class Densifier {
   bool have_axis_ = false;
   Vec3 axis_;
   double edge_tol2_ = 0;
+  std::span<const Vec3> guards_;
 };
 
 /// The closed boundary `loop` (densified, without repeating its first point) of a region on the

@@ -91,6 +91,9 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   // both cells of an edge): triangle t_i of cell s has the sites s, neighbour i - 1 and
   // neighbour i, and is measured by the cell of its smallest site.
   std::vector<float> min_side2(nv);
+  // And whether it is a cap, its circumradius over 8 times its longest side (an angle within 3.6
+  // degrees of 180: its three cells have an angle below 3.6 degrees there, thin near it).
+  cap_.assign(nv, 0);
   // And each triangle's sites, sorted (its smallest site s, then the other two): the collapsed
   // vertices take the position of the one with the smallest triple, which depends on the
   // triangulation's triangles only, not on how it numbers them (relax's relocation modes).
@@ -114,7 +117,9 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
         const SiteId u = nbrs[i == 0 ? d - 1 : i - 1], w = nbrs[i];
         if (s < u && s < w) {
           const Vec3 &ps = diagram.site(s), &pu = diagram.site(u), &pw = diagram.site(w);
-          min_side2[a] = round_down(std::min({norm2(ps - pu), norm2(ps - pw), norm2(pu - pw)}));
+          const double su = norm2(ps - pu), sw = norm2(ps - pw), uw = norm2(pu - pw);
+          min_side2[a] = round_down(std::min({su, sw, uw}));
+          cap_[a] = norm2(diagram.vertex(a) - ps) > 64 * std::max({su, sw, uw});
           tri_sites[a] = {s, std::min(u, w), std::max(u, w)};
         }
       }
@@ -141,8 +146,10 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       if (b == kNoIndex || tri_sites[t] < tri_sites[b]) b = t;
       collapsed |= rep[t] != t;
     }
-    if (collapsed)
+    if (collapsed) {
       for (TriId t = 0; t < nv; ++t) rep[t] = best[rep[t]];
+      for (TriId t = 0; t < nv; ++t) cap_[rep[t]] |= cap_[t];  // a cluster is a cap's if one member is
+    }
   }
 
   // The representatives' lon/lat (the costly part), then their copies.
@@ -175,6 +182,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   std::atomic<std::size_t> next_chunk{0};
   split(order.size(), [&](unsigned thread, std::size_t, std::size_t) {
     std::vector<Pt> edge;
+    std::vector<Vec3> guards;
     Densifier dens(options_.densify_m, options_.max_step_deg, options_.max_depth, edge, options_.precision);
     std::vector<BoundaryPoint>& points = points_[thread];
     std::vector<GeodesicEdge> segments;
@@ -236,6 +244,9 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
           // Both triangles of the edge contain its two sites: the shorter of their shortest
           // sides bounds their distance.
           edge.clear();
+          guards.clear();
+          if (cap_[va.rep] | cap_[vb.rep]) edge_guards(s, w, va, vb, guards);
+          dens.set_guards(guards);
           dens.edge(a, b, diagram.site(s), diagram.site(w), std::min(va.min_side2, vb.min_side2));
           const std::size_t slot = static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
           EdgeSlot& e = edge_slots_[slot];
@@ -261,6 +272,39 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     }
     flush();
   });
+}
+
+void CellGeometry::edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vertex& b, std::vector<Vec3>& guards) const {
+  guards.clear();
+  const VoronoiDiagram& vd = *vd_;
+  // Cells are thin only near a cap's vertex (lunes of sites on one great circle).
+  if (!cap_[a.rep] && !cap_[b.rep]) return;
+  const double far = 8 * options_.densify_m / SiteEncoder::kEarthRadiusM;
+  for (const SiteId c : {lo, hi}) {
+    const SiteId across = c == lo ? hi : lo;
+    const std::span<const TriId> tris = vd.cell_vertices(c);
+    const std::span<const SiteId> nbrs = vd.cell_neighbors(c);
+    const std::size_t d = tris.size();
+    for (std::size_t i = 0; i < d; ++i) {
+      if (nbrs[i] == across) continue;
+      const Vertex& f0 = vertices_[tris[i]];
+      const Vertex& f1 = vertices_[tris[i + 1 == d ? 0 : i + 1]];
+      if (f0.rep == f1.rep) continue;  // collapsed
+      const bool at_a = f0.rep == a.rep || f1.rep == a.rep, at_b = f0.rep == b.rep || f1.rep == b.rep;
+      if (at_a && at_b) continue;
+      const Vec3 n = lonlat::normalized(vd.site(c) - vd.site(nbrs[i]));
+      if (at_a || at_b) {
+        // A side at a common vertex comes close only where the angle between them is acute.
+        const Vec3& v = at_a ? a.v : b.v;
+        const Vec3& e_far = at_a ? b.v : a.v;
+        const Vec3& f_far = (f0.rep == (at_a ? a.rep : b.rep)) ? f1.v : f0.v;
+        if (dot(e_far - dot(v, e_far) * v, f_far - dot(v, f_far) * v) <= 0) continue;
+      } else if (std::min(std::fabs(dot(a.v, n)), std::fabs(dot(b.v, n))) >= far) {
+        continue;  // the distance along the edge is least at an end (concave): never binding
+      }
+      guards.push_back(n);
+    }
+  }
 }
 
 void CellGeometry::prefetch(SiteId s, int stage) const {
@@ -456,6 +500,9 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
         const Pt& from = forward ? a : b;
         const Pt& to = forward ? b : a;
         edge.clear();
+        std::vector<Vec3>& guards = scratch<Vec3>();
+        edge_guards(std::min(s, w), std::max(s, w), forward ? va : vb, forward ? vb : va, guards);
+        dens.set_guards(guards);
         dens.edge(from, to, vd.site(std::min(s, w)), vd.site(std::max(s, w)), std::min(va.min_side2, vb.min_side2));
         if (forward)
           loop.insert(loop.end(), edge.begin(), edge.end());

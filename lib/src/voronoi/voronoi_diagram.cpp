@@ -23,9 +23,27 @@ std::size_t bytes_of(const std::vector<T>& v) {
 
 }  // namespace
 
+namespace {
+
+// p q - r s within 2 ulps (Kahan's algorithm with fused multiply-adds).
+inline double diff_of_products(double p, double q, double r, double s) {
+  const double rs = r * s;
+  const double err = std::fma(-r, s, rs);
+  return std::fma(p, q, -rs) + err;
+}
+
+}  // namespace
+
 Vec3 VoronoiDiagram::circumcenter(const Vec3& a, const Vec3& b, const Vec3& c) {
   // Differences first: for nearby sites they are exact (Sterbenz), so the direction is accurate.
-  const Vec3 n = cross(b - a, c - a);
+  const Vec3 u = b - a, w = c - a;
+  Vec3 n = cross(u, w);
+  // A sliver (sides within 1e-4 radians of parallel): the products cancel, and the plain cross
+  // product loses its digits (the vertices of thin lunes of sites on one meridian, centimetres
+  // off); each component to 2 ulps instead.
+  if (norm2(n) < 1e-8 * norm2(u) * norm2(w))
+    n = {diff_of_products(u.y, w.z, u.z, w.y), diff_of_products(u.z, w.x, u.x, w.z),
+         diff_of_products(u.x, w.y, u.y, w.x)};
   const double n2 = norm2(n);
   // Distinct points of the sphere are never collinear in R^3.
   GEOVOR_ASSERT(n2 > 0);

@@ -8,7 +8,10 @@
 ///     of the straight lon/lat segment, or while it is longer than max_step_deg, down to
 ///     max_depth levels. Near sites closer than 4 densify_m the tolerance of an edge drops to a
 ///     quarter of the shortest side of its two Delaunay triangles (at most a quarter of the
-///     distance between its two sites), so every site stays inside its written cell.
+///     distance between its two sites), so every site stays inside its written cell. Near the
+///     vertex of a cap (a cell angle below 3.6 degrees: thin lunes) a piece is also split until
+///     it deviates by at most an eighth of its distance to the other sides of both cells, so
+///     that no two chords cross (lonlat::Densifier::set_guards).
 ///     180-degree edges (lunes, three sites) are split by rotating in their bisector plane; an
 ///     arc with a pole as an end point is a meridian and is not split (except pole to pole); an
 ///     arc passing within kSnapRad of a pole is split at the pole. An edge is always densified in one canonical direction, from the cell of
@@ -150,6 +153,7 @@ class CellGeometry {
     float min_side2;
   };
   std::unique_ptr<Vertex[], Free> vertices_;
+  std::vector<std::uint8_t> cap_;  // per Voronoi vertex: its triangle is a cap (see the constructor)
   // Per Voronoi edge and each of its two cells, in that cell's slot (slot = index in the
   // diagram's neighbour lists), computed at construction in the direction of the canonical cell
   // (the smaller site id): its densified points strictly between its end vertices
@@ -171,6 +175,9 @@ class CellGeometry {
   };
   std::vector<std::vector<BoundaryPoint>> points_;  // one part per construction thread
   CellStatus build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
+  // The great circles the edge between sites lo < hi, from vertex a to vertex b, must keep
+  // clear of when one of its cells is thin (Densifier::set_guards), into `guards`.
+  void edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vertex& b, std::vector<Vec3>& guards) const;
   // Cleans and checks `out` as built for site s, whose ring encloses the pole info.winding says
   // (loop_to_polygons, lonlat/boundary.hpp); empties it unless valid.
   CellStatus finish(SiteId s, const lonlat::LoopInfo& info, MultiPolygon& out, BBox* bbox) const;
