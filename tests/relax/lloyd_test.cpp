@@ -14,6 +14,7 @@
 
 #include "geovor/core/error.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
+#include "geovor/geo/site_encoder.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 #include "support/generators.hpp"
 
@@ -292,6 +293,7 @@ TEST(Lloyd, MergeRefusalsKeepTheSiteInPlace) {
   for (const std::uint64_t seed : {2, 123}) {
     const SphericalDelaunay start = SphericalDelaunay::build(testing::clustered(40, 2, 1.0, seed), dopt);
     ASSERT_EQ(start.site_capacity(), start.num_sites());
+    std::vector<std::vector<Vec3>> final_sites;  // per strategy: all the same, bit for bit
     for (const Relocation how : {Relocation::Rebuild, Relocation::Naive, Relocation::Filtered}) {
       SCOPED_TRACE(to_string(how));
       SphericalDelaunay dt = start;
@@ -317,9 +319,36 @@ TEST(Lloyd, MergeRefusalsKeepTheSiteInPlace) {
         for (SiteId s = 0; s < dt.site_capacity(); ++s)
           for (SiteId t = s + 1; t < dt.site_capacity(); ++t) EXPECT_GE(len(dt.site(s) - dt.site(t)), dopt.merge_distance);
       }
+      final_sites.emplace_back(dt.sites().begin(), dt.sites().end());
     }
+    EXPECT_EQ(final_sites[0], final_sites[1]) << "naive refused other moves than rebuild";
+    EXPECT_EQ(final_sites[0], final_sites[2]) << "filtered refused other moves than rebuild";
   }
   EXPECT_GT(refused_by_rebuild, 0u);  // the case is exercised
+}
+
+// 23 sites on the prime meridian 0.39 m apart, just over the merge distance (0.38 m): all on one
+// great circle, their cells are lunes, and centroids land within the merge distance of each
+// other. Which move is refused depended on each strategy's order (oracle_check seed 1 case 45:
+// filtered kept one site, rebuild another); one rule now, the same sites to the bit.
+TEST(Lloyd, StrategiesRefuseTheSameMovesOnAColumn) {
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 23; ++i) pts.push_back(SiteEncoder::from_lat_lon(53.59001762478192 - i * 3.533881836e-6, 0));
+  std::vector<std::vector<Vec3>> final_sites;
+  std::size_t refused = 0;
+  for (const Relocation how : {Relocation::Rebuild, Relocation::Naive, Relocation::Filtered}) {
+    SphericalDelaunay dt = SphericalDelaunay::build(pts);
+    ASSERT_EQ(dt.num_sites(), 23u);
+    LloydOptions options;
+    options.iterations = 3;
+    options.relocation = how;
+    for (const LloydIteration& r : lloyd(dt, options).iterations) refused += r.moves.refused;
+    ASSERT_TRUE(dt.validate().ok());
+    final_sites.emplace_back(dt.sites().begin(), dt.sites().end());
+  }
+  EXPECT_GT(refused, 0u);  // the case is exercised
+  EXPECT_EQ(final_sites[0], final_sites[1]) << "naive refused other moves than rebuild";
+  EXPECT_EQ(final_sites[0], final_sites[2]) << "filtered refused other moves than rebuild";
 }
 
 TEST(Lloyd, RejectsBadOptions) {

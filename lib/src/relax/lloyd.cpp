@@ -1,6 +1,9 @@
 #include "geovor/relax/lloyd.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
+#include <unordered_map>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -44,10 +47,11 @@ void centroids(const VoronoiDiagram& vd, std::span<const SiteId> sites, unsigned
   });
 }
 
-// Rebuilds dt from `target` (ids = indices, as dt has no removed site). A target merged into
+// Rebuilds dt from `wanted` (ids = indices, as dt has no removed site). A target merged into
 // another site is refused: it goes back to its old position and the build is redone.
-MoveStats rebuild(SphericalDelaunay& dt, std::vector<Vec3>& target) {
+MoveStats rebuild(SphericalDelaunay& dt, const std::vector<Vec3>& wanted) {
   const std::vector<Vec3> old(dt.sites().begin(), dt.sites().end());
+  std::vector<Vec3> target = wanted;
   MoveStats stats;
   for (;;) {
     BuildReport report;
@@ -74,6 +78,49 @@ MoveStats rebuild(SphericalDelaunay& dt, std::vector<Vec3>& target) {
   }
   for (SiteId s = 0; s < old.size(); ++s) stats.moved += dt.site(s) != old[s];
   return stats;
+}
+
+// The positions when the moves from `old` to `wanted` are not all separated by the merge
+// distance (chord `md`): while two positions are closer, the move of the larger id of the two
+// (of the one that moved, if only one did) is refused, all such pairs at once, and again. One
+// rule, whatever order a strategy moves the sites in. `old` is separated, so it ends. Pairs are
+// found in a hash grid of cells of side md (rare: only after a strategy refused a move).
+std::vector<Vec3> separated_positions(const std::vector<Vec3>& old, const std::vector<Vec3>& wanted, double md) {
+  std::vector<Vec3> pos = wanted;
+  const double md2 = md * md;
+  auto cell = [md](const Vec3& p) {
+    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(p.x / md)),
+                                       static_cast<std::int64_t>(std::floor(p.y / md)),
+                                       static_cast<std::int64_t>(std::floor(p.z / md))};
+  };
+  auto key = [](const std::array<std::int64_t, 3>& c) {
+    // Cells of a unit vector are within +-2^25 per axis: 26 bits each.
+    return (static_cast<std::uint64_t>(c[0] + (1 << 25)) << 52) ^ (static_cast<std::uint64_t>(c[1] + (1 << 25)) << 26) ^
+           static_cast<std::uint64_t>(c[2] + (1 << 25));
+  };
+  for (;;) {
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
+    grid.reserve(pos.size());
+    for (std::uint32_t i = 0; i < pos.size(); ++i) grid[key(cell(pos[i]))].push_back(i);
+    std::vector<std::uint32_t> undo;
+    for (std::uint32_t i = 0; i < pos.size(); ++i) {
+      const auto c = cell(pos[i]);
+      for (std::int64_t dx = -1; dx <= 1; ++dx)
+        for (std::int64_t dy = -1; dy <= 1; ++dy)
+          for (std::int64_t dz = -1; dz <= 1; ++dz) {
+            const auto it = grid.find(key({c[0] + dx, c[1] + dy, c[2] + dz}));
+            if (it == grid.end()) continue;
+            for (const std::uint32_t j : it->second) {
+              if (j <= i || !(norm2(pos[i] - pos[j]) < md2)) continue;
+              const bool moved_i = !(pos[i] == old[i]), moved_j = !(pos[j] == old[j]);
+              GEOVOR_ASSERT(moved_i || moved_j);
+              undo.push_back(moved_j ? j : i);
+            }
+          }
+    }
+    if (undo.empty()) return pos;
+    for (const std::uint32_t k : undo) pos[k] = old[k];
+  }
 }
 
 }  // namespace
@@ -215,6 +262,21 @@ LloydReport lloyd(SphericalDelaunay& dt, const LloydOptions& options,
       case Relocation::Filtered:
         r.moves = dt.move_all(target);
         break;
+    }
+    // Which of two moves within the merge distance of each other is refused depended on the
+    // strategy's order: then the positions are decided by one rule, and the triangulation
+    // (unique for them) is built from them. Not with removed sites, which a build renumbers.
+    if (r.moves.refused > 0 && dt.site_capacity() == dt.num_sites()) {
+      const std::vector<Vec3> pos = separated_positions(old, target, dt.options().merge_distance);
+      BuildReport build_report;
+      dt = SphericalDelaunay::build(pos, dt.options(), &build_report);
+      GEOVOR_ASSERT(build_report.merges.empty());
+      r.moves.moved = r.moves.refused = 0;
+      for (SiteId s = 0; s < cap; ++s) {
+        r.moves.moved += !(pos[s] == old[s]);
+        r.moves.refused += !(pos[s] == target[s]);
+      }
+      r.moves.rebuilt = r.moves.moved;
     }
     const auto t2 = Clock::now();
     double sum = 0;

@@ -102,7 +102,11 @@ struct LloydReport {
 
 /// Runs Lloyd's iterations on `dt` in place: each live site moves to the centroid of its cell;
 /// ids never change. A site whose centroid lies within the merge distance of another site stays
-/// where it was (counted in MoveStats::refused); a site whose centroid is undefined stays too.
+/// where it was (counted in MoveStats::refused): while two new positions are closer than the
+/// merge distance, the move of the larger id of the two (of the one that moved, if only one did)
+/// is refused, so every strategy refuses the same moves and gives the same sites, to the bit
+/// (on a triangulation with removed sites, refusals follow the strategy's order). A site whose
+/// centroid is undefined stays too.
 /// Fewer than three sites: one site stays; two sites go to the two poles of their bisector (a
 /// fixed point after one iteration). `on_iteration`, if given, is called after every iteration.
 /// @exception Error(InvalidArgument) for invalid options, or Relocation::Rebuild on a
