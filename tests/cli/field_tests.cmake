@@ -78,3 +78,35 @@ geovor_cli_expect(cli.fields.dxf_refused 2 STDERR "format DXF cannot hold the fi
 # messages escape control characters), and no file.
 geovor_cli_expect(cli.fields.gpx_refused 4 STDERR "cannot create layer 'cells' \\(GDAL: Geometry type of `Multi Polygon' not supported in GPX\\.\\)\n$" SCRIPT
   "rm -f ${fields_out}/t.gpx && \"$0\" cells ${typed} -o ${fields_out}/t.gpx -q || ( test ! -e ${fields_out}/t.gpx && exit 4 )")
+
+# --field-type NAME=TYPE declares a column's type (GDAL's COLUMN_TYPES): over the typing by values
+# (zip codes with leading zeros as Integer: 02134 -> 2134), the id column's String, and --all-text.
+geovor_cli_expect(cli.fields.declared_types_gpkg 0 SCRIPT
+  "rm -f ${fields_out}/ft.gpkg && \"$0\" cells ${typed} -o ${fields_out}/ft.gpkg -q --field-type zip=integer --field-type ID=Integer,pop=String && ${has_fields} ${fields_out}/ft.gpkg 'zip: Integer' 'id: Integer' 'pop: String' 'elev: Real' && ogrinfo -ro -q ${fields_out}/ft.gpkg -sql \"SELECT id, zip, pop, site_id FROM cells WHERE site_index = 0\" | tr '\\n' ' ' | grep -q 'id (Integer) = 1 *zip (Integer) = 2134 *pop (String) = 100 *site_id (String) = 001'")
+geovor_cli_expect(cli.fields.declared_types_over_all_text 0 SCRIPT
+  "rm -f ${fields_out}/fta.gpkg && \"$0\" cells ${typed} -o ${fields_out}/fta.gpkg -q --all-text --field-type pop=Integer64 --field-type founded=Date && ${has_fields} ${fields_out}/fta.gpkg 'pop: Integer64' 'founded: Date' 'elev: String' 'lat: String'")
+# In GeoJSON a declared number is written as a number, a declared String quoted.
+geovor_cli_expect(cli.fields.declared_types_geojson 0 SCRIPT
+  "rm -f ${fields_out}/ft.geojson && \"$0\" cells ${typed} -o ${fields_out}/ft.geojson -q --field-type zip=Real,big=String && grep -qF '\"big\":\"1\",\"elev\":-3,\"founded\":\"1850-12-31\",\"updated\":\"2024-03-01T00:00:00Z\",\"zip\":90210,' ${fields_out}/ft.geojson && grep -qF '\"zip\":501,' ${fields_out}/ft.geojson")
+# relax --sites-output carries them.
+geovor_cli_expect(cli.fields.declared_types_sites_output 0 SCRIPT
+  "rm -f ${fields_out}/ftc.gpkg ${fields_out}/fts.gpkg && \"$0\" relax ${typed} -o ${fields_out}/ftc.gpkg --sites-output ${fields_out}/fts.gpkg -n 1 -q --field-type zip=Integer && ${has_fields} ${fields_out}/fts.gpkg 'zip: Integer' && ${has_fields} ${fields_out}/ftc.gpkg 'zip: Integer'")
+# A value that is not of its declared type is bad data (exit 3) naming the file, row, line, column,
+# value and type; nothing is written.
+geovor_cli_expect(cli.fields.declared_type_bad_value 3 STDERR "typed_columns.csv: row 1 \\(line 2\\), column 'name': 'Alpha' is not an Integer \\(declared Integer\\)" SCRIPT
+  "rm -f ${fields_out}/ftb.gpkg && \"$0\" cells ${typed} -o ${fields_out}/ftb.gpkg -q --field-type name=Integer; s=$?; test ! -e ${fields_out}/ftb.gpkg && exit $s")
+geovor_cli_expect(cli.fields.declared_type_needs_64_bits 3 STDERR "row 1 \\(line 2\\), column 'big': '5000000000' is not an Integer \\(declared Integer\\); it needs 64 bits: declare Integer64" SCRIPT
+  "\"$0\" cells ${typed} -o ${fields_out}/ft64.geojson --overwrite -q --field-type big=Integer")
+# An unknown column (with the nearest name) or type is a usage error (exit 2).
+geovor_cli_expect(cli.fields.declared_type_unknown_column 2 STDERR "--field-type names 'popp', which is no column; did you mean 'pop'\\?" SCRIPT
+  "\"$0\" cells ${typed} -o ${fields_out}/ftu.geojson --overwrite -q --field-type popp=Integer")
+geovor_cli_expect(cli.fields.declared_type_unknown_type 2 STDERR "unknown type 'Int'; the types are String, Integer, Integer64, Real, Date, DateTime" SCRIPT
+  "\"$0\" cells ${typed} -o ${fields_out}/ftt.geojson --overwrite -q --field-type pop=Int")
+geovor_cli_expect(cli.fields.declared_type_malformed 2 STDERR "field type 'pop': expected NAME=TYPE" SCRIPT
+  "\"$0\" delaunay ${typed} -o ${fields_out}/ftm.geojson --overwrite -q --field-type pop")
+# OGR input: String always; other types from the values' text; a value that does not parse names
+# the feature.
+geovor_cli_expect(cli.fields.declared_types_ogr_input 0 SCRIPT
+  "rm -f ${fields_out}/ftin.gpkg ${fields_out}/fto.fgb && cp ${typed} ${fields_out}/ftin.csv && echo String,String,Real,Real,Integer,Integer64,Real,Date,DateTime,String,String,Integer,String,Real > ${fields_out}/ftin.csvt && ogr2ogr -f GPKG ${fields_out}/ftin.gpkg ${fields_out}/ftin.csv -oo X_POSSIBLE_NAMES=lon -oo Y_POSSIBLE_NAMES=lat -select name,pop,elev,zip && \"$0\" cells ${fields_out}/ftin.gpkg -o ${fields_out}/fto.fgb -q --field-type pop=String,zip=Integer,elev=Real && ${has_fields} ${fields_out}/ftin.gpkg 'pop: Integer' 'zip: String' && ${has_fields} ${fields_out}/fto.fgb 'pop: String' 'zip: Integer' 'elev: Real' && ogrinfo -ro -q ${fields_out}/fto.fgb -sql \"SELECT zip FROM cells WHERE name = 'Delta'\" | grep -q 'zip (Integer) = 501'")
+geovor_cli_expect(cli.fields.declared_type_ogr_bad_value 3 STDERR "ftbin.gpkg: feature 1, column 'elev': '12.5' is not an Integer \\(declared Integer\\)" SCRIPT
+  "rm -f ${fields_out}/ftbin.gpkg && ogr2ogr -f GPKG ${fields_out}/ftbin.gpkg ${typed} -oo X_POSSIBLE_NAMES=lon -oo Y_POSSIBLE_NAMES=lat -oo AUTODETECT_TYPE=YES -select name,elev && \"$0\" cells ${fields_out}/ftbin.gpkg -o ${fields_out}/ftbo.geojson --overwrite -q --field-type elev=Integer")

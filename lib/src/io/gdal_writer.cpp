@@ -65,6 +65,16 @@ std::vector<std::string> stale_sidecars(const std::string& driver) {
   return {};
 }
 
+// The formats that hold every layer geovor writes, less `driver`: "GeoPackage, FlatGeobuf or GeoJSON".
+std::string other_formats(const std::string& driver) {
+  std::vector<std::string> names;
+  for (const auto& [name, description] : {std::pair{"GPKG", "GeoPackage"}, {"FlatGeobuf", "FlatGeobuf"}, {"GeoJSON", "GeoJSON"}})
+    if (!ascii_iequals(driver, name)) names.emplace_back(description);
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  return out;
+}
+
 class GdalWriter final : public FeatureWriter {
  public:
   GdalWriter(const std::string& path, const std::string& driver_name, GeometryType geometry_type,
@@ -394,13 +404,25 @@ class GdalWriter final : public FeatureWriter {
         failed_ = true;
         throw Error(ErrorCode::InvalidArgument,
                     path_ + ": format " + driver_ + " cannot hold the field '" + schema[i].name + "' (" +
-                        to_string(type) + ")" + why + "; write GeoPackage, FlatGeobuf or GeoJSON");
+                        to_string(type) + ")" + why + "; " + field_refusal_fix(schema[i].name));
       }
       // Drivers may rename a field (laundering); it is the last one created either way.
       field_index_.push_back(layer_->GetLayerDefn()->GetFieldCount() - 1);
       written_types_.push_back(type);
       field_names_.push_back(schema[i].name);
     }
+  }
+
+  // What to do about a field the driver refused: an --lco FID=NAME naming it made it the
+  // driver's integer feature id column; otherwise another format.
+  std::string field_refusal_fix(const std::string& name) const {
+    for (const std::string& o : options_.layer_options) {
+      const std::size_t eq = o.find('=');
+      if (ascii_iequals(o.substr(0, eq), "FID") && ascii_iequals(o.substr(eq + 1), name))
+        return "--lco " + o + " makes '" + name + "' the layer's feature id column, which holds integer feature ids only: "
+               "leave out that option or name another column (FID=fid is " + driver_ + "'s default)";
+    }
+    return "write " + other_formats(driver_);
   }
 
   // Each value into feature_ as its field's written type; a value that type or the driver cannot
@@ -424,7 +446,7 @@ class GdalWriter final : public FeatureWriter {
           refuse(i, std::to_string(*n) + " does not fit a 32-bit Integer field");
         if (type == FieldType::Real && (*n > (std::int64_t{1} << 53) || *n < -(std::int64_t{1} << 53)))
           refuse(i, std::to_string(*n) + " needs an Integer64 field, which " + driver_ +
-                        " does not have (its Real would round it); write GeoPackage, FlatGeobuf or GeoJSON");
+                        " does not have (its Real would round it); write " + other_formats(driver_));
         f.SetField(index, static_cast<GIntBig>(*n));
       } else if (const auto* d = std::get_if<double>(&v)) {
         f.SetField(index, *d);
