@@ -63,7 +63,7 @@ void write_report(OutputFile& out, const SiteTable& table, const BuildReport& re
 int run(CellsArgs& args) {
   // Two outputs that are one file (a path, an alias, a link; `-` twice): refused before any work.
   check_distinct_outputs({{"--output", args.out.output}, {"--report", args.report}});
-  check_writer_options(args.out.output, cell_writer_options(args.out));  // --update or --lco with GeoJSON: before any work
+  check_writer_options(args.out.output, GeometryType::MultiPolygon, cell_writer_options(args.out));  // --update or --lco with GeoJSON: before any work
   // Opened first, so that an existing report is refused before any work; renamed into place last.
   std::unique_ptr<OutputFile> report_file;
   if (!args.report.empty()) report_file = std::make_unique<OutputFile>(args.report, args.out.overwrite);

@@ -89,6 +89,11 @@ int run(NearestArgs& args) {
   const bool csv = writes_csv(args);
   if (!csv && args.output == "-" && output_needs_gdal(args.output, args.format))
     throw Error(ErrorCode::InvalidArgument, "--format " + args.format + " cannot be written to standard output; give -o FILE");
+  if (!csv) {  // a format that cannot hold the points (GPX without extensions, ...): before any work
+    WriterOptions writer_options;
+    writer_options.format = args.format;
+    check_writer_options(args.output, GeometryType::Point, writer_options);
+  }
   if (args.metric != "sphere" && args.metric != "geodesic")
     throw Error(ErrorCode::InvalidArgument, "--metric must be sphere or geodesic, not '" + args.metric + "'");
   LocatorOptions locator_options;

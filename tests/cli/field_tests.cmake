@@ -71,13 +71,37 @@ foreach(ext ods xlsx)
   geovor_cli_expect(cli.fields.${ext}_refused 2 STDERR "stores no geometry.*write CSV" SCRIPT
     "rm -f ${fields_out}/t.${ext} && \"$0\" cells ${typed} -o ${fields_out}/t.${ext} -q || ( test ! -e ${fields_out}/t.${ext} && exit 2 )")
 endforeach()
-# A format without attribute fields is refused before anything is written, with GDAL's reason.
-geovor_cli_expect(cli.fields.dxf_refused 2 STDERR "format DXF cannot hold the field 'site_index' \\(Integer64\\) \\(GDAL: DXF layer does not support arbitrary field creation" SCRIPT
-  "rm -f ${fields_out}/t.dxf && \"$0\" cells ${typed} -o ${fields_out}/t.dxf -q || ( test ! -e ${fields_out}/t.dxf && exit 2 )")
-# GPX holds no polygons: GDAL's reason, without its closing newline (written "\n" before, since
-# messages escape control characters), and no file.
-geovor_cli_expect(cli.fields.gpx_refused 4 STDERR "cannot create layer 'cells' \\(GDAL: Geometry type of `Multi Polygon' not supported in GPX\\.\\)\n$" SCRIPT
-  "rm -f ${fields_out}/t.gpx && \"$0\" cells ${typed} -o ${fields_out}/t.gpx -q || ( test ! -e ${fields_out}/t.gpx && exit 4 )")
+# Formats that cannot hold geovor's layers are refused up front (exit 2), before the input is read
+# (here a missing one, which would be exit 4) or anything created, with the reason and formats that
+# work. From GDAL's metadata: no field of the writer's choosing (DXF, DGN, S57: neither
+# DCAP_CREATE_FIELD nor DMD_CREATIONFIELDDATATYPES); from the documented list: GPX, GeoRSS, WAsP, ...
+set(missing_input ${fields_out}/no_such_input.csv)
+foreach(case "dxf;t.dxf;;format DXF holds no attribute fields of the writer's choosing \\(only its own schema\\), so every field would be lost. write GeoPackage, FlatGeobuf or GeoJSON"
+              "dgn;t.dgn;;format DGN holds no attribute fields"
+              "s57;t.000;-f S57;format S57 holds no attribute fields"
+              "gpx;t.gpx;;format GPX holds points \\(waypoints\\) and lines \\(routes, tracks\\), no polygons. write GeoPackage"
+              "georss;t.xml;-f GeoRSS;format GeoRSS holds only the elements of RSS .*--dsco USE_EXTENSIONS=YES"
+              "wasp;t.map;-f WAsP;format WAsP cannot hold geovor's layers: a WAsP map holds lines of elevation or roughness only"
+              "mvt;t.mvt;-f MVT;format MVT cannot hold geovor's layers: vector tiles snap coordinates")
+  list(GET case 0 name)
+  list(GET case 1 file)
+  list(GET case 2 format)
+  list(GET case 3 message)
+  geovor_cli_expect(cli.fields.${name}_refused_up_front 2 STDERR "${message}" SCRIPT
+    "rm -rf ${fields_out}/${file} && \"$0\" cells ${missing_input} -o ${fields_out}/${file} ${format} -q; s=$?; test ! -e ${fields_out}/${file} && exit $s")
+endforeach()
+# GPX holds lines (tracks) and points with geovor's fields as <extensions>: delaunay's edges
+# written, GDAL reads them back; without the option refused before the input is read.
+geovor_cli_expect(cli.fields.gpx_edges_refused_without_extensions 2 STDERR "format GPX holds only its own fields .*--dsco GPX_USE_EXTENSIONS=YES" SCRIPT
+  "\"$0\" delaunay ${missing_input} --edges ${fields_out}/e.gpx --overwrite -q")
+geovor_cli_expect(cli.fields.gpx_edges_with_extensions 0 STDOUT "ogr_edge_index \\(Integer\\) = 0" SCRIPT
+  "rm -f ${fields_out}/ex.gpx && \"$0\" delaunay ${typed} --edges ${fields_out}/ex.gpx --dsco GPX_USE_EXTENSIONS=YES -q && ogrinfo -ro -q ${fields_out}/ex.gpx tracks")
+geovor_cli_expect(cli.fields.nearest_selafin_refused_up_front 2 STDERR "format Selafin cannot hold geovor's layers: a Selafin \\(TELEMAC\\) mesh holds points with Real values only" SCRIPT
+  "\"$0\" nearest --sites ${missing_input} --queries ${typed} -o ${fields_out}/n.slf -f Selafin --overwrite")
+# --lco FID=NAME naming a field of geovor's: the fix is the option, not another format (the output
+# is GeoPackage already).
+geovor_cli_expect(cli.fields.lco_fid_on_a_field_says_the_fix 2 STDERR "format GPKG cannot hold the field 'site_id' \\(String\\) \\(GDAL: Wrong field type for site_id\\). --lco FID=site_id makes 'site_id' the layer's feature id column, which holds integer feature ids only: leave out that option or name another column \\(FID=fid is GPKG's default\\)\n$" SCRIPT
+  "rm -f ${fields_out}/fid.gpkg && \"$0\" cells ${typed} -o ${fields_out}/fid.gpkg -q --lco FID=site_id")
 
 # --field-type NAME=TYPE declares a column's type (GDAL's COLUMN_TYPES): over the typing by values
 # (zip codes with leading zeros as Integer: 02134 -> 2134), the id column's String, and --all-text.

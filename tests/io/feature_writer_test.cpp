@@ -1017,11 +1017,11 @@ TEST(OutputModel, CreationOptionsAreNameValueAndGdalOnly) {
   lco.layer_options = {"GEOMETRY_NAME=shape"};
   EXPECT_EQ(error_of([&] { write_cells(dir / "a.geojson", lco); }).code(), ErrorCode::InvalidArgument);
   // The same checks, without opening anything (callers refuse them before long work).
-  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.geojson", lco); }).code(), ErrorCode::InvalidArgument);
-  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.gpkg", bad); }).code(), ErrorCode::InvalidArgument);
-  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.geojsonl", layer_named("x", true, false)); }).code(),
+  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.geojson", GeometryType::MultiPolygon, lco); }).code(), ErrorCode::InvalidArgument);
+  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.gpkg", GeometryType::MultiPolygon, bad); }).code(), ErrorCode::InvalidArgument);
+  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.geojsonl", GeometryType::MultiPolygon, layer_named("x", true, false)); }).code(),
             ErrorCode::InvalidArgument);
-  check_writer_options(dir / "a.gpkg", lco);
+  check_writer_options(dir / "a.gpkg", GeometryType::MultiPolygon, lco);
   EXPECT_TRUE(dir.entries().empty());
   write_cells(dir / "a.gpkg", lco);
   std::unique_ptr<GDALDataset> ds(GDALDataset::Open((dir / "a.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));

@@ -94,12 +94,8 @@ class GdalWriter final : public FeatureWriter {
                       "': not a GDAL vector driver that can create files (see ogrinfo --formats)");
     }
     driver_ = driver->GetDescription();
-    if (const char* nonspatial = driver->GetMetadataItem(GDAL_DCAP_NONSPATIAL); nonspatial && CPLTestBool(nonspatial)) {
-      // Spreadsheets (ODS, XLSX) would drop every geometry without a word.
-      throw Error(ErrorCode::InvalidArgument, "format " + driver_ +
-                                                  " stores no geometry, so the features' geometry would be lost; "
-                                                  "write CSV (geometry as WKT, which spreadsheets open) or GeoPackage");
-    }
+    if (const std::string why = format_refusal(driver_, geometry_type, options); !why.empty())
+      throw Error(ErrorCode::InvalidArgument, path_ + ": " + why);
     if (path_ == "-") {
       throw Error(ErrorCode::InvalidArgument,
                   "format " + driver_ + " cannot be written to stdout; only GeoJSON and GeoJSONSeq can");
@@ -667,6 +663,57 @@ std::string driver_for_extension(const std::string& path) {
                                                 names + "); choose one with --format");
   }
   return found.empty() ? "" : found.front();
+}
+
+std::string format_refusal(const std::string& name, GeometryType geometry_type, const WriterOptions& options) {
+  register_gdal();
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(name.c_str());
+  if (driver == nullptr || driver->GetMetadataItem(GDAL_DCAP_VECTOR) == nullptr ||
+      driver->GetMetadataItem(GDAL_DCAP_CREATE) == nullptr)
+    return "unknown output format '" + name + "': not a GDAL vector driver that can create files (see ogrinfo --formats)";
+  const std::string d = driver->GetDescription();
+  const std::string instead = "write " + other_formats(d);
+  auto yes = [](const std::vector<std::string>& list, const char* key) {
+    for (const std::string& o : list) {
+      const std::size_t eq = o.find('=');
+      if (eq != std::string::npos && ascii_iequals(o.substr(0, eq), key) && CPLTestBool(o.substr(eq + 1).c_str())) return true;
+    }
+    return false;
+  };
+  if (const char* nonspatial = driver->GetMetadataItem(GDAL_DCAP_NONSPATIAL); nonspatial && CPLTestBool(nonspatial))
+    // Spreadsheets (ODS, XLSX) would drop every geometry without a word.
+    return "format " + d + " stores no geometry, so the features' geometry would be lost; "
+           "write CSV (geometry as WKT, which spreadsheets open) or GeoPackage";
+  // Neither field creation nor field types: the driver writes only a schema of its own (DXF, DGN, S57).
+  if (driver->GetMetadataItem(GDAL_DCAP_CREATE_FIELD) == nullptr &&
+      driver->GetMetadataItem(GDAL_DMD_CREATIONFIELDDATATYPES) == nullptr)
+    return "format " + d + " holds no attribute fields of the writer's choosing (only its own schema), so every field "
+           "would be lost; " + instead;
+  // What GDAL's metadata does not say: fixed schemas and geometry types (docs/user-guide.md lists them).
+  if (ascii_iequals(d, "GPX")) {
+    if (geometry_type == GeometryType::MultiPolygon)
+      return "format GPX holds points (waypoints) and lines (routes, tracks), no polygons; " + instead;
+    if (!yes(options.dataset_options, "GPX_USE_EXTENSIONS"))
+      return "format GPX holds only its own fields (name, ele, time, ...); --dsco GPX_USE_EXTENSIONS=YES writes the "
+             "others as <extensions>, or " + instead;
+  }
+  if (ascii_iequals(d, "GeoRSS") && !yes(options.dataset_options, "USE_EXTENSIONS"))
+    return "format GeoRSS holds only the elements of RSS (title, description, ...); --dsco USE_EXTENSIONS=YES writes "
+           "the other fields as extensions, or " + instead;
+  static constexpr std::pair<std::string_view, std::string_view> kFixed[] = {
+      {"WAsP", "a WAsP map holds lines of elevation or roughness only"},
+      {"Selafin", "a Selafin (TELEMAC) mesh holds points with Real values only"},
+      {"FITS", "FITS tables hold no geometry"},
+      {"Geoconcept", "it has no Integer64 fields (geovor's indices and counts are)"},
+      {"MVT", "vector tiles snap coordinates to each zoom level's grid and cut features at tile edges, so the "
+              "geometry would not be written as computed (nor stay valid)"},
+      {"MBTiles", "vector tiles snap coordinates to each zoom level's grid and cut features at tile edges, so the "
+                  "geometry would not be written as computed (nor stay valid)"},
+  };
+  for (const auto& [fixed, why] : kFixed)
+    if (ascii_iequals(d, fixed))
+      return "format " + d + " cannot hold geovor's layers: " + std::string(why) + "; " + instead;
+  return "";
 }
 
 bool driver_holds_layers(const std::string& name) {
