@@ -283,6 +283,12 @@ std::optional<std::string> declared_value(FieldType type, std::string_view text)
   return std::string(text);
 }
 
+std::string not_of_declared_type(FieldType type, std::string_view text) {
+  return "'" + std::string(text) + "' is not " + with_article(type) + " (declared " + to_string(type) + ")" +
+         (type == FieldType::Integer && declared_value(FieldType::Integer64, text) ? "; it needs 64 bits: declare Integer64"
+                                                                                  : "");
+}
+
 void apply_field_types(SiteTable& table, std::span<const FieldTypeOverride> declared) {
   if (declared.empty()) return;
   if (table.column_types.size() != table.columns.size()) table.column_types.resize(table.columns.size(), FieldType::String);
@@ -315,11 +321,8 @@ void apply_field_types(SiteTable& table, std::span<const FieldTypeOverride> decl
       if (!value) {
         const std::string where = site.line > 0 ? "row " + std::to_string(site.row) + " (line " + std::to_string(site.line) + ")"
                                                 : "feature " + std::to_string(site.row);
-        throw Error(ErrorCode::BadData, table.source + ": " + where + ", column '" + table.columns[c] + "': '" + field +
-                                            "' is not " + with_article(type) + " (declared " + to_string(type) + ")" +
-                                            (type == FieldType::Integer && declared_value(FieldType::Integer64, field)
-                                                 ? "; it needs 64 bits: declare Integer64"
-                                                 : ""));
+        throw Error(ErrorCode::BadData,
+                    table.source + ": " + where + ", column '" + table.columns[c] + "': " + not_of_declared_type(type, field));
       }
       field = std::move(*value);
     }

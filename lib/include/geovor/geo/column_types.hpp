@@ -67,6 +67,10 @@ void parse_field_types(std::string_view spec, std::vector<FieldTypeOverride>& ou
 /// type ("" for null), or nullopt when it is not a value of that type.
 std::optional<std::string> declared_value(FieldType type, std::string_view text);
 
+/// Why `text` is not a value of declared type `type`: "'abc' is not an Integer (declared
+/// Integer)", with "; it needs 64 bits: declare Integer64" for an integer beyond 32 bits.
+std::string not_of_declared_type(FieldType type, std::string_view text);
+
 /// Applies `declared` to `table` after its types were set (detected, the OGR layer's, or String):
 /// each named column gets its declared type and every accepted row's value of it becomes
 /// declared_value() (the same column named twice: the last wins).
