@@ -119,6 +119,9 @@ geovor_cli_expect(cli.fields.declared_types_sites_output 0 SCRIPT
 # value and type; nothing is written.
 geovor_cli_expect(cli.fields.declared_type_bad_value 3 STDERR "typed_columns.csv: row 1 \\(line 2\\), column 'name': 'Alpha' is not an Integer \\(declared Integer\\)" SCRIPT
   "rm -f ${fields_out}/ftb.gpkg && \"$0\" cells ${typed} -o ${fields_out}/ftb.gpkg -q --field-type name=Integer; s=$?; test ! -e ${fields_out}/ftb.gpkg && exit $s")
+# With --overwrite, an old GeoJSON output is kept when a value is not of its declared type.
+geovor_cli_expect(cli.fields.declared_type_bad_value_keeps_old_output 0 SCRIPT
+  "echo old > ${fields_out}/ftk.geojson && ! \"$0\" cells ${typed} -o ${fields_out}/ftk.geojson --overwrite -q --field-type name=Real 2>/dev/null && grep -qx old ${fields_out}/ftk.geojson")
 geovor_cli_expect(cli.fields.declared_type_needs_64_bits 3 STDERR "row 1 \\(line 2\\), column 'big': '5000000000' is not an Integer \\(declared Integer\\); it needs 64 bits: declare Integer64" SCRIPT
   "\"$0\" cells ${typed} -o ${fields_out}/ft64.geojson --overwrite -q --field-type big=Integer")
 # An unknown column (with the nearest name) or type is a usage error (exit 2).
