@@ -1008,6 +1008,42 @@ TEST(OutputModel, UpdateRefusedForOneLayerFormats) {
   EXPECT_TRUE(format_holds_layers(dir / "a.db", "SQLite"));
 }
 
+// GDAL 3.6's drivers: the metadata rule (no geometry; no fields of the writer's choosing) and the
+// listed ones, checked without creating anything; the formats that hold the layers pass.
+TEST(OutputModel, FormatsThatCannotHoldTheLayerAreRefusedUpFront) {
+  TempDir dir;
+  auto refusal = [&](const std::string& file, GeometryType type, const WriterOptions& options) -> std::string {
+    try {
+      check_writer_options(dir / file, type, options);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::InvalidArgument) << file;
+      return e.what();
+    }
+    return "";
+  };
+  WriterOptions none;
+  EXPECT_TRUE(contains(refusal("a.ods", GeometryType::Point, none), "stores no geometry"));
+  EXPECT_TRUE(contains(refusal("a.dxf", GeometryType::MultiLineString, none), "format DXF holds no attribute fields"));
+  EXPECT_TRUE(contains(refusal("a.dgn", GeometryType::Point, none), "format DGN holds no attribute fields"));
+  EXPECT_TRUE(contains(refusal("a.gpx", GeometryType::MultiPolygon, none), "no polygons; write GeoPackage, FlatGeobuf or GeoJSON"));
+  EXPECT_TRUE(contains(refusal("a.gpx", GeometryType::Point, none), "--dsco GPX_USE_EXTENSIONS=YES"));
+  WriterOptions extensions;
+  extensions.dataset_options = {"GPX_USE_EXTENSIONS=YES"};
+  EXPECT_EQ(refusal("a.gpx", GeometryType::Point, extensions), "");
+  EXPECT_EQ(refusal("a.gpx", GeometryType::MultiLineString, extensions), "");
+  WriterOptions mvt;
+  mvt.format = "MVT";
+  EXPECT_TRUE(contains(refusal("tiles", GeometryType::MultiPolygon, mvt), "vector tiles snap coordinates"));
+  WriterOptions unknown;
+  unknown.format = "NoSuchDriver";
+  EXPECT_TRUE(contains(refusal("a.x", GeometryType::Point, unknown), "unknown output format 'NoSuchDriver'"));
+  // A refused format names others; a format is never told to write itself.
+  EXPECT_FALSE(contains(refusal("a.gpx", GeometryType::MultiPolygon, none), "GPX or"));
+  for (const char* ok : {"a.gpkg", "a.fgb", "a.shp", "a.csv", "a.tab", "a.sqlite", "a.gml"})
+    EXPECT_EQ(refusal(ok, GeometryType::MultiPolygon, none), "") << ok;
+  EXPECT_TRUE(dir.entries().empty());
+}
+
 TEST(OutputModel, CreationOptionsAreNameValueAndGdalOnly) {
   TempDir dir;
   WriterOptions bad;
