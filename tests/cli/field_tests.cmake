@@ -82,7 +82,10 @@ foreach(case "dxf;t.dxf;;format DXF holds no attribute fields of the writer's ch
               "gpx;t.gpx;;format GPX holds points \\(waypoints\\) and lines \\(routes, tracks\\), no polygons. write GeoPackage"
               "georss;t.xml;-f GeoRSS;format GeoRSS holds only the elements of RSS .*--dsco USE_EXTENSIONS=YES"
               "wasp;t.map;-f WAsP;format WAsP cannot hold geovor's layers: a WAsP map holds lines of elevation or roughness only"
-              "mvt;t.mvt;-f MVT;format MVT cannot hold geovor's layers: vector tiles snap coordinates")
+              "mvt;t.mvt;-f MVT;format MVT cannot hold geovor's layers: vector tiles snap coordinates"
+              "vdv;t.x10;-f VDV;format VDV cannot hold geovor's layers: VDV-451 tables hold no geometry"
+              "pcidsk;t.pix;;format PCIDSK cannot hold geovor's layers: it drops multi-part geometries"
+              "pds4;t.xml;-f PDS4;format PDS4 cannot hold geovor's layers: it writes its tables into a directory")
   list(GET case 0 name)
   list(GET case 1 file)
   list(GET case 2 format)

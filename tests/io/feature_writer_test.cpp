@@ -1031,6 +1031,8 @@ TEST(OutputModel, FormatsThatCannotHoldTheLayerAreRefusedUpFront) {
   extensions.dataset_options = {"GPX_USE_EXTENSIONS=YES"};
   EXPECT_EQ(refusal("a.gpx", GeometryType::Point, extensions), "");
   EXPECT_EQ(refusal("a.gpx", GeometryType::MultiLineString, extensions), "");
+  EXPECT_TRUE(contains(refusal("a.pix", GeometryType::MultiPolygon, none), "drops multi-part geometries"));
+  EXPECT_EQ(refusal("a.pix", GeometryType::Point, none), "");
   WriterOptions mvt;
   mvt.format = "MVT";
   EXPECT_TRUE(contains(refusal("tiles", GeometryType::MultiPolygon, mvt), "vector tiles snap coordinates"));

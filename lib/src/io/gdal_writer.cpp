@@ -700,7 +700,13 @@ std::string format_refusal(const std::string& name, GeometryType geometry_type, 
   if (ascii_iequals(d, "GeoRSS") && !yes(options.dataset_options, "USE_EXTENSIONS"))
     return "format GeoRSS holds only the elements of RSS (title, description, ...); --dsco USE_EXTENSIONS=YES writes "
            "the other fields as extensions, or " + instead;
+  if (ascii_iequals(d, "PCIDSK") && geometry_type != GeometryType::Point)
+    return "format PCIDSK cannot hold geovor's layers: it drops multi-part geometries without a word, and every "
+           "polygon and line geovor writes is one; " + instead;
   static constexpr std::pair<std::string_view, std::string_view> kFixed[] = {
+      {"VDV", "VDV-451 tables hold no geometry"},
+      {"Interlis 1", "it writes the classes of an INTERLIS model, not a schema of the writer's choosing"},
+      {"PDS4", "it writes its tables into a directory beside the label, which geovor does not move into place"},
       {"WAsP", "a WAsP map holds lines of elevation or roughness only"},
       {"Selafin", "a Selafin (TELEMAC) mesh holds points with Real values only"},
       {"FITS", "FITS tables hold no geometry"},

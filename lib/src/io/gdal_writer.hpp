@@ -49,8 +49,9 @@ std::string driver_for_extension(const std::string& path);
 /// without geometry (DCAP_NONSPATIAL: ODS, XLSX); one without fields of the writer's choosing
 /// (neither DCAP_CREATE_FIELD nor DMD_CREATIONFIELDDATATYPES: DXF, DGN, S57); and what the
 /// metadata does not tell: GPX (no polygons; fields only with GPX_USE_EXTENSIONS=YES), GeoRSS
-/// (fields only with USE_EXTENSIONS=YES), WAsP, Selafin, FITS, Geoconcept, MVT, MBTiles. The
-/// reason names a format that works.
+/// (fields only with USE_EXTENSIONS=YES), PCIDSK (no multi-part geometry: points only), WAsP,
+/// Selafin, FITS, Geoconcept, MVT, MBTiles, VDV, Interlis 1, PDS4. The reason names a format
+/// that works.
 std::string format_refusal(const std::string& driver, GeometryType geometry_type, const WriterOptions& options);
 
 /// Whether the GDAL driver named `driver` holds several vector layers in one data source
