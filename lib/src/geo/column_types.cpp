@@ -283,6 +283,19 @@ std::optional<std::string> declared_value(FieldType type, std::string_view text)
   return std::string(text);
 }
 
+std::string did_you_mean(const std::vector<std::string>& columns, std::string_view name) {
+  std::string best;
+  std::size_t best_distance = 3;  // closer than this: a likely typo
+  for (const std::string& column : columns) {
+    const std::size_t distance = edit_distance(ascii_lower(trim(name)), ascii_lower(trim(column)));
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = column;
+    }
+  }
+  return best.empty() ? "" : "; did you mean '" + best + "'?";
+}
+
 std::string not_of_declared_type(FieldType type, std::string_view text) {
   return "'" + std::string(text) + "' is not " + with_article(type) + " (declared " + to_string(type) + ")" +
          (type == FieldType::Integer && declared_value(FieldType::Integer64, text) ? "; it needs 64 bits: declare Integer64"
@@ -296,19 +309,10 @@ void apply_field_types(SiteTable& table, std::span<const FieldTypeOverride> decl
   for (const FieldTypeOverride& d : declared) {
     const int c = find_column(table.columns, d.column);
     if (c < 0) {
-      std::string best, list;
-      std::size_t best_distance = 3;  // closer than this: a likely typo
-      for (const std::string& name : table.columns) {
-        list += (list.empty() ? "" : ", ") + name;
-        const std::size_t distance = edit_distance(ascii_lower(trim(d.column)), ascii_lower(trim(name)));
-        if (distance < best_distance) {
-          best_distance = distance;
-          best = name;
-        }
-      }
+      std::string list;
+      for (const std::string& name : table.columns) list += (list.empty() ? "" : ", ") + name;
       throw Error(ErrorCode::InvalidArgument, table.source + ": --field-type names '" + d.column + "', which is no column" +
-                                                  (best.empty() ? "" : "; did you mean '" + best + "'?") + " (columns: " +
-                                                  list + ")");
+                                                  did_you_mean(table.columns, d.column) + " (columns: " + list + ")");
     }
     columns.emplace_back(static_cast<std::size_t>(c), d.type);
   }

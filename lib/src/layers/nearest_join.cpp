@@ -557,7 +557,7 @@ void declare_query_types(Context& ctx, const std::string& source) {
       std::string list;
       for (const std::string& n : columns) list += (list.empty() ? "" : ", ") + n;
       throw Error(ErrorCode::InvalidArgument, source + ": --query-field-type names '" + d.column +
-                                                  "', which is no column of the queries (" +
+                                                  "', which is no column of the queries" + did_you_mean(columns, d.column) + " (" +
                                                   (columns.empty() ? std::string("the stream has no header") : "columns: " + list) + ")");
     }
     ctx.query_types[static_cast<std::size_t>(c)] = d.type;

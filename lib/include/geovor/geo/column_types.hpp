@@ -67,6 +67,10 @@ void parse_field_types(std::string_view spec, std::vector<FieldTypeOverride>& ou
 /// type ("" for null), or nullopt when it is not a value of that type.
 std::optional<std::string> declared_value(FieldType type, std::string_view text);
 
+/// "; did you mean 'pop'?" naming the column of `columns` nearest to `name` (edit distance below
+/// 3, case-insensitive), or "" when none is that close.
+std::string did_you_mean(const std::vector<std::string>& columns, std::string_view name);
+
 /// Why `text` is not a value of declared type `type`: "'abc' is not an Integer (declared
 /// Integer)", with "; it needs 64 bits: declare Integer64" for an integer beyond 32 bits.
 std::string not_of_declared_type(FieldType type, std::string_view text);
