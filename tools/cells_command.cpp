@@ -63,7 +63,7 @@ void write_report(OutputFile& out, const SiteTable& table, const BuildReport& re
 int run(CellsArgs& args) {
   // Two outputs that are one file (a path, an alias, a link; `-` twice): refused before any work.
   check_distinct_outputs({{"--output", args.out.output}, {"--report", args.report}});
-  check_writer_options(args.out.output, cell_writer_options(args.out));  // --update or --lco with GeoJSON: before any work
+  check_writer_options(args.out.output, GeometryType::MultiPolygon, cell_writer_options(args.out));  // --update or --lco with GeoJSON: before any work
   // Opened first, so that an existing report is refused before any work; renamed into place last.
   std::unique_ptr<OutputFile> report_file;
   if (!args.report.empty()) report_file = std::make_unique<OutputFile>(args.report, args.out.overwrite);
@@ -75,6 +75,8 @@ int run(CellsArgs& args) {
     if (geojson) ids = make_cell_id_texts(table, 1);
   });
   const std::span<const Vec3> points = input.positions();
+  // A value not of its --field-type fails the rows' stage: before an old output is removed below.
+  if (!args.sites.reader.field_types.empty()) input.table();
   // With --overwrite, an existing GeoJSON output (one regular file; the input is read by now) is
   // removed on another core while the triangulation is built: freeing a large file's blocks
   // takes tens of milliseconds that the final rename over it would otherwise spend.
@@ -128,7 +130,8 @@ Command add_cells_command(CLI::App& app) {
       "row merged into the site), n_rows, area_m2 (WGS84 ellipsoid, of the ring as written), area_sr\n"
       "(sphere, of the exact cell), n_vertices,\n"
       "neighbors (JSON array of the neighbours' ids), then every input column with its type (CSV columns\n"
-      "typed by their values unless --all-text; fid, geom, ... and our own names become src_NAME).\n"
+      "typed by their values unless --all-text, or as --field-type NAME=TYPE declares; fid, geom, ... and our own\n"
+      "names become src_NAME).\n"
       "A value a format cannot hold whole (Shapefile: 254 bytes) is refused (exit 3), never cut.\n"
       "Examples:\n"
       "  geovor cells datasets/weather_stations.csv -o cells.geojson\n"

@@ -63,8 +63,8 @@ int run(DelaunayArgs& args) {
   // work, unless it is one data source that holds both layers (GPKG, ...).
   if (!(one_data_source(output) && format_holds_layers(args.triangles, output.triangles.format)))
     check_distinct_outputs({{"--output", args.triangles}, {"--edges", args.edges}});
-  if (!args.triangles.empty()) check_writer_options(args.triangles, output.triangles);  // before any work
-  if (!args.edges.empty()) check_writer_options(args.edges, output.edges);
+  if (!args.triangles.empty()) check_writer_options(args.triangles, GeometryType::MultiPolygon, output.triangles);  // before any work
+  if (!args.edges.empty()) check_writer_options(args.edges, GeometryType::MultiLineString, output.edges);
   const SiteTable table = read_site_input(args.sites);
   const std::vector<Vec3> points = site_points(table);
   BuildReport report;

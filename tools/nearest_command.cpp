@@ -45,6 +45,7 @@ struct NearestArgs {
   std::vector<std::string> site_fields;
   double max_distance_m = std::numeric_limits<double>::infinity();
   std::string format;
+  std::vector<FieldTypeOverride> query_field_types;  // --query-field-type
 };
 
 struct FileCloser {
@@ -89,6 +90,14 @@ int run(NearestArgs& args) {
   const bool csv = writes_csv(args);
   if (!csv && args.output == "-" && output_needs_gdal(args.output, args.format))
     throw Error(ErrorCode::InvalidArgument, "--format " + args.format + " cannot be written to standard output; give -o FILE");
+  if (csv && !args.query_field_types.empty())
+    throw Error(ErrorCode::InvalidArgument, "--query-field-type types the query columns of point features (GeoPackage, "
+                                            "FlatGeobuf, ...); geovor's CSV output has no types");
+  if (!csv) {  // a format that cannot hold the points (GPX without extensions, ...): before any work
+    WriterOptions writer_options;
+    writer_options.format = args.format;
+    check_writer_options(args.output, GeometryType::Point, writer_options);
+  }
   if (args.metric != "sphere" && args.metric != "geodesic")
     throw Error(ErrorCode::InvalidArgument, "--metric must be sphere or geodesic, not '" + args.metric + "'");
   LocatorOptions locator_options;
@@ -120,6 +129,7 @@ int run(NearestArgs& args) {
   options.columns = args.query_columns;
   options.site_fields = args.site_fields;
   options.max_distance_m = args.max_distance_m;
+  if (!queries_are_ogr(args)) options.query_field_types = args.query_field_types;  // a table has them from its reader
   nearest_join_fields(index, {}, options);  // an unknown --site-fields column before any output
 
   // The queries: an OGR layer read whole, or a CSV stream.
@@ -131,6 +141,7 @@ int run(NearestArgs& args) {
     reader.lat_field = args.query_columns.lat_field;
     reader.lon_field = args.query_columns.lon_field;
     reader.id_field = args.query_columns.id_field;
+    reader.field_types = args.query_field_types;  // over the layer's own types, checked as it is read
     table = read_sites_ogr(args.queries, reader, args.query_layer);
   } else {
     in.reset(args.queries == "-" ? stdin : std::fopen(args.queries.c_str(), "rb"));
@@ -191,6 +202,10 @@ Command add_nearest_command(CLI::App& app) {
   cmd->add_option("--query-id-field", args->query_columns.id_field,
                   "Identifier column of the queries (default: query_id, id, icao, code or name; else the line number)");
   cmd->add_option("--layer", args->query_layer, "Layer of a multi-layer OGR query source (GeoPackage, ...); not for CSV");
+  add_field_type_option(cmd, "--query-field-type", args->query_field_types,
+                        "Declare a query column's type in a point output: NAME=TYPE (String, Integer, Integer64, Real, "
+                        "Date, DateTime; case-insensitive), repeatable or NAME=TYPE,NAME2=TYPE2; a value not of that type "
+                        "is bad data (exit 3); not with CSV output (text)");
   cmd->add_option("--site-fields", args->site_fields, "Site columns to join to each match, e.g. name,elev (from the index or table)")
       ->delimiter(',');
   cmd->add_option("--max-distance-m", args->max_distance_m,

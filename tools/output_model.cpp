@@ -19,7 +19,8 @@ CLI::Validator name_value() {
 void add_output_model_options(CLI::App* cmd, std::string& format, bool& overwrite, OutputModelArgs& model,
                               const std::string& default_layer) {
   cmd->add_option("-f,--format", format,
-                  "OGR driver name, overriding the extension (GeoJSON, GeoJSONSeq, GPKG, FlatGeobuf, \"ESRI Shapefile\", CSV, ...)");
+                  "OGR driver name, overriding the extension (GeoJSON, GeoJSONSeq, GPKG, FlatGeobuf, \"ESRI Shapefile\", CSV, ...); "
+                  "one that cannot hold the layer (ODS, DXF, GPX polygons, ...) is refused before any work, with the reason");
   cmd->add_option("--nln", model.layer, "Layer name (default " + default_layer + ")");
   cmd->add_flag("--update", model.update,
                 "Add the layer to an existing data source of a format that holds several (GPKG, SQLite, ...), its other "

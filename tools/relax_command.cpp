@@ -70,7 +70,12 @@ int run(RelaxArgs& args) {
   const bool one_source = !args.sites_output.empty() && same_output_file(args.cells.output, args.sites_output) &&
                           format_holds_layers(args.cells.output, args.cells.format);
   if (!one_source) check_distinct_outputs({{"--output", args.cells.output}, {"--sites-output", args.sites_output}});
-  check_writer_options(args.cells.output, cell_writer_options(args.cells));  // before the iterations
+  check_writer_options(args.cells.output, GeometryType::MultiPolygon, cell_writer_options(args.cells));  // before the iterations
+  if (!args.sites_output.empty()) {
+    WriterOptions sites;
+    sites.format = one_source ? args.cells.format : "";
+    check_writer_options(args.sites_output, GeometryType::Point, sites);
+  }
   check_writable(args.cells.output, args.cells.overwrite || args.cells.model.update);
   if (!one_source)
     check_writable(args.sites_output, args.cells.overwrite || (args.cells.model.update && !args.sites_output.empty() &&

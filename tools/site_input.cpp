@@ -7,6 +7,7 @@
 #include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/delaunay/site_rows.hpp"
+#include "geovor/geo/column_types.hpp"
 #include "geovor/geo/csv_site_scan.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
@@ -23,9 +24,31 @@ void add_site_input_options(CLI::App* cmd, SiteInputArgs& args) {
   cmd->add_flag("--all-text", [&args](std::int64_t) { args.reader.detect_types = false; },
                "Keep every input column as text (String), as read; by default CSV columns are typed by their values "
                "(Integer, Integer64, Real, Date, DateTime) and OGR fields keep their types");
+  add_field_type_option(cmd, "--field-type", args.reader.field_types,
+                        "Declare an input column's type, over the typing by values, --all-text and the id rule: "
+                        "NAME=TYPE (String, Integer, Integer64, Real, Date, DateTime; case-insensitive), repeatable or "
+                        "NAME=TYPE,NAME2=TYPE2 (GDAL's COLUMN_TYPES); a value not of that type is bad data (exit 3)");
   cmd->add_option("--merge-m", args.merge_m,
                   "Merge sites closer than this many metres (default and minimum: 2^-24 R = 0.38 m)")
       ->check(finite_above(0, true));
+}
+
+CLI::Option* add_field_type_option(CLI::App* cmd, const std::string& name, std::vector<FieldTypeOverride>& out,
+                                   const std::string& help) {
+  return cmd
+      ->add_option_function<std::vector<std::string>>(
+          name,
+          [&out, name](const std::vector<std::string>& specs) {
+            out.clear();
+            try {
+              for (const std::string& spec : specs) parse_field_types(spec, out);
+            } catch (const Error& e) {
+              throw CLI::ValidationError(name, e.what());
+            }
+          },
+          help)
+      ->type_name("NAME=TYPE")
+      ->allow_extra_args(false);
 }
 
 std::vector<CLI::Option*> add_site_table_options(CLI::App* cmd, SiteInputArgs& args) {

@@ -8,22 +8,16 @@
 
 #include <cerrno>
 #include <cstdio>
-#include <fstream>
 #include <random>
-#include <sstream>
 #include <string>
 
+#include "support/file_text.hpp"
 #include "support/temp_dir.hpp"
 
 namespace geovor {
 namespace {
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::slurp;
 
 // 11 MB of random bytes written in pieces of random sizes (1 byte to 3 MB), then finish().
 void write_and_check(const std::string& path, bool direct) {

@@ -1008,6 +1008,44 @@ TEST(OutputModel, UpdateRefusedForOneLayerFormats) {
   EXPECT_TRUE(format_holds_layers(dir / "a.db", "SQLite"));
 }
 
+// GDAL 3.6's drivers: the metadata rule (no geometry; no fields of the writer's choosing) and the
+// listed ones, checked without creating anything; the formats that hold the layers pass.
+TEST(OutputModel, FormatsThatCannotHoldTheLayerAreRefusedUpFront) {
+  TempDir dir;
+  auto refusal = [&](const std::string& file, GeometryType type, const WriterOptions& options) -> std::string {
+    try {
+      check_writer_options(dir / file, type, options);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::InvalidArgument) << file;
+      return e.what();
+    }
+    return "";
+  };
+  WriterOptions none;
+  EXPECT_TRUE(contains(refusal("a.ods", GeometryType::Point, none), "stores no geometry"));
+  EXPECT_TRUE(contains(refusal("a.dxf", GeometryType::MultiLineString, none), "format DXF holds no attribute fields"));
+  EXPECT_TRUE(contains(refusal("a.dgn", GeometryType::Point, none), "format DGN holds no attribute fields"));
+  EXPECT_TRUE(contains(refusal("a.gpx", GeometryType::MultiPolygon, none), "no polygons; write GeoPackage, FlatGeobuf or GeoJSON"));
+  EXPECT_TRUE(contains(refusal("a.gpx", GeometryType::Point, none), "--dsco GPX_USE_EXTENSIONS=YES"));
+  WriterOptions extensions;
+  extensions.dataset_options = {"GPX_USE_EXTENSIONS=YES"};
+  EXPECT_EQ(refusal("a.gpx", GeometryType::Point, extensions), "");
+  EXPECT_EQ(refusal("a.gpx", GeometryType::MultiLineString, extensions), "");
+  EXPECT_TRUE(contains(refusal("a.pix", GeometryType::MultiPolygon, none), "drops multi-part geometries"));
+  EXPECT_EQ(refusal("a.pix", GeometryType::Point, none), "");
+  WriterOptions mvt;
+  mvt.format = "MVT";
+  EXPECT_TRUE(contains(refusal("tiles", GeometryType::MultiPolygon, mvt), "vector tiles snap coordinates"));
+  WriterOptions unknown;
+  unknown.format = "NoSuchDriver";
+  EXPECT_TRUE(contains(refusal("a.x", GeometryType::Point, unknown), "unknown output format 'NoSuchDriver'"));
+  // A refused format names others; a format is never told to write itself.
+  EXPECT_FALSE(contains(refusal("a.gpx", GeometryType::MultiPolygon, none), "GPX or"));
+  for (const char* ok : {"a.gpkg", "a.fgb", "a.shp", "a.csv", "a.tab", "a.sqlite", "a.gml"})
+    EXPECT_EQ(refusal(ok, GeometryType::MultiPolygon, none), "") << ok;
+  EXPECT_TRUE(dir.entries().empty());
+}
+
 TEST(OutputModel, CreationOptionsAreNameValueAndGdalOnly) {
   TempDir dir;
   WriterOptions bad;
@@ -1017,11 +1055,11 @@ TEST(OutputModel, CreationOptionsAreNameValueAndGdalOnly) {
   lco.layer_options = {"GEOMETRY_NAME=shape"};
   EXPECT_EQ(error_of([&] { write_cells(dir / "a.geojson", lco); }).code(), ErrorCode::InvalidArgument);
   // The same checks, without opening anything (callers refuse them before long work).
-  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.geojson", lco); }).code(), ErrorCode::InvalidArgument);
-  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.gpkg", bad); }).code(), ErrorCode::InvalidArgument);
-  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.geojsonl", layer_named("x", true, false)); }).code(),
+  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.geojson", GeometryType::MultiPolygon, lco); }).code(), ErrorCode::InvalidArgument);
+  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.gpkg", GeometryType::MultiPolygon, bad); }).code(), ErrorCode::InvalidArgument);
+  EXPECT_EQ(error_of([&] { check_writer_options(dir / "a.geojsonl", GeometryType::MultiPolygon, layer_named("x", true, false)); }).code(),
             ErrorCode::InvalidArgument);
-  check_writer_options(dir / "a.gpkg", lco);
+  check_writer_options(dir / "a.gpkg", GeometryType::MultiPolygon, lco);
   EXPECT_TRUE(dir.entries().empty());
   write_cells(dir / "a.gpkg", lco);
   std::unique_ptr<GDALDataset> ds(GDALDataset::Open((dir / "a.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));

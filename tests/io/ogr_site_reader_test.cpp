@@ -18,13 +18,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "geovor/core/error.hpp"
+#include "support/file_text.hpp"
 #include "support/temp_dir.hpp"
 #include "geovor/geo/site_encoder.hpp"
 
@@ -39,14 +39,7 @@ class TempDir : public testing::TempDir {
   TempDir() : testing::TempDir("geovor_ogr") {}
 };
 
-Error error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  return Error(ErrorCode::Internal, "no error thrown");
-}
+using testing::error_of;
 
 // One feature to create: a geometry as WKT ("" for none) and its attribute values ("" = null).
 struct Row {

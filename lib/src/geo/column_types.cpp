@@ -1,9 +1,15 @@
 #include "geovor/geo/column_types.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
+
+#include "geo/trim.hpp"
+#include "geovor/core/ascii.hpp"
+#include "geovor/core/error.hpp"
 
 namespace geovor {
 namespace {
@@ -77,6 +83,28 @@ bool fits(std::string_view t, const char* max_positive, const char* max_negative
   const std::string_view max = negative ? max_negative : max_positive;
   if (d.size() != max.size()) return d.size() < max.size();
   return d <= max;
+}
+
+// Levenshtein distance of the lower-case names, for "did you mean".
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// "an Integer", "a Real".
+std::string with_article(FieldType t) {
+  const std::string name = to_string(t);
+  return (name[0] == 'I' ? "an " : "a ") + name;
 }
 
 }  // namespace
@@ -167,6 +195,142 @@ std::vector<FieldType> detect_column_types(const SiteTable& table) {
   for (std::size_t c = 0; c < columns; ++c)
     if (!seen[c]) types[c] = FieldType::String;
   return types;
+}
+
+std::optional<FieldType> field_type_named(std::string_view name) {
+  for (const FieldType t : {FieldType::String, FieldType::Integer, FieldType::Integer64, FieldType::Real,
+                            FieldType::Date, FieldType::DateTime})
+    if (ascii_iequals(name, to_string(t))) return t;
+  return std::nullopt;
+}
+
+void parse_field_types(std::string_view spec, std::vector<FieldTypeOverride>& out) {
+  std::size_t at = 0;
+  for (;;) {
+    const std::size_t comma = spec.find(',', at);
+    const std::string_view item = spec.substr(at, comma == std::string_view::npos ? std::string_view::npos : comma - at);
+    const std::size_t eq = item.rfind('=');
+    if (eq == std::string_view::npos || trim(item.substr(0, eq)).empty())
+      throw Error(ErrorCode::InvalidArgument, "field type '" + std::string(item) +
+                                                  "': expected NAME=TYPE (TYPE: String, Integer, Integer64, Real, Date, DateTime)");
+    const std::string_view type_name = trim(item.substr(eq + 1));
+    const std::optional<FieldType> type = field_type_named(type_name);
+    if (!type)
+      throw Error(ErrorCode::InvalidArgument, "field type '" + std::string(item) + "': unknown type '" +
+                                                  std::string(type_name) +
+                                                  "'; the types are String, Integer, Integer64, Real, Date, DateTime");
+    out.push_back({std::string(trim(item.substr(0, eq))), *type});
+    if (comma == std::string_view::npos) return;
+    at = comma + 1;
+  }
+}
+
+std::optional<std::string> declared_value(FieldType type, std::string_view text) {
+  if (type == FieldType::String) return std::string(text);
+  const std::string_view t = trim(text);
+  if (t.empty()) return std::string();
+  switch (type) {
+    case FieldType::Integer:
+    case FieldType::Integer64: {
+      const std::size_t sign = t[0] == '+' || t[0] == '-' ? 1 : 0;
+      if (t.size() == sign || digits(t, sign) != t.size() - sign) return std::nullopt;
+      std::string_view d = t.substr(sign);
+      while (d.size() > 1 && d[0] == '0') d.remove_prefix(1);  // "007": the user says it is a number
+      const std::string canonical = (t[0] == '-' && d != "0" ? "-" : "") + std::string(d);
+      const bool fit = type == FieldType::Integer ? fits(canonical, "2147483647", "2147483648")
+                                                  : fits(canonical, "9223372036854775807", "9223372036854775808");
+      if (!fit) return std::nullopt;
+      return canonical;
+    }
+    case FieldType::Real: {
+      std::size_t at = t[0] == '+' || t[0] == '-' ? 1 : 0;
+      const std::size_t whole = digits(t, at);
+      at += whole;
+      std::size_t fraction = 0;
+      if (at < t.size() && t[at] == '.') {
+        fraction = digits(t, at + 1);
+        at += 1 + fraction;
+      }
+      if (whole + fraction == 0) return std::nullopt;
+      if (at < t.size() && (t[at] == 'e' || t[at] == 'E')) {
+        ++at;
+        if (at < t.size() && (t[at] == '+' || t[at] == '-')) ++at;
+        const std::size_t n = digits(t, at);
+        if (n == 0) return std::nullopt;
+        at += n;
+      }
+      if (at != t.size()) return std::nullopt;
+      const std::string_view unsigned_text = t[0] == '+' ? t.substr(1) : t;
+      double v = 0;
+      const auto r = std::from_chars(unsigned_text.data(), unsigned_text.data() + unsigned_text.size(), v);
+      if (r.ec != std::errc() || !std::isfinite(v)) return std::nullopt;
+      // A JSON number stays as written; ".5", "1.", "007.5" become the shortest text of their double.
+      if (value_type(unsigned_text) != FieldType::String) return std::string(unsigned_text);
+      char buf[32];
+      return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+    }
+    case FieldType::Date:
+      if (value_type(t) != FieldType::Date) return std::nullopt;
+      return std::string(t);
+    case FieldType::DateTime: {
+      const FieldType found = value_type(t);
+      if (found != FieldType::Date && found != FieldType::DateTime) return std::nullopt;
+      return std::string(t);
+    }
+    case FieldType::String:
+      break;
+  }
+  return std::string(text);
+}
+
+std::string did_you_mean(const std::vector<std::string>& columns, std::string_view name) {
+  std::string best;
+  std::size_t best_distance = 3;  // closer than this: a likely typo
+  for (const std::string& column : columns) {
+    const std::size_t distance = edit_distance(ascii_lower(trim(name)), ascii_lower(trim(column)));
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = column;
+    }
+  }
+  return best.empty() ? "" : "; did you mean '" + best + "'?";
+}
+
+std::string not_of_declared_type(FieldType type, std::string_view text) {
+  return "'" + std::string(text) + "' is not " + with_article(type) + " (declared " + to_string(type) + ")" +
+         (type == FieldType::Integer && declared_value(FieldType::Integer64, text) ? "; it needs 64 bits: declare Integer64"
+                                                                                  : "");
+}
+
+void apply_field_types(SiteTable& table, std::span<const FieldTypeOverride> declared) {
+  if (declared.empty()) return;
+  if (table.column_types.size() != table.columns.size()) table.column_types.resize(table.columns.size(), FieldType::String);
+  std::vector<std::pair<std::size_t, FieldType>> columns;  // in the order given; a later one wins
+  for (const FieldTypeOverride& d : declared) {
+    const int c = find_column(table.columns, d.column);
+    if (c < 0) {
+      std::string list;
+      for (const std::string& name : table.columns) list += (list.empty() ? "" : ", ") + name;
+      throw Error(ErrorCode::InvalidArgument, table.source + ": --field-type names '" + d.column + "', which is no column" +
+                                                  did_you_mean(table.columns, d.column) + " (columns: " + list + ")");
+    }
+    columns.emplace_back(static_cast<std::size_t>(c), d.type);
+  }
+  for (const auto& [c, type] : columns) table.column_types[c] = type;
+  for (InputSite& site : table.sites) {
+    for (const auto& [c, type] : columns) {
+      if (c >= site.fields.size() || table.column_types[c] != type) continue;  // a later declaration wins
+      std::string& field = site.fields[c];
+      std::optional<std::string> value = declared_value(type, field);
+      if (!value) {
+        const std::string where = site.line > 0 ? "row " + std::to_string(site.row) + " (line " + std::to_string(site.line) + ")"
+                                                : "feature " + std::to_string(site.row);
+        throw Error(ErrorCode::BadData,
+                    table.source + ": " + where + ", column '" + table.columns[c] + "': " + not_of_declared_type(type, field));
+      }
+      field = std::move(*value);
+    }
+  }
 }
 
 }  // namespace geovor

@@ -785,6 +785,7 @@ struct CsvSiteScan::State {
   std::vector<std::uint64_t> row_base, line_base;  // per chunk: its first row and first line - 1
   std::size_t sites = 0;
   bool detect_types = true;  // SiteReaderOptions::detect_types
+  std::vector<FieldTypeOverride> field_types;  // SiteReaderOptions::field_types
   ScanRules rules;
 };
 
@@ -839,6 +840,7 @@ CsvSiteScan CsvSiteScan::open(const std::string& path, const SiteReaderOptions& 
 void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tuning) {
   State& s = *state_;
   s.detect_types = options.detect_types;
+  s.field_types = options.field_types;
   std::vector<Vec3>& positions = positions_;
   SiteTable& table = s.table;
   const std::string& source = table.source;
@@ -1013,8 +1015,10 @@ SiteTable CsvSiteScan::finish() && {
     }
   }
   const bool detect = state_->detect_types;
+  const std::vector<FieldTypeOverride> declared = std::move(state_->field_types);
   state_.reset();  // the buffer and the per-row data; positions_ stay
   table.column_types = detect ? detect_column_types(table) : std::vector<FieldType>(table.columns.size(), FieldType::String);
+  apply_field_types(table, declared);
   return table;
 }
 

@@ -44,12 +44,17 @@ bool is_native(const std::string& format) {
 }
 
 // GDAL creation options are NAME=VALUE; the natively written formats take none, and hold one layer.
-void check_output_model(const std::string& path, const std::string& format, const WriterOptions& options) {
+void check_output_model(const std::string& path, const std::string& format, GeometryType geometry_type,
+                        const WriterOptions& options) {
   for (const auto* list : {&options.layer_options, &options.dataset_options})
     for (const std::string& o : *list)
       if (o.find('=') == std::string::npos || o.front() == '=')
         throw Error(ErrorCode::InvalidArgument, path + ": creation option '" + o + "' is not of the form NAME=VALUE");
-  if (!is_native(format)) return;
+  if (!is_native(format)) {
+    if (const std::string why = gdal_detail::format_refusal(format, geometry_type, options); !why.empty())
+      throw Error(ErrorCode::InvalidArgument, path + ": " + why);
+    return;
+  }
   if (options.update)
     throw Error(ErrorCode::InvalidArgument, path + ": --update adds a layer to a data source that holds several (GPKG, SQLite, ...); " +
                                                 format + " holds one: use --overwrite to replace the file");
@@ -60,8 +65,8 @@ void check_output_model(const std::string& path, const std::string& format, cons
 
 }  // namespace
 
-void check_writer_options(const std::string& path, const WriterOptions& options) {
-  check_output_model(path, resolve_format(path, options.format), options);
+void check_writer_options(const std::string& path, GeometryType geometry_type, const WriterOptions& options) {
+  check_output_model(path, resolve_format(path, options.format), geometry_type, options);
 }
 
 bool format_holds_layers(const std::string& path, const std::string& format) {
@@ -95,7 +100,7 @@ std::unique_ptr<FeatureWriter> open_feature_writer(const std::string& path, Geom
   if (path.empty()) throw Error(ErrorCode::InvalidArgument, "empty output path");
   check_schema(schema);
   const std::string format = resolve_format(path, options.format);
-  check_output_model(path, format, options);
+  check_output_model(path, format, geometry_type, options);
   const std::string f = ascii_lower(format);
   if (f == "geojson") {
     return open_geojson_writer(path, GeoJsonFraming::FeatureCollection, geometry_type, schema,

@@ -29,6 +29,10 @@ std::string driver_for_extension(const std::string& path) { absent(path, "choosi
 
 bool driver_holds_layers(const std::string& driver) { absent(driver, "asking a GDAL driver"); }
 
+std::string format_refusal(const std::string& driver, GeometryType, const WriterOptions&) {
+  absent(driver, "asking a GDAL driver");
+}
+
 std::unique_ptr<FeatureWriter> open_gdal_writer(const std::string& path, const std::string& driver,
                                                 GeometryType, const std::vector<Field>&, const WriterOptions&) {
   absent(path, ("writing " + driver).c_str());

@@ -23,6 +23,7 @@
 #include <system_error>
 
 #include "geovor/core/error.hpp"
+#include "geovor/geo/column_types.hpp"
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
@@ -349,6 +350,7 @@ SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& optio
   if (attribute_positions) {
     SiteTable from_attributes = read_attribute_positions(*layer, path, table.columns, options, capture);
     from_attributes.column_types = table.column_types;  // the layer's own types, not guessed ones
+    apply_field_types(from_attributes, options.field_types);
     if (!options.s_srs.empty()) reproject_sites(from_attributes, options.s_srs);
     return from_attributes;
   }
@@ -438,6 +440,7 @@ SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& optio
     throw Error(ErrorCode::Io, path + ": cannot read feature " +
                                    std::to_string(table.rows_read + 1) + capture.detail());
   }
+  apply_field_types(table, options.field_types);
   return table;
 }
 

@@ -65,6 +65,16 @@ std::vector<std::string> stale_sidecars(const std::string& driver) {
   return {};
 }
 
+// The formats that hold every layer geovor writes, less `driver`: "GeoPackage, FlatGeobuf or GeoJSON".
+std::string other_formats(const std::string& driver) {
+  std::vector<std::string> names;
+  for (const auto& [name, description] : {std::pair{"GPKG", "GeoPackage"}, {"FlatGeobuf", "FlatGeobuf"}, {"GeoJSON", "GeoJSON"}})
+    if (!ascii_iequals(driver, name)) names.emplace_back(description);
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  return out;
+}
+
 class GdalWriter final : public FeatureWriter {
  public:
   GdalWriter(const std::string& path, const std::string& driver_name, GeometryType geometry_type,
@@ -84,12 +94,8 @@ class GdalWriter final : public FeatureWriter {
                       "': not a GDAL vector driver that can create files (see ogrinfo --formats)");
     }
     driver_ = driver->GetDescription();
-    if (const char* nonspatial = driver->GetMetadataItem(GDAL_DCAP_NONSPATIAL); nonspatial && CPLTestBool(nonspatial)) {
-      // Spreadsheets (ODS, XLSX) would drop every geometry without a word.
-      throw Error(ErrorCode::InvalidArgument, "format " + driver_ +
-                                                  " stores no geometry, so the features' geometry would be lost; "
-                                                  "write CSV (geometry as WKT, which spreadsheets open) or GeoPackage");
-    }
+    if (const std::string why = format_refusal(driver_, geometry_type, options); !why.empty())
+      throw Error(ErrorCode::InvalidArgument, path_ + ": " + why);
     if (path_ == "-") {
       throw Error(ErrorCode::InvalidArgument,
                   "format " + driver_ + " cannot be written to stdout; only GeoJSON and GeoJSONSeq can");
@@ -394,13 +400,25 @@ class GdalWriter final : public FeatureWriter {
         failed_ = true;
         throw Error(ErrorCode::InvalidArgument,
                     path_ + ": format " + driver_ + " cannot hold the field '" + schema[i].name + "' (" +
-                        to_string(type) + ")" + why + "; write GeoPackage, FlatGeobuf or GeoJSON");
+                        to_string(type) + ")" + why + "; " + field_refusal_fix(schema[i].name));
       }
       // Drivers may rename a field (laundering); it is the last one created either way.
       field_index_.push_back(layer_->GetLayerDefn()->GetFieldCount() - 1);
       written_types_.push_back(type);
       field_names_.push_back(schema[i].name);
     }
+  }
+
+  // What to do about a field the driver refused: an --lco FID=NAME naming it made it the
+  // driver's integer feature id column; otherwise another format.
+  std::string field_refusal_fix(const std::string& name) const {
+    for (const std::string& o : options_.layer_options) {
+      const std::size_t eq = o.find('=');
+      if (ascii_iequals(o.substr(0, eq), "FID") && ascii_iequals(o.substr(eq + 1), name))
+        return "--lco " + o + " makes '" + name + "' the layer's feature id column, which holds integer feature ids only: "
+               "leave out that option or name another column (FID=fid is " + driver_ + "'s default)";
+    }
+    return "write " + other_formats(driver_);
   }
 
   // Each value into feature_ as its field's written type; a value that type or the driver cannot
@@ -424,7 +442,7 @@ class GdalWriter final : public FeatureWriter {
           refuse(i, std::to_string(*n) + " does not fit a 32-bit Integer field");
         if (type == FieldType::Real && (*n > (std::int64_t{1} << 53) || *n < -(std::int64_t{1} << 53)))
           refuse(i, std::to_string(*n) + " needs an Integer64 field, which " + driver_ +
-                        " does not have (its Real would round it); write GeoPackage, FlatGeobuf or GeoJSON");
+                        " does not have (its Real would round it); write " + other_formats(driver_));
         f.SetField(index, static_cast<GIntBig>(*n));
       } else if (const auto* d = std::get_if<double>(&v)) {
         f.SetField(index, *d);
@@ -645,6 +663,63 @@ std::string driver_for_extension(const std::string& path) {
                                                 names + "); choose one with --format");
   }
   return found.empty() ? "" : found.front();
+}
+
+std::string format_refusal(const std::string& name, GeometryType geometry_type, const WriterOptions& options) {
+  register_gdal();
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(name.c_str());
+  if (driver == nullptr || driver->GetMetadataItem(GDAL_DCAP_VECTOR) == nullptr ||
+      driver->GetMetadataItem(GDAL_DCAP_CREATE) == nullptr)
+    return "unknown output format '" + name + "': not a GDAL vector driver that can create files (see ogrinfo --formats)";
+  const std::string d = driver->GetDescription();
+  const std::string instead = "write " + other_formats(d);
+  auto yes = [](const std::vector<std::string>& list, const char* key) {
+    for (const std::string& o : list) {
+      const std::size_t eq = o.find('=');
+      if (eq != std::string::npos && ascii_iequals(o.substr(0, eq), key) && CPLTestBool(o.substr(eq + 1).c_str())) return true;
+    }
+    return false;
+  };
+  if (const char* nonspatial = driver->GetMetadataItem(GDAL_DCAP_NONSPATIAL); nonspatial && CPLTestBool(nonspatial))
+    // Spreadsheets (ODS, XLSX) would drop every geometry without a word.
+    return "format " + d + " stores no geometry, so the features' geometry would be lost; "
+           "write CSV (geometry as WKT, which spreadsheets open) or GeoPackage";
+  // Neither field creation nor field types: the driver writes only a schema of its own (DXF, DGN, S57).
+  if (driver->GetMetadataItem(GDAL_DCAP_CREATE_FIELD) == nullptr &&
+      driver->GetMetadataItem(GDAL_DMD_CREATIONFIELDDATATYPES) == nullptr)
+    return "format " + d + " holds no attribute fields of the writer's choosing (only its own schema), so every field "
+           "would be lost; " + instead;
+  // What GDAL's metadata does not say: fixed schemas and geometry types (docs/user-guide.md lists them).
+  if (ascii_iequals(d, "GPX")) {
+    if (geometry_type == GeometryType::MultiPolygon)
+      return "format GPX holds points (waypoints) and lines (routes, tracks), no polygons; " + instead;
+    if (!yes(options.dataset_options, "GPX_USE_EXTENSIONS"))
+      return "format GPX holds only its own fields (name, ele, time, ...); --dsco GPX_USE_EXTENSIONS=YES writes the "
+             "others as <extensions>, or " + instead;
+  }
+  if (ascii_iequals(d, "GeoRSS") && !yes(options.dataset_options, "USE_EXTENSIONS"))
+    return "format GeoRSS holds only the elements of RSS (title, description, ...); --dsco USE_EXTENSIONS=YES writes "
+           "the other fields as extensions, or " + instead;
+  if (ascii_iequals(d, "PCIDSK") && geometry_type != GeometryType::Point)
+    return "format PCIDSK cannot hold geovor's layers: it drops multi-part geometries without a word, and every "
+           "polygon and line geovor writes is one; " + instead;
+  static constexpr std::pair<std::string_view, std::string_view> kFixed[] = {
+      {"VDV", "VDV-451 tables hold no geometry"},
+      {"Interlis 1", "it writes the classes of an INTERLIS model, not a schema of the writer's choosing"},
+      {"PDS4", "it writes its tables into a directory beside the label, which geovor does not move into place"},
+      {"WAsP", "a WAsP map holds lines of elevation or roughness only"},
+      {"Selafin", "a Selafin (TELEMAC) mesh holds points with Real values only"},
+      {"FITS", "FITS tables hold no geometry"},
+      {"Geoconcept", "it has no Integer64 fields (geovor's indices and counts are)"},
+      {"MVT", "vector tiles snap coordinates to each zoom level's grid and cut features at tile edges, so the "
+              "geometry would not be written as computed (nor stay valid)"},
+      {"MBTiles", "vector tiles snap coordinates to each zoom level's grid and cut features at tile edges, so the "
+                  "geometry would not be written as computed (nor stay valid)"},
+  };
+  for (const auto& [fixed, why] : kFixed)
+    if (ascii_iequals(d, fixed))
+      return "format " + d + " cannot hold geovor's layers: " + std::string(why) + "; " + instead;
+  return "";
 }
 
 bool driver_holds_layers(const std::string& name) {

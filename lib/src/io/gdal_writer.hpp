@@ -44,6 +44,16 @@ class ErrorCapture {
 /// @exception Error(InvalidArgument) naming the candidates when several drivers do.
 std::string driver_for_extension(const std::string& path);
 
+/// Why the GDAL driver named `driver` cannot hold a geovor layer of `geometry_type` with its
+/// fields, or "" when it can: an unknown driver or one that cannot create vector files; a driver
+/// without geometry (DCAP_NONSPATIAL: ODS, XLSX); one without fields of the writer's choosing
+/// (neither DCAP_CREATE_FIELD nor DMD_CREATIONFIELDDATATYPES: DXF, DGN, S57); and what the
+/// metadata does not tell: GPX (no polygons; fields only with GPX_USE_EXTENSIONS=YES), GeoRSS
+/// (fields only with USE_EXTENSIONS=YES), PCIDSK (no multi-part geometry: points only), WAsP,
+/// Selafin, FITS, Geoconcept, MVT, MBTiles, VDV, Interlis 1, PDS4. The reason names a format
+/// that works.
+std::string format_refusal(const std::string& driver, GeometryType geometry_type, const WriterOptions& options);
+
 /// Whether the GDAL driver named `driver` holds several vector layers in one data source
 /// (DCAP_MULTIPLE_VECTOR_LAYERS); false for a driver GDAL does not know.
 bool driver_holds_layers(const std::string& driver);

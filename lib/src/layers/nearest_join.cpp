@@ -13,6 +13,7 @@
 #include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
+#include "geovor/geo/column_types.hpp"
 #include "geovor/geo/query_line.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/layers/input_columns.hpp"
@@ -69,6 +70,7 @@ struct Query {
 
 // One output row of the feature path: a query and its answers, owned (written on the calling thread).
 struct FeatureRow {
+  std::uint64_t line = 0;  // a stream's line
   LonLat point = kNullPoint;
   std::string query_id;
   std::vector<std::string> fields;  // the query's fields; empty when unknown (null)
@@ -109,6 +111,8 @@ struct Context {
   QueryFormat format;
   bool features = false;  // rows as FeatureRow, not CSV text
   std::vector<FieldType> query_types;  // an OGR query layer's column types; empty: text
+  bool declared = false;  // query_types are a stream's declared ones: each value checked
+  std::string source;     // the stream's name, for a value not of its declared type
   // Each site's id, CSV-quoted when needed, ready to copy (one lookup per answer).
   std::vector<std::string_view> site_ids;
   std::string quoted_site_ids;  // storage of the quoted ones
@@ -228,10 +232,20 @@ void write_feature_row(const Context& ctx, FeatureWriter& writer, const FeatureR
     values.emplace_back(res ? FieldValue(static_cast<std::int64_t>(res->site)) : FieldValue());
     values.emplace_back(res ? FieldValue(std::string(a.site_id(res->site))) : FieldValue());
     values.emplace_back(res ? FieldValue(res->dist_m) : FieldValue());
-    for (std::size_t i = 0; i < ctx.format.columns.size(); ++i)
-      values.emplace_back(i >= row.fields.size()           ? FieldValue()
-                          : i < ctx.query_types.size()     ? typed_value(ctx.query_types[i], row.fields[i])
-                                                           : FieldValue(row.fields[i]));
+    for (std::size_t i = 0; i < ctx.format.columns.size(); ++i) {
+      if (i >= row.fields.size() || i >= ctx.query_types.size()) {
+        values.emplace_back(i >= row.fields.size() ? FieldValue() : FieldValue(row.fields[i]));
+      } else if (ctx.declared) {
+        const std::optional<std::string> v = declared_value(ctx.query_types[i], row.fields[i]);
+        if (!v)
+          throw Error(ErrorCode::BadData, ctx.source + ": line " + std::to_string(row.line) + ", column '" +
+                                              ctx.format.columns[i] + "': " +
+                                              not_of_declared_type(ctx.query_types[i], row.fields[i]));
+        values.emplace_back(typed_value(ctx.query_types[i], *v));
+      } else {
+        values.emplace_back(typed_value(ctx.query_types[i], row.fields[i]));
+      }
+    }
     if (res) {
       site_values(ctx, res->site, values);
     } else {
@@ -262,6 +276,7 @@ void batch_features(const Context& ctx, Worker& w, Block& b) {
   std::vector<std::string_view> fields;
   for (const Query& q : w.batch) {
     FeatureRow& row = b.rows.emplace_back();
+    row.line = q.line;
     if (!q.malformed) row.point = {q.lon, q.lat};
     row.query_id = q.id.data() ? std::string(q.id) : std::to_string(q.line);
     if (ctx.format.header && q.text.data() && !*split_query_fields(q.text, fields, scratch))
@@ -529,6 +544,28 @@ struct Sink {
   std::vector<FieldValue> values;
 };
 
+// The stream's declared column types (NearestJoinOptions::query_field_types) into ctx.
+void declare_query_types(Context& ctx, const std::string& source) {
+  if (!ctx.features)
+    throw Error(ErrorCode::InvalidArgument, "--query-field-type types the query columns of point features (GeoPackage, "
+                                            "FlatGeobuf, ...); geovor's CSV output has no types");
+  const std::vector<std::string>& columns = ctx.format.columns;
+  ctx.query_types.assign(columns.size(), FieldType::String);
+  for (const FieldTypeOverride& d : ctx.options->query_field_types) {
+    const int c = find_column(columns, d.column);
+    if (c < 0) {
+      std::string list;
+      for (const std::string& n : columns) list += (list.empty() ? "" : ", ") + n;
+      throw Error(ErrorCode::InvalidArgument, source + ": --query-field-type names '" + d.column +
+                                                  "', which is no column of the queries" + did_you_mean(columns, d.column) + " (" +
+                                                  (columns.empty() ? std::string("the stream has no header") : "columns: " + list) + ")");
+    }
+    ctx.query_types[static_cast<std::size_t>(c)] = d.type;
+  }
+  ctx.declared = true;
+  ctx.source = source;
+}
+
 NearestJoinReport join_stream(const SiteIndex& index, std::FILE* queries, const std::string& source,
                               const NearestJoinOptions& options, Sink& sink,
                               const std::function<void(const MalformedQuery&)>& on_malformed) {
@@ -545,8 +582,9 @@ NearestJoinReport join_stream(const SiteIndex& index, std::FILE* queries, const 
   }
   ctx.empty_query_fields.assign(ctx.format.header ? ctx.format.fields : 0, ',');
   const std::vector<std::string> names = field_names(index, ctx.format.columns, options, ctx.site_columns);
+  if (!options.query_field_types.empty()) declare_query_types(ctx, source);
   if (ctx.features)
-    sink.writer = (*sink.open)(fields_of(names, options.rank_column));
+    sink.writer = (*sink.open)(fields_of(names, options.rank_column, ctx.query_types));
   else
     (*sink.write)(csv_header(names));
 
@@ -617,6 +655,9 @@ NearestJoinReport join_stream(const SiteIndex& index, std::FILE* queries, const 
 // The join of a table of queries, row by row on the calling thread.
 NearestJoinReport join_table(const SiteIndex& index, const SiteTable& queries, const NearestJoinOptions& options,
                              Sink& sink, const std::function<void(const MalformedQuery&)>& on_malformed) {
+  if (!options.query_field_types.empty())
+    throw Error(ErrorCode::InvalidArgument, queries.source + ": a table of queries keeps its own column types; declare "
+                                                             "them when reading it (SiteReaderOptions::field_types)");
   Context ctx;
   ctx.index = &index;
   ctx.options = &options;

@@ -35,6 +35,12 @@
 
 namespace geovor {
 
+/// One column's declared type: GDAL's CSV open option COLUMN_TYPES=NAME=TYPE (column_types.hpp).
+struct FieldTypeOverride {
+  std::string column;  ///< the column's name, compared trimmed and case-insensitively
+  FieldType type = FieldType::String;
+};
+
 /// Which columns hold what; empty names mean "detect by name".
 struct SiteReaderOptions {
   std::string lat_field;  ///< latitude column (degrees); empty: detect
@@ -47,6 +53,11 @@ struct SiteReaderOptions {
   /// Type the columns by their values (column_types.hpp; an OGR layer's columns keep their
   /// field types); false keeps every column String, as read. DEFAULT: true.
   bool detect_types = true;
+  /// Declared column types (--field-type NAME=TYPE), over the detected ones, the id column's and
+  /// detect_types = false included: apply_field_types() (column_types.hpp) for CSV and OGR input
+  /// alike. A name that is no column is Error(InvalidArgument); a value that is not of its
+  /// column's declared type is Error(BadData) naming the row. DEFAULT: none.
+  std::vector<FieldTypeOverride> field_types;
   /// Threads tokenising the rows and converting their coordinates (parsing, normalising, unit
   /// vectors), each on its share of the input (0: one per core); see CsvSiteScan. DEFAULT: 1.
   /// The result does not depend on it.

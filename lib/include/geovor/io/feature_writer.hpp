@@ -183,7 +183,8 @@ class FeatureWriter {
 /// Opens `path` ("-" = stdout, GeoJSON/GeoJSONSeq only) for features of `geometry_type` with the
 /// given schema. GeoJSON and GeoJSONSeq are written natively (RFC 7946 / RFC 8142, std::to_chars);
 /// other formats through GDAL/OGR in EPSG:4326 with the traditional GIS axis order.
-/// @exception Error(InvalidArgument) for an unknown format, a format other than GeoJSON or
+/// @exception Error(InvalidArgument) for an unknown format, one that cannot hold such a layer
+///   (check_writer_options()), a format other than GeoJSON or
 ///   GeoJSONSeq with "-", a creation option not of the form NAME=VALUE, update or creation
 ///   options with GeoJSON/GeoJSONSeq, an empty or duplicate (case-insensitively) field name, an id_field not
 ///   in the schema, a precision outside 0..17; Error(Io) if the path exists and overwrite is
@@ -193,11 +194,13 @@ std::unique_ptr<FeatureWriter> open_feature_writer(const std::string& path, Geom
                                                    const WriterOptions& options = {});
 
 /// The checks open_feature_writer() makes on `options` before it opens anything, so that a caller
-/// can refuse them before long work: the format known from `options.format` or the extension,
-/// creation options of the form NAME=VALUE, neither update nor creation options with GeoJSON or
-/// GeoJSONSeq. (GDAL formats that hold one layer refuse update when opened.)
+/// can refuse them before long work: the format known from `options.format` or the extension and
+/// able to hold a layer of `geometry_type` with attribute fields (not ODS, XLSX, DXF, GPX polygons,
+/// ...: the reason and a format that works), creation options of the form NAME=VALUE, neither
+/// update nor creation options with GeoJSON or GeoJSONSeq. (GDAL formats that hold one layer
+/// refuse update when opened.)
 /// @exception Error(InvalidArgument) as open_feature_writer().
-void check_writer_options(const std::string& path, const WriterOptions& options);
+void check_writer_options(const std::string& path, GeometryType geometry_type, const WriterOptions& options);
 
 /// Whether the format of `path` (`format`, or the one its extension names, as open_feature_writer()
 /// chooses it) holds several layers in one data source (GDAL's DCAP_MULTIPLE_VECTOR_LAYERS: GPKG,

@@ -76,6 +76,12 @@ struct NearestJoinOptions {
   /// Columns of the index's site table joined to each match (the site's first row's values),
   /// each naming a column of SiteAttributes::columns (ASCII case-insensitively). DEFAULT: none.
   std::vector<std::string> site_fields;
+  /// Declared types of a query stream's columns (--query-field-type; column_types.hpp) in the
+  /// point features: each value read as declared_value() and written in its type; a value that is
+  /// not of its type is Error(BadData) naming the line, and a name that is no column of the header
+  /// Error(InvalidArgument). CSV text output has no types: Error(InvalidArgument). A table of
+  /// queries keeps its own types (read it with SiteReaderOptions::field_types). DEFAULT: none.
+  std::vector<FieldTypeOverride> query_field_types;
   /// Bytes per block, the unit read, answered by one worker and written at once (a longer line
   /// makes a longer block). DEFAULT: 1 MiB.
   std::size_t block_bytes = std::size_t{1} << 20;
