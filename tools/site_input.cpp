@@ -16,7 +16,7 @@ namespace geovor::tools {
 
 void add_site_input_options(CLI::App* cmd, SiteInputArgs& args) {
   cmd->add_option("INPUT", args.input,
-                  "Sites: CSV with a header (- for stdin) or any OGR point layer (GeoPackage, Shapefile, GeoJSON, FlatGeobuf)")
+                  "Sites: CSV with a header (- for stdin; a pipe or FIFO is read as CSV) or any OGR point layer (GeoPackage, Shapefile, GeoJSON, FlatGeobuf)")
       ->required();
   add_site_table_options(cmd, args);
   cmd->add_option("--layer", args.layer, "Layer of a multi-layer OGR input (GeoPackage, ...); not for CSV");

@@ -1,5 +1,7 @@
 // read_sites: which reader a path calls for. Kept apart from the OGR reader, which alone needs
 // GDAL: the geovor tool reads CSV without loading GDAL at all.
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -40,8 +42,17 @@ bool looks_like_delimited_text(const std::string& path) {
 
 }  // namespace
 
-bool is_csv_site_path(const std::string& path) {
+bool is_stream_path(const std::string& path) {
   if (path == "-") return true;
+  if (path.starts_with("/vsi")) return false;
+  struct stat st;
+  return ::stat(path.c_str(), &st) == 0 && (S_ISFIFO(st.st_mode) || S_ISCHR(st.st_mode) || S_ISSOCK(st.st_mode));
+}
+
+bool is_csv_site_path(const std::string& path) {
+  // A pipe, FIFO or device can be read only once, so it cannot be sniffed nor handed to GDAL
+  // (which opens a source several times): it is delimited text, its head checked once read.
+  if (is_stream_path(path)) return true;
   const std::string ext = ascii_lower(std::filesystem::path(path).extension().string());
   // GDAL's virtual file systems and connection strings (PG:..., /vsizip/...) are OGR's.
   if (path.starts_with("/vsi")) return false;
