@@ -62,7 +62,7 @@ void prepare(SiteInputArgs& args) {
       }
     }
   }
-  if (!args.layer.empty() && is_csv_site_path(args.input))
+  if (!args.layer.empty() && is_csv_site_path(args.input, args.reader.encoding))
     throw Error(ErrorCode::InvalidArgument, args.input + ": --layer is for OGR sources; a CSV file has one table");
 }
 
@@ -103,7 +103,7 @@ SiteTable read_whole(const SiteInputArgs& args) {
 }  // namespace
 
 bool site_input_needs_gdal(const SiteInputArgs& args) {
-  return !args.layer.empty() || !args.reader.s_srs.empty() || !is_csv_site_path(args.input);
+  return !args.layer.empty() || !args.reader.s_srs.empty() || !is_csv_site_path(args.input, args.reader.encoding);
 }
 
 SiteTable read_site_input(SiteInputArgs& args, DuplicateIds* duplicates) {

@@ -44,6 +44,23 @@ TEST(SiteSource, DelimitedTextByContent) {
   EXPECT_EQ(t.sites[0].line, 2u);  // read as text, with lines
 }
 
+// UTF-16 text holds NUL bytes: with its encoding given, its head is judged decoded.
+TEST(SiteSource, EncodedTextByContent) {
+  const std::string path = testing::TempDir() + "stations_utf16";
+  const char text[] = "\xFF\xFEi\0d\0;\0l\0a\0t\0;\0l\0o\0n\0\n\0A\0;\0\x31\0;\0\x32\0\n\0";
+  const std::string utf16le(text, sizeof text - 1);
+  std::ofstream(path, std::ios::binary) << utf16le;
+  EXPECT_FALSE(is_csv_site_path(path));
+  EXPECT_TRUE(is_csv_site_path(path, "UTF-16"));
+  SiteReaderOptions options;
+  options.encoding = "UTF-16";
+  const SiteTable t = read_sites(path, options);
+  ASSERT_EQ(t.sites.size(), 1u);
+  EXPECT_EQ(t.sites[0].id, "A");
+  EXPECT_DOUBLE_EQ(t.sites[0].lon_deg, 2);
+  std::remove(path.c_str());
+}
+
 // A FIFO is read once as delimited text, whatever its name (GDAL would open it twice and wait).
 TEST(SiteSource, FifoIsReadOnceAsText) {
   for (const std::string name : {"site_source_fifo", "site_source_fifo.geojson"}) {
