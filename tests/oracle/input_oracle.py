@@ -227,6 +227,10 @@ def make_case(seed, index):
     rng.shuffle(cols)
     c.columns = cols
     c.trailing = rng.random() < 0.15  # a spreadsheet's trailing delimiter on every line
+    c.stdin = rng.random() < 0.15       # read as `-` from a pipe (source "<stdin>")
+    c.row_ids = rng.random() < 0.1      # --id-field '#row'
+    # --lat-field/--lon-field naming the columns in another case (resolves an ambiguous header)
+    c.named = rng.random() < 0.15
     ncol = len(cols)
     n = rng.randint(1, 30)
     rows = []   # per row: dict(fields=[texts], status, reason, pos, id, ...)
@@ -367,7 +371,7 @@ def expected(c):
     for row in c.rows:
         if not row["accepted"]:
             continue
-        idcol = [k for k, _ in c.columns].index("id") if c.has_id else None
+        idcol = [k for k, _ in c.columns].index("id") if c.has_id and not c.row_ids else None
         row["id"] = row["fields"][idcol] if idcol is not None else str(row["row"])
         if row["pos"] in site_of_pos:
             row["site"] = site_of_pos[row["pos"]]
@@ -386,8 +390,11 @@ def expected(c):
     c.types = {}
     for i, (k, name) in enumerate(c.columns):
         texts = [r["fields"][i] for r in accepted]
-        if k == "id":
+        if k == "id" and not c.row_ids:
             c.types[name] = "String"
+        elif k == "id":
+            c.types[name] = documented_type("text", texts) if not all(
+                re.fullmatch(r"-?(0|[1-9][0-9]*)", t) for t in texts if t) else "Integer"
         elif k in ("lat", "lon"):
             c.types[name] = coord_type(texts)
         elif k == "decoy":
@@ -448,11 +455,26 @@ def check_case(c, geovor, tmp, use_gdal):
     n_acc = len(c.accepted)
     gj = os.path.join(tmp, name + ".geojson")
     rep = os.path.join(tmp, name + ".report.csv")
-    p = run([geovor, "cells", path, "-o", gj, "--report", rep, "--overwrite"] + enc)
+    if c.row_ids:
+        enc = enc + ["--id-field", "#row"]
+    if c.named:
+        lat_name = [n for k, n in c.columns if k == "lat"][0]
+        lon_name = [n for k, n in c.columns if k == "lon"][0]
+        flip = random.Random(f"named-{c.seed}-{c.index}")
+        enc = enc + ["--lat-field", flip.choice([lat_name, lat_name.strip().upper(), lat_name.strip().lower()]),
+                     "--lon-field", flip.choice([lon_name, lon_name.strip().upper(), lon_name.strip().lower()])]
+    source = "<stdin>" if c.stdin else path
+
+    def geovor_run(args):
+        if c.stdin:  # the table from a pipe, as `-`
+            return run([geovor] + [("-" if a == path else a) for a in args], input=data)
+        return run([geovor] + args)
+
+    p = geovor_run(["cells", path, "-o", gj, "--report", rep, "--overwrite"] + enc)
     err = p.stderr.decode("utf-8", "replace")
     # A value under a trailing unnamed column refuses the file, naming the first such row.
     spill = [r for r in c.rows if c.trailing and r["kind"] == "many_fields"]
-    if c.ambiguous:
+    if c.ambiguous and not c.named:
         a, b = sorted(c.ambiguous, key=[n for _, n in c.columns].index)  # named in column order
         want = f"ambiguous latitude column: '{a}', '{b}' are equally likely; choose one with --lat-field"
         if p.returncode != 3 or want not in err:
@@ -460,7 +482,7 @@ def check_case(c, geovor, tmp, use_gdal):
         return fails, recipe, path
     if spill:
         r = spill[0]
-        want = (f"{path}: header: column {len(c.columns) + 1} has no name, but row {r['row']} (line {r['line']}) "
+        want = (f"{source}: header: column {len(c.columns) + 1} has no name, but row {r['row']} (line {r['line']}) "
                 f"has a value there: 'extra'; name the column")
         if p.returncode != 3 or want not in err:
             fails.append(f"a value under the trailing unnamed column: expected exit 3 and '{want}', got "
@@ -504,6 +526,12 @@ def check_case(c, geovor, tmp, use_gdal):
     if (n_site, n_merged, n_rej) != (len(c.sites), n_acc - len(c.sites), len(c.rows) - n_acc):
         fails.append(f"report counts site/merged/rejected {n_site}/{n_merged}/{n_rej}, expected "
                      f"{len(c.sites)}/{n_acc - len(c.sites)}/{len(c.rows) - n_acc}")
+    p = geovor_run(["info", path] + enc)
+    info = dict(re.findall(r"^(\w+): (\S+)$", p.stdout.decode("utf-8", "replace"), re.M))
+    want = {"rows": str(len(c.rows)), "sites": str(len(c.sites)), "merged": str(n_acc - len(c.sites)),
+            "rejected": str(len(c.rows) - n_acc)}
+    if p.returncode != 0 or {k: info.get(k) for k in want} != want:
+        fails.append(f"info (exit {p.returncode}): {[info.get(k) for k in want]}, expected {want}")
     # Repeated ids: the warning and unique feature ids.
     m = re.search(r"warning: (\d+) rows have the id of an earlier row", err)
     if (int(m.group(1)) if m else 0) != c.repeats:
@@ -537,7 +565,7 @@ def check_case(c, geovor, tmp, use_gdal):
         f.write("query_id,lat,lon\n")
         for s, site in enumerate(c.sites):
             f.write(f"q{s},{site['pos'][0]!r},{site['pos'][1]!r}\n")
-    p = run([geovor, "nearest", "--sites", path, "--queries", q, "-o", "-", "-q"] + enc)
+    p = geovor_run(["nearest", "--sites", path, "--queries", q, "-o", "-", "-q"] + enc)
     if p.returncode != 0:
         fails.append(f"nearest exited {p.returncode}: {p.stderr.decode('utf-8', 'replace')[-500:]}")
     else:
@@ -549,7 +577,7 @@ def check_case(c, geovor, tmp, use_gdal):
     # Field types: geovor's GeoPackage read back by GDAL, and GDAL's own CSV typing.
     if use_gdal:
         gpkg = os.path.join(tmp, name + ".gpkg")
-        p = run([geovor, "cells", path, "-o", gpkg, "--overwrite", "-q"] + enc)
+        p = geovor_run(["cells", path, "-o", gpkg, "--overwrite", "-q"] + enc)
         if p.returncode != 0:
             fails.append(f"cells -o gpkg exited {p.returncode}: {p.stderr.decode('utf-8', 'replace')[-500:]}")
             return fails, recipe, path
