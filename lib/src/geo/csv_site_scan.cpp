@@ -859,7 +859,7 @@ CsvSiteScan CsvSiteScan::open(const std::string& path, const SiteReaderOptions& 
   }
   auto state = std::make_unique<State>();
   state->table.source = path;
-  state->stream = size_hint == 0 && !std::filesystem::is_regular_file(path, ec);
+  state->stream = !std::filesystem::is_regular_file(path, ec);
   state->text = read_text(file, size_hint);
   CsvSiteScan scan(std::move(state));
   scan.scan(options, tuning);

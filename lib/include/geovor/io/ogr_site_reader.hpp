@@ -68,11 +68,12 @@ void reproject_sites(SiteTable& table, const std::string& srs);
 SiteTable read_sites(const std::string& path, const SiteReaderOptions& options = {});
 
 /// True when read_sites() reads `path` as delimited text: "-" and every other stream
-/// (is_stream_path()), whatever its name; the extensions .csv, .tsv, .txt,
-/// .dat and .psv (any case); and a regular file with no or another extension than GDAL's formats
-/// (.gpkg, .geojson, .json, .shp, .fgb, .gml, .kml, .tab, .xlsx, .zip, .gz, ... never) whose
-/// first 4 KiB, decoded from `encoding` (SiteReaderOptions::encoding; UTF-8 when empty), hold no NUL byte, do not start with '{', '[' or '<' (JSON, XML) and whose first
-/// line holds a delimiter (',', ';', TAB or '|'). Every other path (GDAL's /vsi... files and
+/// (is_stream_path()), whatever its name; the extensions .csv, .tsv, .txt, .dat and .psv (any
+/// case); and a regular file with no or another extension than GDAL's formats (.gpkg, .geojson,
+/// .json, .shp, .fgb, .gml, .kml, .tab, .xlsx, .zip, .gz, ... never) whose first 4 KiB, decoded
+/// from `encoding` (SiteReaderOptions::encoding; UTF-8 when empty), hold no NUL byte, do not
+/// start with '{', '[' or '<' (JSON, XML) and whose first line holds a delimiter (',', ';', TAB
+/// or '|'). Every other path (GDAL's /vsi... files and
 /// connection strings, directories, missing files) is OGR's.
 bool is_csv_site_path(const std::string& path, const std::string& encoding = "");
 
