@@ -195,7 +195,7 @@ Command add_nearest_command(CLI::App& app) {
                   "An index file (geovor index), or sites: CSV with a header (- for stdin) or any OGR point layer")
       ->required();
   cmd->add_option("--queries", args->queries,
-                  "Queries: CSV, lat,lon[,id] lines with or without a header (default -: stdin), or any OGR point layer");
+                  "Queries: CSV, lat,lon[,id] lines with or without a header (default -: stdin; a pipe or FIFO is read as CSV), or any OGR point layer");
   cmd->add_option("--query-lat-field", args->query_columns.lat_field, "Latitude column of the queries (default: found by name as for sites: lat, Latitude (deg), stop_lat, decimalLatitude, y...)");
   cmd->add_option("--query-lon-field", args->query_columns.lon_field,
                   "Longitude column of the queries (default: found by name as for sites: lon, lng, Longitude, stop_lon, x...)");

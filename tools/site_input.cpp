@@ -17,7 +17,7 @@ namespace geovor::tools {
 
 void add_site_input_options(CLI::App* cmd, SiteInputArgs& args) {
   cmd->add_option("INPUT", args.input,
-                  "Sites: CSV with a header (- for stdin) or any OGR point layer (GeoPackage, Shapefile, GeoJSON, FlatGeobuf)")
+                  "Sites: CSV with a header (- for stdin; a pipe or FIFO is read as CSV) or any OGR point layer (GeoPackage, Shapefile, GeoJSON, FlatGeobuf)")
       ->required();
   add_site_table_options(cmd, args);
   cmd->add_option("--layer", args.layer, "Layer of a multi-layer OGR input (GeoPackage, ...); not for CSV");
@@ -85,7 +85,7 @@ void prepare(SiteInputArgs& args) {
       }
     }
   }
-  if (!args.layer.empty() && is_csv_site_path(args.input))
+  if (!args.layer.empty() && is_csv_site_path(args.input, args.reader.encoding))
     throw Error(ErrorCode::InvalidArgument, args.input + ": --layer is for OGR sources; a CSV file has one table");
 }
 
@@ -126,7 +126,7 @@ SiteTable read_whole(const SiteInputArgs& args) {
 }  // namespace
 
 bool site_input_needs_gdal(const SiteInputArgs& args) {
-  return !args.layer.empty() || !args.reader.s_srs.empty() || !is_csv_site_path(args.input);
+  return !args.layer.empty() || !args.reader.s_srs.empty() || !is_csv_site_path(args.input, args.reader.encoding);
 }
 
 SiteTable read_site_input(SiteInputArgs& args, DuplicateIds* duplicates) {

@@ -5,6 +5,7 @@
 #include "geovor/geo/csv_site_scan.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <bit>
 #include <cstdint>
@@ -435,6 +436,43 @@ TEST(CsvSiteScan, FinishWhilePositionsAreRead) {
   for (const InputSite& s : table.sites) want += s.unit.x + s.unit.y + s.unit.z;
   EXPECT_EQ(sum, want);
   EXPECT_EQ(positions.data(), scan.positions().data());
+}
+
+}  // namespace
+}  // namespace geovor
+
+namespace geovor {
+namespace {
+
+// A FIFO is read without a sniff: its head is checked once decoded (UTF-16 holds NUL bytes, and
+// is text), and refused when it is not text.
+TEST(CsvSiteScan, FifoHeadCheckedAfterDecoding) {
+  const std::string path = ::testing::TempDir() + "csv_site_scan_fifo";
+  auto through_fifo = [&](const std::string& bytes, const SiteReaderOptions& options) {
+    std::remove(path.c_str());
+    EXPECT_EQ(::mkfifo(path.c_str(), 0600), 0);
+    std::thread writer([&] { std::ofstream(path, std::ios::binary) << bytes; });
+    struct Join {
+      std::thread& t;
+      ~Join() { t.join(); }
+    } join{writer};
+    return CsvSiteScan::open(path, options).finish();
+  };
+  SiteReaderOptions utf16;
+  utf16.encoding = "UTF-16";
+  const char text[] = "\xFF\xFEl\0a\0t\0,\0l\0o\0n\0\n\0\x31\0,\0\x32\0\n\0";
+  const SiteTable t = through_fifo(std::string(text, sizeof text - 1), utf16);
+  ASSERT_EQ(t.sites.size(), 1u);
+  EXPECT_DOUBLE_EQ(t.sites[0].lat_deg, 1);
+  try {
+    through_fifo("  <?xml version=\"1.0\"?>\n", {});
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::BadData);
+    EXPECT_NE(std::string(e.what()).find(path + ": not delimited text: it starts with '<' (XML?)"), std::string::npos)
+        << e.what();
+  }
+  std::remove(path.c_str());
 }
 
 }  // namespace

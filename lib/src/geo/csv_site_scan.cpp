@@ -776,6 +776,25 @@ Text to_utf8(const Text& text, const std::string& encoding, const std::string& s
   return out;
 }
 
+// A stream (stdin, a pipe, a FIFO, a device) is read as delimited text without being sniffed
+// first: one whose head is not text (a NUL byte, JSON or XML) is refused, naming the file.
+void require_text_head(const char* buf, std::size_t size, const std::string& source) {
+  const std::string_view head(buf, std::min<std::size_t>(size, 4096));
+  std::string what;
+  if (head.find('\0') != std::string_view::npos) {
+    what = "a NUL byte in its first 4 KiB (a binary format?)";
+  } else {
+    std::size_t first = head.starts_with("\xEF\xBB\xBF") ? 3 : 0;
+    first = head.find_first_not_of(" \t\r\n", first);
+    if (first != std::string_view::npos && std::string_view("{[<").find(head[first]) != std::string_view::npos)
+      what = std::string("it starts with '") + head[first] + (head[first] == '<' ? "' (XML?)" : "' (JSON?)");
+  }
+  if (!what.empty())
+    throw Error(ErrorCode::BadData, source + ": not delimited text: " + what +
+                                        "; a pipe, FIFO, device or standard input is read as delimited text only "
+                                        "(GDAL needs a file it can reopen): save the data to a file and give that");
+}
+
 }  // namespace
 
 struct CsvSiteScan::State {
@@ -786,6 +805,7 @@ struct CsvSiteScan::State {
   std::size_t sites = 0;
   bool detect_types = true;  // SiteReaderOptions::detect_types
   std::vector<FieldTypeOverride> field_types;  // SiteReaderOptions::field_types
+  bool stream = false;       // read from a pipe, FIFO, device or stdin: its head not sniffed first
   ScanRules rules;
 };
 
@@ -809,8 +829,17 @@ CsvSiteScan CsvSiteScan::read(std::istream& in, const std::string& source,
 
 CsvSiteScan CsvSiteScan::open(const std::string& path, const SiteReaderOptions& options,
                               const CsvScanTuning& tuning) {
-  if (path == "-") return read(std::cin, "<stdin>", options, tuning);
   std::error_code ec;
+  if (path == "-") {
+    check_options(options);
+    auto state = std::make_unique<State>();
+    state->table.source = "<stdin>";
+    state->stream = true;
+    state->text = read_text(std::cin, 0);
+    CsvSiteScan scan(std::move(state));
+    scan.scan(options, tuning);
+    return scan;
+  }
   // Opening a directory succeeds on POSIX and only reading fails; say so up front instead.
   if (std::filesystem::is_directory(path, ec)) {
     throw Error(ErrorCode::Io, path + ": cannot read: " + std::strerror(EISDIR));
@@ -831,6 +860,7 @@ CsvSiteScan CsvSiteScan::open(const std::string& path, const SiteReaderOptions& 
   }
   auto state = std::make_unique<State>();
   state->table.source = path;
+  state->stream = !std::filesystem::is_regular_file(path, ec);
   state->text = read_text(file, size_hint);
   CsvSiteScan scan(std::move(state));
   scan.scan(options, tuning);
@@ -850,6 +880,7 @@ void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tu
   }
   char* const buf = s.text.data.get();
   const std::size_t size = s.text.size;
+  if (s.stream) require_text_head(buf, size, source);
   const std::size_t start = size >= 3 && std::memcmp(buf, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
   ScanRules& rules = s.rules;
   rules.delimiter = options.delimiter != 0 ? options.delimiter : sniff_delimiter(buf, start, size);

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <exception>
 #include <memory>
 #include <span>
@@ -555,6 +556,9 @@ void save_index(const std::string& path, const DelaunayHierarchy& h, const SiteA
 // Loading
 
 bool is_index_file(const std::string& path) {
+  // Reading a pipe's or FIFO's first bytes would consume them: only a regular file is looked into.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
   File f(std::fopen(path.c_str(), "rb"));
   if (!f) return false;
   char magic[8];

@@ -67,12 +67,20 @@ void reproject_sites(SiteTable& table, const std::string& srs);
 /// other path with read_sites_ogr() (GDAL recognises the format from the content and extension).
 SiteTable read_sites(const std::string& path, const SiteReaderOptions& options = {});
 
-/// True when read_sites() reads `path` as delimited text: "-"; the extensions .csv, .tsv, .txt,
-/// .dat and .psv (any case); and a regular file with no or another extension than GDAL's formats
-/// (.gpkg, .geojson, .json, .shp, .fgb, .gml, .kml, .tab, .xlsx, .zip, .gz, ... never) whose
-/// first 4 KiB hold no NUL byte, do not start with '{', '[' or '<' (JSON, XML) and whose first
-/// line holds a delimiter (',', ';', TAB or '|'). Every other path (GDAL's /vsi... files and
+/// True when read_sites() reads `path` as delimited text: "-" and every other stream
+/// (is_stream_path()), whatever its name; the extensions .csv, .tsv, .txt, .dat and .psv (any
+/// case); and a regular file with no or another extension than GDAL's formats (.gpkg, .geojson,
+/// .json, .shp, .fgb, .gml, .kml, .tab, .xlsx, .zip, .gz, ... never) whose first 4 KiB, decoded
+/// from `encoding` (SiteReaderOptions::encoding; UTF-8 when empty), hold no NUL byte, do not
+/// start with '{', '[' or '<' (JSON, XML) and whose first line holds a delimiter (',', ';', TAB
+/// or '|'). Every other path (GDAL's /vsi... files and
 /// connection strings, directories, missing files) is OGR's.
-bool is_csv_site_path(const std::string& path);
+bool is_csv_site_path(const std::string& path, const std::string& encoding = "");
+
+/// True for "-" (stdin) and a path that is a pipe, FIFO, character device or socket (such as
+/// `/dev/fd/63` from a shell's process substitution, or `/dev/stdin`): a source that can be read
+/// only once, from its start. It is read as delimited text; one whose first bytes are not (a NUL
+/// byte, or JSON or XML) is refused with ErrorCode::BadData (CsvSiteScan).
+bool is_stream_path(const std::string& path);
 
 }  // namespace geovor

@@ -140,7 +140,8 @@ void save_index(const std::string& path, const DelaunayHierarchy& hierarchy,
 /// @exception Error(Io) if the file cannot be read; Error(BadData) if it is not a valid index.
 SiteIndex load_index(const std::string& path, unsigned threads = 1);
 
-/// True if the file at `path` starts with kIndexMagic (false if it cannot be read).
+/// True if the regular file at `path` starts with kIndexMagic (false if it cannot be read, and for
+/// a pipe or FIFO, whose first bytes would be consumed).
 bool is_index_file(const std::string& path);
 
 /// XXH64 of `size` bytes (Yann Collet's xxHash, 64-bit variant), the checksum of index files.
