@@ -793,5 +793,30 @@ TEST(CellGeometryAsWritten, ColumnOfSitesOnAMeridian) {
   }
 }
 
+// 13 sites on a ring 60 m around the south pole, 2 mm of noise (oracle_check seed 1 case 43):
+// their Voronoi vertices near each pole are millimetres apart and collapse into one, which moved
+// the pole into cells that do not own it; three cells were unwritable at every precision. A
+// cluster within collapse_m of a pole now goes onto it, a vertex of every cell, owned by none.
+TEST(CellGeometryAsWritten, RingOfSitesAroundAPole) {
+  const std::vector<std::pair<double, double>> ring = {
+      {-89.99944589221411, -87.70325894221976}, {-89.99944592713952, -60.01095128378998},
+      {-89.99944587977463, -32.318643549985836}, {-89.99944590675659, -4.626335852980247},
+      {-89.99944589393368, 23.065971831517714}, {-89.99944591079401, 50.75827951737361},
+      {-89.99944587962531, 78.45058719279285}, {-89.99944592444811, 106.14289488778377},
+      {-89.99944591171959, 133.83520260201044}, {-89.99944590379557, 161.52751030524325},
+      {-89.99944592288881, -170.78018203319556}, {-89.99944590603938, -143.0878743459282},
+      {-89.99944587999907, -115.39556665474427}};
+  for (const double sign : {1.0, -1.0}) {
+    std::vector<std::pair<double, double>> ll;
+    for (const auto& [lat, lon] : ring) ll.push_back({sign * lat, lon});
+    for (const int p : {7, 12, kFullPrecision}) {
+      SCOPED_TRACE((sign > 0 ? "south, precision " : "north, precision ") + std::to_string(p));
+      const written::Outcome o = written::check(from_lat_lon(ll), p);
+      EXPECT_EQ(o.written, 13u);
+      if (o.written == 13) EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace geovor

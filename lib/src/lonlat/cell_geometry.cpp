@@ -138,6 +138,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       if (rb < ra) rep[ra] = rb;
     }
   for (TriId t = 0; t < nv; ++t) rep[t] = find(t);
+  std::vector<std::uint8_t> clustered;  // per representative: it stands for collapsed vertices
   {
     std::vector<TriId> best(nv, kNoIndex);  // by root: the member with the smallest sites
     bool collapsed = false;
@@ -149,8 +150,22 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     if (collapsed) {
       for (TriId t = 0; t < nv; ++t) rep[t] = best[rep[t]];
       for (TriId t = 0; t < nv; ++t) cap_[rep[t]] |= cap_[t];  // a cluster is a cap's if one member is
+      clustered.assign(nv, 0);
+      for (TriId t = 0; t < nv; ++t) clustered[rep[t]] |= rep[t] != t;
     }
   }
+
+  // A collapsed cluster within collapse_m of a pole goes onto it: collapsing moves vertices as
+  // far, which could put the pole inside a cell that does not own it (13 sites on a ring 60 m
+  // around a pole: three cells unwritable by the pole rule). The pole is then a vertex of those
+  // cells, on their boundaries, and owned by none.
+  auto on_pole = [&](TriId t) {
+    const Vec3& v = diagram.vertex(t);
+    return !clustered.empty() && clustered[t] && v.x * v.x + v.y * v.y < collapse2;
+  };
+  if (!clustered.empty())
+    for (TriId t = 0; t < nv; ++t)
+      if (rep[t] == t && on_pole(t)) (diagram.vertex(t).z > 0 ? north_owner_ : south_owner_) = kNoIndex;
 
   // The representatives' lon/lat (the costly part), then their copies.
   vertices_.reset(static_cast<Vertex*>(std::calloc(std::max<std::size_t>(nv, 1), sizeof(Vertex))));
@@ -158,7 +173,9 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   split(nv, [&](unsigned, std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
       if (rep[t] != t) continue;
-      const Pt p = make_pt(diagram.vertex(static_cast<TriId>(t)), options_.precision);
+      Vec3 raw = diagram.vertex(static_cast<TriId>(t));
+      if (on_pole(static_cast<TriId>(t))) raw = {0, 0, raw.z > 0 ? 1.0 : -1.0};
+      const Pt p = make_pt(raw, options_.precision);
       vertices_[t] = {p.v, p.lon, p.lat, static_cast<TriId>(t), min_side2[t]};
     }
   });
