@@ -22,7 +22,9 @@
 #include "geovor/locate/knn.hpp"
 #include "geovor/locate/locator.hpp"
 #include "numeric_options.hpp"
+#include "output_model.hpp"
 #include "output_file.hpp"
+#include "output_model.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -45,6 +47,7 @@ struct NearestArgs {
   std::vector<std::string> site_fields;
   double max_distance_m = std::numeric_limits<double>::infinity();
   std::string format;
+  OutputModelArgs model;                              // --nln, --update, --lco, --dsco
   std::vector<FieldTypeOverride> query_field_types;  // --query-field-type
 };
 
@@ -93,18 +96,25 @@ int run(NearestArgs& args) {
   if (csv && !args.query_field_types.empty())
     throw Error(ErrorCode::InvalidArgument, "--query-field-type types the query columns of point features (GeoPackage, "
                                             "FlatGeobuf, ...); geovor's CSV output has no types");
-  if (!csv) {  // a format that cannot hold the points (GPX without extensions, ...): before any work
-    WriterOptions writer_options;
-    writer_options.format = args.format;
+  if (csv && (args.model.update || !args.model.layer.empty() || !args.model.layer_options.empty() ||
+              !args.model.dataset_options.empty()))
+    throw Error(ErrorCode::InvalidArgument, "--nln, --update, --lco and --dsco apply to OGR point outputs (GeoPackage, "
+                                            "FlatGeobuf, ...); geovor writes its CSV itself, one table");
+  WriterOptions writer_options;  // of a point output
+  writer_options.format = args.format;
+  writer_options.layer = "nearest";
+  writer_options.overwrite = args.overwrite;
+  apply_output_model(args.model, writer_options);
+  if (!csv)  // a format that cannot hold the points (GPX without extensions, ...): before any work
     check_writer_options(args.output, GeometryType::Point, writer_options);
-  }
   if (args.metric != "sphere" && args.metric != "geodesic")
     throw Error(ErrorCode::InvalidArgument, "--metric must be sphere or geodesic, not '" + args.metric + "'");
   LocatorOptions locator_options;
   locator_options.strategy = parse_strategy(args.locator);
   struct stat st;
-  if (args.output != "-" && !args.overwrite && stat(args.output.c_str(), &st) == 0 && S_ISREG(st.st_mode))
-    throw Error(ErrorCode::Io, args.output + ": exists; use --overwrite to replace it");
+  if (args.output != "-" && !args.overwrite && !args.model.update && stat(args.output.c_str(), &st) == 0 &&
+      S_ISREG(st.st_mode))
+    throw Error(ErrorCode::Io, args.output + ": exists; use --overwrite to replace it (or --update to add a layer)");
 
   // The sites: an index file, or a table built here.
   const bool is_index = is_index_path(sites_path);
@@ -163,10 +173,6 @@ int run(NearestArgs& args) {
                  : nearest_join(index, in.get(), qname, options, write, on_malformed);
     out.commit();  // with --strict, the answers before the malformed line are kept
   } else {
-    WriterOptions writer_options;
-    writer_options.format = args.format;
-    writer_options.layer = "nearest";
-    writer_options.overwrite = args.overwrite;
     const OpenJoinWriter open = [&](const std::vector<Field>& fields) {
       return open_feature_writer(args.output, GeometryType::Point, fields, writer_options);
     };
@@ -212,8 +218,7 @@ Command add_nearest_command(CLI::App& app) {
                   "No site farther than this many metres: a query without one gets a row with an empty match");
   cmd->add_option("-o,--output", args->output,
                   "Output: CSV (-: stdout, .csv, .txt or no extension), or points with attributes in any OGR format (.gpkg, .geojson, .fgb, .shp, ...)");
-  cmd->add_option("-f,--format", args->format, "Output format: CSV or an OGR driver name (default: from the extension)");
-  cmd->add_flag("--overwrite", args->overwrite, "Replace an existing output file");
+  add_output_model_options(cmd, args->format, args->overwrite, args->model, "nearest");
   cmd->add_option("--locator", args->locator,
                   "Strategy: walk, jump-walk, keep-jump-walk, hierarchy, climb or keep-jump-climb (default)");
   args->k_option = cmd->add_option("--k", args->k, "The k nearest sites, one row each with a rank column")

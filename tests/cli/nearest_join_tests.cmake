@@ -123,3 +123,21 @@ geovor_cli_expect(cli.nearest_join.query_name_twice 3
 geovor_cli_expect(cli.nearest_join.query_types_kept 0
   STDOUT "trip: String.*pop: Integer .*elev: Real.*when: Date.*site_id \\(String\\) = LFPO.*pop \\(Integer\\) = 2100000\n  elev \\(Real\\) = 35\\.5\n  when \\(Date\\) = 2024/05/01.*site_id \\(String\\) = AGGH.*pop \\(Integer\\) = \\(null\\)\n  elev \\(Real\\) = 8\\.25"
   SCRIPT "rm -f ${join_dir}/typed.gpkg ${join_dir}/typed_out.gpkg && printf 'trip,lat,lon,pop,elev,when\\nt1,48.85,2.35,2100000,35.5,2024-05-01\\nt2,-9.4166645,160.0500018,,8.25,2023-01-02\\n' > ${join_dir}/typed.csv && ogr2ogr -f GPKG ${join_dir}/typed.gpkg ${join_dir}/typed.csv -nln q -oo X_POSSIBLE_NAMES=lon -oo Y_POSSIBLE_NAMES=lat -oo AUTODETECT_TYPE=YES && \"$0\" nearest --sites ${stations} --queries ${join_dir}/typed.gpkg -o ${join_dir}/typed_out.gpkg -q && ogrinfo -ro -so ${join_dir}/typed_out.gpkg nearest && ogrinfo -ro -q ${join_dir}/typed_out.gpkg nearest")
+
+# ogr2ogr's output model on the join too: --nln names the layer, --update adds one to an existing
+# GeoPackage (the first kept), read back by ogrinfo.
+string(JOIN " " join_args_sh ${join_args})
+geovor_cli_expect(cli.nearest_join.nln_and_update 0 STDOUT "1: first \\(Point\\)\n2: second \\(Point\\)" SCRIPT
+  "rm -f ${join_dir}/layers.gpkg && \"$0\" nearest ${join_args_sh} -o ${join_dir}/layers.gpkg --nln first -q && \"$0\" nearest ${join_args_sh} -o ${join_dir}/layers.gpkg --nln second --update -q && ogrinfo -ro -q ${join_dir}/layers.gpkg")
+# geovor writes its CSV itself: GDAL's creation options do not apply (exit 2, nothing written).
+geovor_cli_expect(cli.nearest_join.csv_lco_refused 2 STDERR "--nln, --update, --lco and --dsco apply to OGR point outputs" SCRIPT
+  "rm -f ${join_dir}/lco.csv && \"$0\" nearest ${join_args_sh} -o ${join_dir}/lco.csv --lco X=Y -q; rc=$?; test ! -e ${join_dir}/lco.csv || exit 99; exit $rc")
+# GPX points with geovor's fields as <extensions> (--dsco), read back: every value in its field.
+# A column named as one of GPX's own elements (name, ele, ...) is refused: GDAL's GPX writer
+# mixes it up with that element (a `name` column's value was written as `lon`).
+file(WRITE ${join_dir}/gpx_queries.csv "lat,lon,label\n1,2,a\n")
+file(WRITE ${join_dir}/gpx_named.csv "lat,lon,name\n1,2,a\n")
+geovor_cli_expect(cli.nearest_join.gpx_with_extensions 0 STDOUT "ogr_lat \\(Integer\\) = 1\n  ogr_lon \\(Integer\\) = 2\n  ogr_label \\(String\\) = a" SCRIPT
+  "rm -f ${join_dir}/q.gpx && \"$0\" nearest --sites ${stations} --queries ${join_dir}/gpx_queries.csv -o ${join_dir}/q.gpx --dsco GPX_USE_EXTENSIONS=YES -q && ogrinfo -ro -q ${join_dir}/q.gpx waypoints")
+geovor_cli_expect(cli.nearest_join.gpx_own_element_refused 2 STDERR "field 'name' has the name of one of GPX's own elements" SCRIPT
+  "rm -f ${join_dir}/named.gpx && \"$0\" nearest --sites ${stations} --queries ${join_dir}/gpx_named.csv -o ${join_dir}/named.gpx --dsco GPX_USE_EXTENSIONS=YES -q; rc=$?; test ! -e ${join_dir}/named.gpx || exit 99; exit $rc")

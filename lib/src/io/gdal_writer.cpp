@@ -96,6 +96,16 @@ class GdalWriter final : public FeatureWriter {
     driver_ = driver->GetDescription();
     if (const std::string why = format_refusal(driver_, geometry_type, options); !why.empty())
       throw Error(ErrorCode::InvalidArgument, path_ + ": " + why);
+    // GDAL's GPX writer mixes a field named as one of GPX's own elements up with it (a `name`
+    // column's value landed in another field): refused, naming it.
+    if (ascii_iequals(driver_, "GPX"))
+      for (const Field& f : schema)
+        for (const char* own : {"ele", "time", "magvar", "geoidheight", "name", "cmt", "desc", "src", "sym", "type",
+                                "fix", "sat", "hdop", "vdop", "pdop", "ageofdgpsdata", "dgpsid", "number"})
+          if (ascii_iequals(f.name, own) || ascii_lower(f.name).starts_with("link"))
+            throw Error(ErrorCode::InvalidArgument,
+                        path_ + ": field '" + f.name + "' has the name of one of GPX's own elements, which GDAL's GPX "
+                                "writer would mix it up with; write " + other_formats(driver_));
     if (path_ == "-") {
       throw Error(ErrorCode::InvalidArgument,
                   "format " + driver_ + " cannot be written to stdout; only GeoJSON and GeoJSONSeq can");
