@@ -56,22 +56,6 @@ int hand_to_gdal_tool(char** argv) {
   return kInternal;
 }
 
-// Levenshtein distance, for "did you mean" on a mistyped command.
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
 // "unknown command 'cels'; did you mean 'cells'?" (exit 2), or the list of commands when none is close.
 int unknown_command(const std::string& name, const std::vector<std::string>& commands) {
   std::string best, all;

@@ -19,6 +19,17 @@ TEST(Ascii, FoldsOnlyAsciiLetters) {
   EXPECT_FALSE(ascii_iequals("lat", "lat "));
 }
 
+// Hand-counted edits: the classic kitten/sitting (3), a missing letter, a swap (2 substitutions).
+TEST(Ascii, EditDistanceCountsEdits) {
+  EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
+  EXPECT_EQ(edit_distance("cels", "cells"), 1u);
+  EXPECT_EQ(edit_distance("lat", "alt"), 2u);
+  EXPECT_EQ(edit_distance("", "pop"), 3u);
+  EXPECT_EQ(edit_distance("pop", ""), 3u);
+  EXPECT_EQ(edit_distance("same", "same"), 0u);
+  EXPECT_EQ(edit_distance("Pop", "pop"), 1u);  // bytes: fold the case first to ignore it
+}
+
 TEST(Ascii, PrintableEscapesControlCharacters) {
   const std::string raw = "a\0b\tc\nd\re\x01" "f\x7Fg\xC3\xA9"s;
   EXPECT_EQ(printable(raw), "a\\0b\\tc\\nd\\re\\x01f\\x7Fg\xC3\xA9");

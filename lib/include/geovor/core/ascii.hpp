@@ -1,10 +1,13 @@
 /// \file ascii.hpp
 /// \brief ASCII case folding for names (columns, formats, extensions): locale-independent, bytes
-/// outside A-Z (UTF-8 included) unchanged; and control characters made visible for messages.
+/// outside A-Z (UTF-8 included) unchanged; the edit distance of names; and control characters
+/// made visible for messages.
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace geovor {
 
@@ -25,6 +28,23 @@ inline bool ascii_iequals(std::string_view a, std::string_view b) {
     if (x != y) return false;
   }
   return true;
+}
+
+/// Levenshtein distance of a and b in bytes (insertions, deletions, substitutions), for "did you
+/// mean" on a mistyped name: fold the case first (ascii_lower) to ignore it. O(|a| |b|).
+inline std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
 }
 
 /// `text` with every ASCII control character (0x00-0x1F, 0x7F) written as an escape (\0, \t,
