@@ -96,8 +96,7 @@ int run(NearestArgs& args) {
   if (csv && !args.query_field_types.empty())
     throw Error(ErrorCode::InvalidArgument, "--query-field-type types the query columns of point features (GeoPackage, "
                                             "FlatGeobuf, ...); geovor's CSV output has no types");
-  if (csv && (args.model.update || !args.model.layer.empty() || !args.model.layer_options.empty() ||
-              !args.model.dataset_options.empty()))
+  if (csv && sets_gdal_options(args.model))
     throw Error(ErrorCode::InvalidArgument, "--nln, --update, --lco and --dsco apply to OGR point outputs (GeoPackage, "
                                             "FlatGeobuf, ...); geovor writes its CSV itself, one table");
   WriterOptions writer_options;  // of a point output

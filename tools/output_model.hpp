@@ -24,6 +24,11 @@ struct OutputModelArgs {
 void add_output_model_options(CLI::App* cmd, std::string& format, bool& overwrite, OutputModelArgs& model,
                               const std::string& default_layer);
 
+/// Whether any of --nln, --update, --lco, --dsco was given (refused where geovor writes a CSV).
+inline bool sets_gdal_options(const OutputModelArgs& model) {
+  return model.update || !model.layer.empty() || !model.layer_options.empty() || !model.dataset_options.empty();
+}
+
 /// `options` with the model's layer name (unless empty), update and creation options.
 void apply_output_model(const OutputModelArgs& model, WriterOptions& options);
 

@@ -294,8 +294,6 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
 void CellGeometry::edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vertex& b, std::vector<Vec3>& guards) const {
   guards.clear();
   const VoronoiDiagram& vd = *vd_;
-  // Cells are thin only near a cap's vertex (lunes of sites on one great circle).
-  if (!cap_[a.rep] && !cap_[b.rep]) return;
   const double far = 8 * options_.densify_m / SiteEncoder::kEarthRadiusM;
   for (const SiteId c : {lo, hi}) {
     const SiteId across = c == lo ? hi : lo;
@@ -518,7 +516,9 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
         const Pt& to = forward ? b : a;
         edge.clear();
         std::vector<Vec3>& guards = scratch<Vec3>();
-        edge_guards(std::min(s, w), std::max(s, w), forward ? va : vb, forward ? vb : va, guards);
+        guards.clear();
+        if (cap_[va.rep] | cap_[vb.rep])
+          edge_guards(std::min(s, w), std::max(s, w), forward ? va : vb, forward ? vb : va, guards);
         dens.set_guards(guards);
         dens.edge(from, to, vd.site(std::min(s, w)), vd.site(std::max(s, w)), std::min(va.min_side2, vb.min_side2));
         if (forward)

@@ -176,7 +176,8 @@ class CellGeometry {
   std::vector<std::vector<BoundaryPoint>> points_;  // one part per construction thread
   CellStatus build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
   // The great circles the edge between sites lo < hi, from vertex a to vertex b, must keep
-  // clear of when one of its cells is thin (Densifier::set_guards), into `guards`.
+  // clear of when one of its cells is thin (Densifier::set_guards), into `guards`. Called only
+  // for an edge at a cap's vertex (cap_): cells are thin only there.
   void edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vertex& b, std::vector<Vec3>& guards) const;
   // Cleans and checks `out` as built for site s, whose ring encloses the pole info.winding says
   // (loop_to_polygons, lonlat/boundary.hpp); empties it unless valid.
