@@ -739,6 +739,34 @@ TEST(CellGeometryAsWritten, GridsAtEveryPrecision) {
   }
 }
 
+// Lat/lon grids: their edge columns are sites on one meridian, whose lunes run to the pole of the
+// meridian on the equator, narrower than any decimal step near their tips. Rounded vertex by
+// vertex, their sides crossed (a 20 x 20 grid of 0.001 degree: 16 cells unwritable at 7
+// decimals, 14 at 9, 4 at full precision; a 27 x 19 grid of 0.00028 degree near -180: 2 at full
+// precision, 6 at 7). Snap rounded, every cell is written or collapsed, valid (GEOS), and the
+// written areas sum to the ellipsoid's.
+TEST(CellGeometryAsWritten, GridsAreSnapRoundedNotUnwritable) {
+  auto grid = [](double lat0, double lon0, double step, int rows, int cols) {
+    std::vector<std::pair<double, double>> ll;
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < cols; ++j) ll.push_back({lat0 + i * step, lon0 + j * step});
+    return from_lat_lon(ll);
+  };
+  for (const auto& [lat0, lon0, step, rows, cols] : std::vector<std::tuple<double, double, double, int, int>>{
+           {45, 7, 0.001, 20, 20}, {45, 7, 0.0001, 20, 20}, {45, 37.7, 0.01, 20, 20},
+           {57.945565665062176, -179.99, 0.00028, 19, 27}}) {
+    const std::vector<Vec3> pts = grid(lat0, lon0, step, rows, cols);
+    for (const int p : {3, 5, 7, 9, 12, 17, kFullPrecision}) {
+      SCOPED_TRACE("grid at " + std::to_string(lat0) + ", " + std::to_string(lon0) + " step " + std::to_string(step) +
+                   ", precision " + std::to_string(p));
+      const written::Outcome o = written::check(pts, p);
+      EXPECT_EQ(o.unwritable, 0u);
+      EXPECT_EQ(o.written + o.collapsed, o.cells);
+      EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
+    }
+  }
+}
+
 // 10^4 sites on one small circle: one Voronoi vertex at each pole, every cell a lune.
 TEST(CellGeometryAsWritten, SitesOnOneSmallCircle) {
   std::vector<std::pair<double, double>> ll;
@@ -788,7 +816,17 @@ TEST(CellGeometryAsWritten, ColumnOfSitesOnAMeridian) {
     for (const int p : {12, kFullPrecision}) {
       const written::Outcome o = written::check(from_lat_lon(ll), p);
       EXPECT_EQ(o.written, 30u) << "precision " << p;
-      if (o.written == 30) EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
+      if (o.written == 30) {
+        EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
+      }
+    }
+    // Coarser than the lunes' tips, their sides are snap rounded: none unwritable (22 of 30 were
+    // at 7 decimals, 9 at 9), and the written cells still tile the ellipsoid.
+    for (const int p : {3, 5, 7, 9}) {
+      const written::Outcome o = written::check(from_lat_lon(ll), p);
+      EXPECT_EQ(o.unwritable, 0u) << "precision " << p;
+      EXPECT_EQ(o.written + o.collapsed, 30u) << "precision " << p;
+      EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9) << "precision " << p;
     }
   }
 }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <string>
 
 #include "geovor/lonlat/ellipsoid_area.hpp"
 #include "support/lonlat_checks.hpp"
@@ -44,6 +45,82 @@ TEST(PolygonValidity, AgainstGeosOnRoundedRings) {
     ++agree;
   }
   EXPECT_GT(agree, 1000);
+}
+
+// Two parts on a coarse grid (touching at positions, along segments, crossing, nested):
+// polygon_problem() accepting them means GEOS does (ours is stricter only where a position of one
+// part lies inside a segment of the other), and parts meeting only at shared positions are
+// accepted.
+TEST(PolygonValidity, TwoPartsAgainstGeos) {
+  std::uint64_t state = 21;
+  auto next = [&](int n) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<int>((state >> 33) % static_cast<std::uint64_t>(n));
+  };
+  int touching_at_positions = 0, accepted = 0;
+  for (int iter = 0; iter < 6000; ++iter) {
+    MultiPolygon mp;
+    for (int part = 0; part < 2; ++part) {
+      Ring r;
+      const int n = 3 + next(2);
+      for (int i = 0; i < n; ++i) r.push_back({static_cast<double>(next(4)), static_cast<double>(next(4))});
+      r.push_back(r.front());
+      mp.push_back(Polygon{r, {}});
+    }
+    if (!polygon_problem({mp[0]}).empty() || !polygon_problem({mp[1]}).empty()) continue;  // each part valid
+    const bool ours = polygon_problem(mp).empty();
+    const bool geos = testing::geos_invalid(mp).empty();
+    if (ours) {
+      EXPECT_TRUE(geos) << "accepted, GEOS: " << testing::geos_invalid(mp);
+      ++accepted;
+    }
+    // Parts sharing a position, GEOS valid, no position of one on a segment of the other but
+    // shared ones: ours must accept.
+    bool shared = false;
+    for (const LonLat& a : mp[0].exterior)
+      for (const LonLat& b : mp[1].exterior) shared |= a == b;
+    if (geos && shared && !ours) {
+      const std::string why = polygon_problem(mp);
+      EXPECT_EQ(why, "two parts cross or overlap");  // only the stricter rule may refuse
+    }
+    touching_at_positions += geos && shared && ours;
+  }
+  EXPECT_GT(accepted, 50);
+  EXPECT_GT(touching_at_positions, 20);
+}
+
+// What snap rounding leaves: a ring through one position twice is split into parts touching
+// there (GEOS: valid MultiPolygon); a fold-back on a line (a, b, c with c back towards a) loses
+// its tip; a ring left on one line has collapsed, a fold has not.
+TEST(PolygonValidity, CertifySplitsPinchesAndDropsFolds) {
+  // Two squares meeting at (1, 1), as one ring.
+  MultiPolygon pinched{Polygon{{{0, 0}, {1, 0}, {1, 1}, {2, 1}, {2, 2}, {1, 2}, {1, 1}, {0, 1}, {0, 0}}, {}}};
+  EXPECT_NE(polygon_problem(pinched), "");
+  EXPECT_NE(testing::geos_invalid(pinched), "");  // GEOS: ring self-intersection
+  bool cleaned = false;
+  EXPECT_EQ(certify_written(pinched, &cleaned), WrittenStatus::Written);
+  EXPECT_TRUE(cleaned);
+  EXPECT_EQ(pinched.size(), 2u);
+  EXPECT_EQ(testing::geos_invalid(pinched), "");
+  double area = 0;
+  for (const Polygon& poly : pinched) area += planar_area_deg2(poly.exterior);
+  EXPECT_EQ(area, 2);
+
+  // A fold-back: the tip goes; the path keeps the same segments, with one collinear position.
+  Ring fold = {{0, 0}, {3, 0}, {3, 1}, {1, 1}, {2, 1}, {0, 1}, {0, 0}};  // 1 -> 2 -> 0 along y = 1
+  remove_spikes(fold);
+  EXPECT_EQ(fold, (Ring{{0, 0}, {3, 0}, {3, 1}, {2, 1}, {0, 1}, {0, 0}}));
+  EXPECT_EQ(testing::geos_invalid({Polygon{fold, {}}}), "");
+  Ring past = {{0, 0}, {3, 0}, {3, 1}, {2, 1}, {4, 1}, {1, 1}, {0, 1}, {0, 0}};  // past its start, twice
+  remove_spikes(past);
+  EXPECT_EQ(past, (Ring{{0, 0}, {3, 0}, {3, 1}, {1, 1}, {0, 1}, {0, 0}}));
+  EXPECT_EQ(testing::geos_invalid({Polygon{past, {}}}), "");
+
+  MultiPolygon line{Polygon{{{0, 0}, {1, 1}, {3, 3}, {2, 2}, {0, 0}}, {}}};  // no a, b, a spike
+  EXPECT_EQ(certify_written(line), WrittenStatus::Collapsed);
+  EXPECT_TRUE(line.empty());
+  MultiPolygon bowtie{Polygon{{{0, 0}, {2, 2}, {2, 0}, {0, 2}, {0, 0}}, {}}};  // area 0, but a fold
+  EXPECT_EQ(certify_written(bowtie), WrittenStatus::Unwritable);
 }
 
 TEST(PolygonValidity, RemoveSpikes) {

@@ -20,6 +20,7 @@
 #include "geovor/lonlat/ellipsoid_area.hpp"
 #include "geovor/lonlat/polygon_validity.hpp"
 #include "lonlat/boundary.hpp"
+#include "lonlat/snap_rounding.hpp"
 
 namespace geovor {
 namespace {
@@ -87,6 +88,14 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   // here); the root is the smallest id, whatever the order of the unions.
   const double collapse2 = std::pow(options.collapse_m / SiteEncoder::kEarthRadiusM, 2);
   std::vector<std::vector<std::pair<TriId, TriId>>> short_edges(threads);
+  // And the edges shorter than two decimal steps (chord), which rounding alone can fold, and the
+  // triangles with a side shorter than four: their cells are snap rounded (snap_round_thin_cells).
+  // (The step of the grid they are snapped to: the output's, at most kThinCellDecimals, so that
+  // 17 decimals and full precision write the same.)
+  const int snap_decimals = options.precision < 0 ? kThinCellDecimals : std::min(options.precision, kThinCellDecimals);
+  const double step_rad = std::pow(10.0, -snap_decimals) * std::numbers::pi / 180;
+  const double fold2 = 4 * step_rad * step_rad, small2 = 16 * step_rad * step_rad;
+  std::vector<std::vector<TriId>> small(threads);
   // In the same pass, the shortest side of each triangle, rounded down to float (the same for
   // both cells of an edge): triangle t_i of cell s has the sites s, neighbour i - 1 and
   // neighbour i, and is measured by the cell of its smallest site.
@@ -113,12 +122,17 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       const std::size_t d = tris.size();
       for (std::size_t i = 0; i < d; ++i) {
         const TriId a = tris[i], b = tris[i + 1 == d ? 0 : i + 1];
-        if (a < b && norm2(diagram.vertex(a) - diagram.vertex(b)) < collapse2) short_edges[thread].push_back({a, b});
+        if (a < b) {
+          const double ab2 = norm2(diagram.vertex(a) - diagram.vertex(b));
+          if (ab2 < collapse2) short_edges[thread].push_back({a, b});
+          if (ab2 < fold2) small[thread].insert(small[thread].end(), {a, b});
+        }
         const SiteId u = nbrs[i == 0 ? d - 1 : i - 1], w = nbrs[i];
         if (s < u && s < w) {
           const Vec3 &ps = diagram.site(s), &pu = diagram.site(u), &pw = diagram.site(w);
           const double su = norm2(ps - pu), sw = norm2(ps - pw), uw = norm2(pu - pw);
           min_side2[a] = round_down(std::min({su, sw, uw}));
+          if (min_side2[a] < small2) small[thread].push_back(a);
           cap_[a] = norm2(diagram.vertex(a) - ps) > 64 * std::max({su, sw, uw});
           tri_sites[a] = {s, std::min(u, w), std::max(u, w)};
         }
@@ -154,6 +168,17 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       for (TriId t = 0; t < nv; ++t) clustered[rep[t]] |= rep[t] != t;
     }
   }
+
+  // The sites of the caps' triangles (their cells are thin near those vertices) and of the
+  // small ones above: where a decimal step can be wider than a cell (snap_round_thin_cells).
+  std::vector<SiteId> thin_sites;
+  const bool snaps = options.precision < 0 || options.precision >= kMinSnapDecimals;
+  for (TriId t = 0; t < nv && snaps; ++t)
+    if (cap_[clustered.empty() ? t : rep[t]])
+      for (const SiteId s : tri_sites[t]) thin_sites.push_back(s);
+  for (const std::vector<TriId>& list : small)
+    for (const TriId t : snaps ? std::span<const TriId>(list) : std::span<const TriId>())
+      for (const SiteId s : tri_sites[t]) thin_sites.push_back(s);
 
   // A collapsed cluster within collapse_m of a pole goes onto it: collapsing moves vertices as
   // far, which could put the pole inside a cell that does not own it (13 sites on a ring 60 m
@@ -289,6 +314,191 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     }
     flush();
   });
+  if (!thin_sites.empty()) snap_round_thin_cells(thin_sites, tri_sites, rep);
+}
+
+void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
+                                         std::span<const std::array<SiteId, 3>> tri_sites,
+                                         std::span<const TriId> rep) {
+  const VoronoiDiagram& vd = *vd_;
+  // The thin cells (ring 1) have their edges snap rounded; their neighbours (ring 2) give hot
+  // pixels (every position of their edges) and take the rerouted edges they share.
+  std::vector<std::uint8_t> ring(vd.site_capacity(), 0);
+  std::vector<SiteId> cells[2];
+  for (const SiteId s : thin_sites)
+    if (ring[s] == 0) ring[s] = 1, cells[0].push_back(s);
+  for (const SiteId s : cells[0])
+    for (const SiteId w : vd.cell_neighbors(s))
+      if (ring[w] == 0) ring[w] = 2, cells[1].push_back(w);
+
+  // Every edge of those cells once, by the slot of its canonical cell (the smaller site id).
+  struct Edge {
+    std::size_t slot, other;  // the canonical cell's slot, the other cell's
+    TriId a, b;               // its end vertices, in the canonical direction
+    bool rerouted;
+  };
+  std::vector<Edge> edges;
+  for (int r = 0; r < 2; ++r)
+    for (const SiteId s : cells[r]) {
+      const std::span<const TriId> tris = vd.cell_vertices(s);
+      const std::span<const SiteId> nbrs = vd.cell_neighbors(s);
+      const std::size_t d = tris.size();
+      for (std::size_t i = 0; i < d; ++i) {
+        const SiteId w = nbrs[i];
+        if (w < s && ring[w] != 0) continue;  // found from w
+        // The edge from the canonical cell lo: its index there, and the other cell's.
+        const SiteId lo = std::min(s, w), hi = std::max(s, w);
+        const std::span<const SiteId> lo_nbrs = vd.cell_neighbors(lo), hi_nbrs = vd.cell_neighbors(hi);
+        const std::span<const TriId> lo_tris = vd.cell_vertices(lo);
+        const std::size_t j = lo == s ? i : static_cast<std::size_t>(std::find(lo_nbrs.begin(), lo_nbrs.end(), hi) - lo_nbrs.begin());
+        const auto k = std::find(hi_nbrs.begin(), hi_nbrs.end(), lo);
+        // Two sites sharing more than this edge (tiny diagrams): the larger one's cell computes
+        // it in place, not snap rounded (as construction leaves it).
+        if (std::count(lo_nbrs.begin(), lo_nbrs.end(), hi) != 1 || std::count(hi_nbrs.begin(), hi_nbrs.end(), lo) != 1)
+          continue;
+        const std::size_t slot = static_cast<std::size_t>(lo_nbrs.data() - nbr_base_) + j;
+        const EdgeSlot& e = edge_slots_[slot];
+        const TriId a = lo_tris[j], b = lo_tris[j + 1 == lo_tris.size() ? 0 : j + 1];
+        if (e.part == 0 || vertices_[a].rep == vertices_[b].rep) continue;
+        const std::size_t other = static_cast<std::size_t>(hi_nbrs.data() - nbr_base_) + static_cast<std::size_t>(k - hi_nbrs.begin());
+        edges.push_back({slot, other, a, b, ring[s] == 1 || ring[w] == 1});
+      }
+    }
+
+  // The grid: the output's decimals, at most kThinCellDecimals (collapsing already moves
+  // vertices by up to collapse_m, and the sides of a thin cell cross at that scale).
+  const int decimals = options_.precision < 0 ? kThinCellDecimals : std::min(options_.precision, kThinCellDecimals);
+  auto on_grid = [decimals](double x) { return snap_to_decimals(x, decimals); };
+  // The ends of the rerouted edges are then written on the grid (by representative): they move
+  // only when the grid is coarser than the output's decimals.
+  const bool moves = decimals != options_.precision;
+  std::vector<TriId> moved_reps;
+  if (moves)
+    for (const Edge& edge : edges)
+      if (edge.rerouted) moved_reps.insert(moved_reps.end(), {vertices_[edge.a].rep, vertices_[edge.b].rep});
+  std::sort(moved_reps.begin(), moved_reps.end());
+  moved_reps.erase(std::unique(moved_reps.begin(), moved_reps.end()), moved_reps.end());
+  auto moved_index = [&moved_reps](TriId r) {
+    const auto it = std::lower_bound(moved_reps.begin(), moved_reps.end(), r);
+    return it != moved_reps.end() && *it == r ? static_cast<std::size_t>(it - moved_reps.begin()) : moved_reps.size();
+  };
+  std::vector<bool> moved_set(moves ? vd.num_vertices() : 0);
+  for (const TriId r : moved_reps) moved_set[r] = true;
+  auto moved = [&](TriId r) { return moves && moved_set[r]; };
+
+  // The edges as paths of their vertices, raw and written; a tag indexes `points`.
+  std::vector<BoundaryPoint> points;
+  // A vertex of a rerouted edge is taken as computed (its written position is then on the
+  // grid); one of an edge left as it is, which only gives a hot pixel, as written.
+  auto vertex = [&](const BoundaryPoint& q, bool grid, bool rerouted) {
+    const Pt raw = rerouted ? make_pt(q.v, kFullPrecision) : Pt{q.v, q.lon, q.lat};
+    double lon = grid ? on_grid(raw.lon) : q.lon, lat = grid ? on_grid(raw.lat) : q.lat;
+    // The antimeridian is written at -180: here on the side of the raw position.
+    if (lon == -180 && raw.lon > 0) lon = 180;
+    points.push_back(q);
+    return lonlat::SnapVertex{raw.lon, raw.lat, lon, lat, static_cast<std::uint32_t>(points.size() - 1)};
+  };
+  std::vector<std::vector<lonlat::SnapVertex>> paths;
+  std::vector<lonlat::SnapVertex> extra;
+  std::vector<std::size_t> path_edge;
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    const Edge& edge = edges[k];
+    const EdgeSlot& e = edge_slots_[edge.slot];
+    const Vertex &va = vertices_[edge.a], &vb = vertices_[edge.b];
+    std::vector<lonlat::SnapVertex> path;
+    path.push_back(vertex({va.v, va.lon, va.lat}, moved(va.rep), edge.rerouted || moved(va.rep)));
+    const BoundaryPoint* p = points_[e.part - 1].data() + e.first;
+    for (std::uint32_t i = 0; i < e.count; ++i) path.push_back(vertex(p[i], edge.rerouted, edge.rerouted));
+    path.push_back(vertex({vb.v, vb.lon, vb.lat}, moved(vb.rep), edge.rerouted || moved(vb.rep)));
+    if (edge.rerouted) {
+      paths.push_back(std::move(path));
+      path_edge.push_back(k);
+    } else {
+      extra.insert(extra.end(), path.begin(), path.end());
+    }
+  }
+  // Crossings of the antimeridian on the great-circle arc, as loop_to_polygons takes them (the
+  // same bits whichever way the segment runs).
+  auto crossing_lat = [&points](const lonlat::SnapVertex& p, const lonlat::SnapVertex& q) {
+    const Vec3 &a = points[p.tag].v, &b = points[q.tag].v;
+    return SiteEncoder::to_lat_lon(std::fabs(b.y) * a + std::fabs(a.y) * b).lat_deg;
+  };
+  lonlat::snap_round(paths, extra, decimals, crossing_lat);
+
+  // The written positions: the moved vertices (every member of their clusters), the rerouted
+  // edges' points in a part of their own; then the area terms of every edge of the region.
+  auto written = [](const lonlat::SnapVertex& q) { return std::pair{q.lon == 180 ? -180.0 : q.lon, q.lat}; };
+  std::vector<std::pair<double, double>> moved_to(moved_reps.size());
+  for (std::size_t k = 0; k < paths.size() && moves; ++k) {
+    const Edge& edge = edges[path_edge[k]];
+    moved_to[moved_index(vertices_[edge.a].rep)] = written(paths[k].front());
+    moved_to[moved_index(vertices_[edge.b].rep)] = written(paths[k].back());
+  }
+  // Every member of a moved cluster moves, and the cells around it beyond the region need their
+  // edges' area terms again.
+  std::vector<SiteId> touched;
+  for (TriId t = 0; t < vd.num_vertices() && moves; ++t)
+    if (moved_set[rep[t]]) {
+      std::tie(vertices_[t].lon, vertices_[t].lat) = moved_to[moved_index(rep[t])];
+      for (const SiteId s : tri_sites[t])
+        if (ring[s] == 0) ring[s] = 3, touched.push_back(s);
+    }
+  std::vector<BoundaryPoint>& part = points_.emplace_back();
+  for (std::size_t k = 0; k < paths.size(); ++k) {
+    EdgeSlot& e = edge_slots_[edges[path_edge[k]].slot];
+    e.first = static_cast<std::uint32_t>(part.size());
+    e.count = static_cast<std::uint32_t>(paths[k].size() - 2);
+    e.part = static_cast<std::uint32_t>(points_.size());
+    for (std::size_t i = 1; i + 1 < paths[k].size(); ++i) {
+      const lonlat::SnapVertex& v = paths[k][i];
+      BoundaryPoint q;
+      if (v.tag == lonlat::kNewVertex) {  // a crossing of the antimeridian: on it, exactly
+        q.v = SiteEncoder::from_lat_lon(v.lat, -180);
+        q.v.y = 0;
+      } else {
+        q = points[v.tag];
+      }
+      std::tie(q.lon, q.lat) = written(v);
+      part.push_back(q);
+    }
+  }
+  for (const SiteId s : touched) {
+    const std::span<const TriId> tris = vd.cell_vertices(s);
+    const std::span<const SiteId> nbrs = vd.cell_neighbors(s);
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+      const SiteId w = nbrs[i];
+      if (w < s && ring[w] == 3) continue;  // found from w
+      if (ring[w] == 1 || ring[w] == 2) continue;  // in `edges` already
+      const SiteId lo = std::min(s, w), hi = std::max(s, w);
+      const std::span<const SiteId> lo_nbrs = vd.cell_neighbors(lo), hi_nbrs = vd.cell_neighbors(hi);
+      const std::span<const TriId> lo_tris = vd.cell_vertices(lo);
+      const std::size_t j = lo == s ? i : static_cast<std::size_t>(std::find(lo_nbrs.begin(), lo_nbrs.end(), hi) - lo_nbrs.begin());
+      const auto k = std::find(hi_nbrs.begin(), hi_nbrs.end(), lo);
+      if (std::count(lo_nbrs.begin(), lo_nbrs.end(), hi) != 1 || std::count(hi_nbrs.begin(), hi_nbrs.end(), lo) != 1)
+        continue;  // computed in place
+      const std::size_t slot = static_cast<std::size_t>(lo_nbrs.data() - nbr_base_) + j;
+      const TriId a = lo_tris[j], b = lo_tris[j + 1 == lo_tris.size() ? 0 : j + 1];
+      if (edge_slots_[slot].part == 0 || vertices_[a].rep == vertices_[b].rep) continue;
+      edges.push_back({slot, static_cast<std::size_t>(hi_nbrs.data() - nbr_base_) + static_cast<std::size_t>(k - hi_nbrs.begin()), a, b, false});
+    }
+  }
+  std::vector<Pt> interior;
+  std::vector<GeodesicEdge> segments;
+  std::vector<double> s12;
+  for (const Edge& edge : edges) {
+    EdgeSlot& e = edge_slots_[edge.slot];
+    const Vertex &va = vertices_[edge.a], &vb = vertices_[edge.b];
+    if (!edge.rerouted && !moved(va.rep) && !moved(vb.rep)) continue;
+    interior.clear();
+    const BoundaryPoint* p = points_[e.part - 1].data() + e.first;
+    for (std::uint32_t i = 0; i < e.count; ++i) interior.push_back({p[i].v, p[i].lon, p[i].lat});
+    segments.clear();
+    e.crossings = append_segments(Pt{va.v, va.lon, va.lat}, interior, Pt{vb.v, vb.lon, vb.lat}, segments);
+    s12.resize(segments.size());
+    geodesic_s12(segments, s12);
+    e.s12 = sum_s12(s12);
+    edge_slots_[edge.other] = e;
+  }
 }
 
 void CellGeometry::edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vertex& b, std::vector<Vec3>& guards) const {
@@ -390,9 +600,19 @@ CellStatus CellGeometry::finish(SiteId s, const lonlat::LoopInfo& info, MultiPol
   if (out.empty()) return CellStatus::Collapsed;
   if (winding != 0 || s == north_owner_ || s == south_owner_) {
     auto unwritable = [&] {
+      // A ring with no area left collapsed, though rounding made it wind around a pole it does
+      // not own: its spikes removed, it lies on a line, or (winding around a pole) on the pole
+      // lines only, its sides rounded onto meridians and the rest onto the pole line.
+      MultiPolygon cleaned = out;
+      bool on_poles = winding != 0;
+      for (Polygon& poly : cleaned) {
+        remove_spikes(poly.exterior);
+        for (const LonLat& p : poly.exterior) on_poles &= std::fabs(p.lat_deg) == 90;
+      }
+      const bool collapsed = on_poles || certify_written(cleaned) == CellStatus::Collapsed;
       out.clear();
       if (bbox) *bbox = BBox{};
-      return CellStatus::Unwritable;
+      return collapsed ? CellStatus::Collapsed : CellStatus::Unwritable;
     };
     // The poles, decided exactly: a ring may enclose a pole only if its site owns it; the
     // owner's ring must enclose it or pass through it (rounding can put the pole on its

@@ -1,9 +1,12 @@
 #include "geovor/lonlat/polygon_validity.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "geovor/kernel/predicates.hpp"
@@ -49,6 +52,54 @@ bool inside(const Ring& r, const LonLat& p) {
     if (b_below ? o < 0 : o > 0) in = !in;
   }
   return in;
+}
+
+// Every position of r on one line (r has no area and no fold).
+bool collinear(const Ring& r) {
+  const auto q = std::find_if(r.begin(), r.end(), [&r](const LonLat& p) { return !(p == r.front()); });
+  if (q == r.end()) return true;
+  return std::all_of(r.begin(), r.end(), [&](const LonLat& p) { return orient(r.front(), *q, p) == 0; });
+}
+
+// Splits a closed ring that passes more than once through a position (snap rounding merges
+// the two sides of a thin part into one path, and the ring touches itself there) into closed
+// rings that do not, appended to `parts`; `ring` keeps the last one. Returns whether it split.
+bool split_at_repeats(Ring& ring, std::vector<Ring>& parts) {
+  if (ring.size() < 5) return false;
+  std::vector<LonLat> sorted(ring.begin(), ring.end() - 1);
+  auto less = [](const LonLat& a, const LonLat& b) {
+    return a.lon_deg < b.lon_deg || (a.lon_deg == b.lon_deg && a.lat_deg < b.lat_deg);
+  };
+  std::sort(sorted.begin(), sorted.end(), less);
+  if (std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end()) return false;
+  // A stack walk: a position already on the stack closes the loop above it (where, by a map
+  // of the positions on the stack: rings run to hundreds of thousands of positions).
+  struct Hash {
+    std::size_t operator()(const LonLat& p) const {
+      return std::hash<std::uint64_t>()(std::bit_cast<std::uint64_t>(p.lon_deg) * 0x9e3779b97f4a7c15ULL ^
+                                        std::bit_cast<std::uint64_t>(p.lat_deg));
+    }
+  };
+  std::unordered_map<LonLat, std::size_t, Hash> on_stack;
+  std::vector<LonLat> stack;
+  for (std::size_t i = 0; i + 1 < ring.size(); ++i) {
+    const LonLat& p = ring[i];
+    const auto it = on_stack.find(p);
+    if (it == on_stack.end()) {
+      on_stack.emplace(p, stack.size());
+      stack.push_back(p);
+      continue;
+    }
+    const std::size_t at = it->second;
+    Ring loop(stack.begin() + static_cast<std::ptrdiff_t>(at), stack.end());
+    loop.push_back(p);
+    parts.push_back(std::move(loop));
+    for (std::size_t k = at + 1; k < stack.size(); ++k) on_stack.erase(stack[k]);
+    stack.resize(at + 1);
+  }
+  stack.push_back(stack.front());
+  ring.swap(stack);
+  return true;
 }
 
 }  // namespace
@@ -114,14 +165,32 @@ std::string polygon_problem(const MultiPolygon& polygons) {
           continue;
         }
       }
-      if (segments_meet(a, b, c, d))
-        return s.ring == t.ring ? "a ring intersects itself" : "two parts touch or cross";
+      if (segments_meet(a, b, c, d)) {
+        if (s.ring == t.ring) return "a ring intersects itself";
+        // Parts may touch at a common position (OGC): one shared end, not overlapping there.
+        const int shared = (a == c) + (a == d) + (b == c) + (b == d);
+        const LonLat& e = a == c || a == d ? a : b;
+        const LonLat& x = e == a ? b : a;
+        const LonLat& y = e == c ? d : c;
+        auto side = [](double u, double v) { return (u > v) - (u < v); };
+        const bool overlap = orient(e, x, y) == 0 && side(x.lon_deg, e.lon_deg) == side(y.lon_deg, e.lon_deg) &&
+                             side(x.lat_deg, e.lat_deg) == side(y.lat_deg, e.lat_deg);
+        if (shared != 1 || overlap) return "two parts cross or overlap";
+      }
     }
   }
-  // No two rings meet: parts must not lie inside one another.
+  // No two rings cross: parts must not lie inside one another, tested at a position of one
+  // that is not on the other (they meet only at common positions).
   for (std::size_t k = 0; k < rings.size(); ++k)
-    for (std::size_t l = 0; l < rings.size(); ++l)
-      if (k != l && inside(*rings[l], (*rings[k])[0])) return "a part lies inside another";
+    for (std::size_t l = 0; l < rings.size(); ++l) {
+      if (k == l) continue;
+      const Ring &rk = *rings[k], &rl = *rings[l];
+      const auto p = std::find_if(rk.begin(), rk.end(), [&rl](const LonLat& q) {
+        return std::find(rl.begin(), rl.end(), q) == rl.end();
+      });
+      if (p == rk.end()) return "two parts share all their positions";
+      if (inside(rl, *p)) return "a part lies inside another";
+    }
   return {};
 }
 
@@ -165,6 +234,25 @@ WrittenStatus certify_written(MultiPolygon& polygons, bool* cleaned_out) {
     remove_spikes(poly.exterior);
     cleaned |= poly.exterior.size() != before;
   }
+  // Rings that touch themselves become parts that touch (each cleaned again); a part without
+  // area (its positions collinear) is dropped.
+  std::vector<Ring> split;
+  for (Polygon& poly : polygons)
+    if (split_at_repeats(poly.exterior, split)) {
+      remove_spikes(poly.exterior);
+      cleaned = true;
+    }
+  for (Ring& r : split) {
+    remove_spikes(r);
+    if (r.size() >= 4) polygons.push_back(Polygon{std::move(r), {}});
+  }
+  // A ring whose positions all lie on one line (two sides rounded onto one meridian, a ring
+  // along a pole line) has collapsed.
+  for (Polygon& poly : polygons)
+    if (poly.exterior.size() >= 4 && collinear(poly.exterior)) {
+      poly.exterior.clear();
+      cleaned = true;
+    }
   if (cleaned_out) *cleaned_out = cleaned;
   if (cleaned) {
     std::erase_if(polygons, [](const Polygon& poly) { return poly.exterior.size() < 4; });
@@ -180,15 +268,18 @@ WrittenStatus certify_written(MultiPolygon& polygons, bool* cleaned_out) {
 void remove_spikes(Ring& ring) {
   if (ring.empty()) return;
   if (ring.size() > 1 && ring.back() == ring.front()) ring.pop_back();
-  // A stack pass: drop repeats and a -> b -> a; the cyclic ends are then trimmed pairwise.
+  // b is the tip of a spike between a and c: the three on one line, c back towards a (exact).
+  auto folds = [](const LonLat& a, const LonLat& b, const LonLat& c) {
+    if (orient(a, b, c) != 0) return false;
+    return a.lon_deg != b.lon_deg ? (b.lon_deg > a.lon_deg) != (c.lon_deg > b.lon_deg)
+                                  : (b.lat_deg > a.lat_deg) != (c.lat_deg > b.lat_deg);
+  };
+  // A stack pass drops repeats and spike tips; the cyclic ends are then trimmed the same way.
   std::vector<LonLat> out;
   out.reserve(ring.size());
   for (const LonLat& p : ring) {
+    while (out.size() >= 2 && !(out.back() == p) && folds(out[out.size() - 2], out.back(), p)) out.pop_back();
     if (!out.empty() && out.back() == p) continue;
-    if (out.size() >= 2 && out[out.size() - 2] == p) {
-      out.pop_back();
-      continue;
-    }
     out.push_back(p);
   }
   std::size_t begin = 0, end = out.size();
@@ -196,10 +287,10 @@ void remove_spikes(Ring& ring) {
     changed = false;
     if (out[end - 1] == out[begin]) {
       --end, changed = true;
-    } else if (end - begin >= 3 && out[end - 2] == out[begin]) {
-      end -= 2, changed = true;  // ... x, y | x ...: the spike y at the seam
-    } else if (end - begin >= 3 && out[end - 1] == out[begin + 1]) {
-      ++begin, --end, changed = true;  // ... y | x, y ...
+    } else if (end - begin >= 3 && folds(out[end - 2], out[end - 1], out[begin])) {
+      --end, changed = true;  // ... x, y | z ...: the tip y at the seam
+    } else if (end - begin >= 3 && folds(out[end - 1], out[begin], out[begin + 1])) {
+      ++begin, changed = true;  // ... x | y, z ...
     }
   }
   ring.assign(out.begin() + static_cast<std::ptrdiff_t>(begin), out.begin() + static_cast<std::ptrdiff_t>(end));

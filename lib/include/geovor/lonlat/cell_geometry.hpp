@@ -28,6 +28,10 @@
 ///     intersection of the (densified) great-circle arc with the antimeridian, identical for
 ///     both parts and both cells. A cell holding a pole runs from -180 to 180 along its boundary
 ///     and is closed through (180, +-90) and (-180, +-90).
+///  Where a decimal step can be wider than a cell (near the vertex of a cap, or sites a few steps
+///  apart), the edges of those cells are snap rounded at construction (kThinCellDecimals,
+///  lonlat/snap_rounding.hpp): routed through every written position within a step, so that
+///  rounding merges their thin parts instead of folding them.
 ///  5. Rings are closed by an exact copy of the first position, exterior rings counter-clockwise
 ///     in (lon, lat) (planar signed area > 0), without consecutive duplicates, longitudes within
 ///     [-180, 180] and latitudes within [-90, 90].
@@ -40,9 +44,11 @@
 /// apart), so no cell vanishes.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "geovor/core/coordinate_grid.hpp"
@@ -101,6 +107,16 @@ class CellGeometry {
   /// Points within this angle (radians on the unit sphere, 1.5e-11, about 0.1 mm) of a pole or
   /// of the antimeridian are moved onto it.
   static constexpr double kSnapRad = 0x1p-36;
+  /// Near the vertex of a cap (three sites nearly on one great circle: the tips of the lunes of
+  /// sites on one meridian), cells are narrower than a decimal step over kilometres and their
+  /// sides are snap rounded (Hobby) to the grid of options().precision decimals, or of this many
+  /// (1.1 cm) at a finer or full precision: collapsing already moves vertices by up to
+  /// collapse_m there, and the sides of such cells cross at that scale.
+  static constexpr int kThinCellDecimals = 7;
+  /// Below this many decimals (a step of a kilometre or more) cells are rounded vertex by vertex,
+  /// not snap rounded: where a whole band of cells fell onto one row of steps, snap rounding
+  /// wrote a cell 60 times its area (open, docs/design.md); rounding alone reports such cells.
+  static constexpr int kMinSnapDecimals = 3;
 
   /// @exception Error(InvalidArgument) if an option is out of range.
   explicit CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOptions& options = {});
@@ -121,7 +137,8 @@ class CellGeometry {
   /// within rounding: 1e-9 relative, or 4 ulps of the ellipsoid's area (0.25 m^2) for
   /// tiny cells. Thread-safe; the result does not depend on threads.
   /// Positions are written with options().precision decimals; a spike left by an edge that
-  /// collapsed is removed (the same on both sides of the edge); the result is then checked
+  /// collapsed is removed (the same on both sides of the edge), a ring passing twice through a
+  /// position (thin cells snap rounded) is split there into parts; the result is then checked
   /// exactly (polygon_problem() in polygon_validity.hpp). Returns the cell's status: when it is
   /// not Written, `out` is empty and the caller reports the cell.
   CellStatus polygon(SiteId s, MultiPolygon& out, double& area_m2, BBox* bbox = nullptr) const;
@@ -179,6 +196,12 @@ class CellGeometry {
   // clear of when one of its cells is thin (Densifier::set_guards), into `guards`. Called only
   // for an edge at a cap's vertex (cap_): cells are thin only there.
   void edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vertex& b, std::vector<Vec3>& guards) const;
+  // Snap rounds (lonlat/snap_rounding.hpp) the edges of the cells of `thin_sites` and of their
+  // neighbours, at a decimal precision: near a cap's vertex a cell can be narrower than a step
+  // over kilometres, and its rounded sides crossed. Called at the end of construction.
+  // tri_sites: each Voronoi vertex's three sites; rep: its collapsed representative.
+  void snap_round_thin_cells(std::span<const SiteId> thin_sites, std::span<const std::array<SiteId, 3>> tri_sites,
+                             std::span<const TriId> rep);
   // Cleans and checks `out` as built for site s, whose ring encloses the pole info.winding says
   // (loop_to_polygons, lonlat/boundary.hpp); empties it unless valid.
   CellStatus finish(SiteId s, const lonlat::LoopInfo& info, MultiPolygon& out, BBox* bbox) const;

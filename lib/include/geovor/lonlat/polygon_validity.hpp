@@ -25,14 +25,17 @@ enum class WrittenStatus : std::uint8_t {
 const char* to_string(WrittenStatus status);
 
 /// Makes `polygons` (as built from rounded positions) what may be written: spikes left by
-/// collapsed edges removed (remove_spikes), collapsed parts dropped, then certified exactly
+/// collapsed edges removed (remove_spikes), a ring that passes twice through a position split
+/// there into parts that touch (snap rounding merges the two sides of a thin part), collapsed
+/// parts (fewer than 4 positions, or all on one line) dropped, then certified exactly
 /// (is_star_shaped_ccw for one ring, else polygon_problem). Unless Written, `polygons` is left
 /// empty. `cleaned`, if given, tells whether positions were removed.
 WrittenStatus certify_written(MultiPolygon& polygons, bool* cleaned = nullptr);
 
 /// Why `polygons` is not a valid MultiPolygon, or "" if it is: every ring closed with at least
-/// four positions, no repeated position but the closing one, no two segments of any rings
-/// touching or crossing except consecutive segments of one ring at their common end, exterior
+/// four positions, no repeated position but the closing one, no two segments of one ring
+/// touching or crossing except consecutive ones at their common end, segments of two parts
+/// meeting only at a position of both (parts may touch at points, as OGC allows), exterior
 /// rings counter-clockwise (positive planar area), no holes, and no part inside another.
 /// O(n log n + k) for n segments (a sweep over their x extents; k candidate pairs).
 std::string polygon_problem(const MultiPolygon& polygons);
@@ -44,8 +47,11 @@ std::string polygon_problem(const MultiPolygon& polygons);
 bool is_star_shaped_ccw(const Ring& ring);
 
 /// Removes what rounding to a grid leaves of a collapsed edge from a closed ring: consecutive
-/// repeated positions and spikes (a, b, a -> a), cyclically, until none is left. Both cells of a
-/// collapsed edge see the same positions, so the cleanup is the same on both sides. The ring is
+/// repeated positions and spikes (a, b, c on one line with c back towards a, as a, b, a: b is
+/// dropped; exact), cyclically, until none is left. Both cells of a collapsed edge see the same
+/// positions, so an exact spike a, b, a is cleaned the same on both sides; a chain folding back
+/// and forth on one line may keep a different position of that line on each side (the same
+/// segments, split differently). The ring is
 /// closed again by a copy of its first position; it may end with fewer than 4 positions
 /// (the ring collapsed).
 void remove_spikes(Ring& ring);

@@ -1,0 +1,193 @@
+#include "lonlat/snap_rounding.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <tuple>
+
+#include "geovor/core/assert.hpp"
+#include "geovor/core/coordinate_grid.hpp"
+
+namespace geovor::lonlat {
+namespace {
+
+struct HotPixel {
+  std::int64_t ix, iy;  // the written position, in steps
+  SnapVertex vertex;    // the vertex with the smallest raw position written there
+};
+
+// Pixels in Z order (Morton codes of their steps, made non-negative): the pixels of any square
+// of 2^l x 2^l steps aligned on multiples of 2^l (a quadtree node) are one run of the order.
+using Key = unsigned __int128;
+constexpr std::int64_t kOffset = std::int64_t{1} << 60;  // |steps| < 2^48 up to 12 decimals
+std::uint64_t spread32(std::uint64_t x) {  // the 32 low bits of x to the even bits
+  x &= 0xffffffffULL;
+  x = (x | x << 16) & 0x0000ffff0000ffffULL;
+  x = (x | x << 8) & 0x00ff00ff00ff00ffULL;
+  x = (x | x << 4) & 0x0f0f0f0f0f0f0f0fULL;
+  x = (x | x << 2) & 0x3333333333333333ULL;
+  x = (x | x << 1) & 0x5555555555555555ULL;
+  return x;
+}
+Key spread(std::uint64_t v) { return (static_cast<Key>(spread32(v >> 32)) << 64) | spread32(v); }
+Key morton(std::uint64_t x, std::uint64_t y) { return spread(x) | (spread(y) << 1); }
+
+// Whether the segment p -> q (raw positions) meets the closed square of half side r centred at
+// (gx, gy), and the parameter at which it enters it (Liang-Barsky clipping).
+bool meets_square(const SnapVertex& p, const SnapVertex& q, double gx, double gy, double r, double& enter) {
+  const double x0 = p.raw_lon - gx, y0 = p.raw_lat - gy;
+  const double dx = q.raw_lon - p.raw_lon, dy = q.raw_lat - p.raw_lat;
+  double t0 = 0, t1 = 1;
+  auto clip = [&](double den, double num) {  // den * t <= num
+    if (den == 0) return num >= 0;
+    const double t = num / den;
+    if (den < 0) {
+      if (t > t1) return false;
+      t0 = std::max(t0, t);
+    } else {
+      if (t < t0) return false;
+      t1 = std::min(t1, t);
+    }
+    return true;
+  };
+  if (!(clip(-dx, x0 + r) && clip(dx, r - x0) && clip(-dy, y0 + r) && clip(dy, r - y0))) return false;
+  enter = t0;
+  return true;
+}
+
+}  // namespace
+
+std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<const SnapVertex> extra,
+                       int precision,
+                       const std::function<double(const SnapVertex& p, const SnapVertex& q)>& crossing_lat) {
+  GEOVOR_ASSERT(precision >= 0 && precision <= kSnapRoundMaxPrecision);
+  const double scale = std::pow(10.0, precision);  // steps per degree
+  const double half = 0.5 / scale;                 // half a step, degrees
+  auto steps = [scale](double written) { return static_cast<std::int64_t>(std::llround(written * scale)); };
+
+  // A segment's ends in one sheet of the plane: an end on the antimeridian (raw -180) is taken
+  // on the side of the other end, and a segment whose ends are more than 180 degrees apart
+  // crosses the antimeridian, at the latitude of its straight lon/lat line.
+  auto on_side = [](SnapVertex v, double side) {
+    if (std::fabs(v.raw_lon) == 180) v.raw_lon = side > 0 ? 180 : -180;
+    if (v.lon == -180 && side > 0) v.lon = 180;
+    if (v.lon == 180 && side < 0) v.lon = -180;
+    return v;
+  };
+  struct Crossing {
+    bool crosses;
+    SnapVertex at_p, at_q;  // the crossing on p's side and on q's side
+  };
+  auto crossing = [&](const SnapVertex& p, const SnapVertex& q) {
+    Crossing c{false, {}, {}};
+    if (!(std::fabs(q.raw_lon - p.raw_lon) > 180) || p.raw_lon == -180 || q.raw_lon == -180) return c;
+    const double p_side = p.raw_lon > 0 ? 180 : -180;
+    const double q_lon = q.raw_lon + 2 * p_side;  // q in p's sheet
+    const double t = (p_side - p.raw_lon) / (q_lon - p.raw_lon);
+    const double lat = crossing_lat ? crossing_lat(p, q) : p.raw_lat + std::clamp(t, 0.0, 1.0) * (q.raw_lat - p.raw_lat);
+    c.crosses = true;
+    c.at_p = {p_side, lat, p_side, snap_to_decimals(lat, precision), kNewVertex};
+    c.at_q = c.at_p;
+    c.at_q.raw_lon = c.at_q.lon = -p_side;
+    return c;
+  };
+
+  std::vector<HotPixel> pixels;
+  auto add = [&](const SnapVertex& v) {
+    pixels.push_back({steps(v.lon), steps(v.lat), v});
+    if (std::fabs(v.lon) == 180) {  // on the antimeridian: a hot pixel in both sheets
+      SnapVertex mirror = v;
+      mirror.lon = -v.lon;
+      if (std::fabs(mirror.raw_lon) == 180) mirror.raw_lon = -v.raw_lon;
+      pixels.push_back({steps(mirror.lon), steps(mirror.lat), mirror});
+    }
+  };
+  for (const auto& path : paths) {
+    for (const SnapVertex& v : path) add(v);
+    for (std::size_t i = 0; i + 1 < path.size(); ++i)
+      if (const Crossing c = crossing(path[i], path[i + 1]); c.crosses) add(c.at_p);
+  }
+  for (const SnapVertex& v : extra) add(v);
+  std::sort(pixels.begin(), pixels.end(), [](const HotPixel& a, const HotPixel& b) {
+    return std::tie(a.ix, a.iy, a.vertex.raw_lon, a.vertex.raw_lat) <
+           std::tie(b.ix, b.iy, b.vertex.raw_lon, b.vertex.raw_lat);
+  });
+  pixels.erase(std::unique(pixels.begin(), pixels.end(),
+                           [](const HotPixel& a, const HotPixel& b) { return a.ix == b.ix && a.iy == b.iy; }),
+               pixels.end());
+  auto pixel_at = [&](const SnapVertex& v) {
+    const auto it = std::lower_bound(pixels.begin(), pixels.end(), std::pair{steps(v.lon), steps(v.lat)},
+                                     [](const HotPixel& h, const std::pair<std::int64_t, std::int64_t>& key) {
+                                       return std::pair{h.ix, h.iy} < key;
+                                     });
+    GEOVOR_ASSERT(it != pixels.end() && it->ix == steps(v.lon) && it->iy == steps(v.lat));
+    return it->vertex;
+  };
+
+  // The pixels in Z order.
+  std::vector<std::pair<Key, std::uint32_t>> order(pixels.size());
+  for (std::uint32_t k = 0; k < pixels.size(); ++k)
+    order[k] = {morton(static_cast<std::uint64_t>(pixels[k].ix + kOffset), static_cast<std::uint64_t>(pixels[k].iy + kOffset)), k};
+  std::sort(order.begin(), order.end());
+
+  std::size_t inserted = 0;
+  std::vector<std::pair<double, std::uint32_t>> hits;
+  // Appends to `out` the hot pixels the segment p -> q of one sheet meets, but its ends', in order.
+  auto route = [&](const SnapVertex& p, const SnapVertex& q, std::vector<SnapVertex>& out) {
+    if (std::fabs(p.raw_lat) == 90 || std::fabs(q.raw_lat) == 90) return;
+    // The pixels the segment's box reaches (two steps of margin), in a level of cells at least
+    // as large: at most 2 x 2 cells.
+    const std::int64_t x_lo = static_cast<std::int64_t>(std::floor(std::min(p.raw_lon, q.raw_lon) * scale)) - 2;
+    const std::int64_t x_hi = static_cast<std::int64_t>(std::ceil(std::max(p.raw_lon, q.raw_lon) * scale)) + 2;
+    const std::int64_t y_lo = static_cast<std::int64_t>(std::floor(std::min(p.raw_lat, q.raw_lat) * scale)) - 2;
+    const std::int64_t y_hi = static_cast<std::int64_t>(std::ceil(std::max(p.raw_lat, q.raw_lat) * scale)) + 2;
+    const std::uint64_t extent = static_cast<std::uint64_t>(std::max(x_hi - x_lo, y_hi - y_lo));
+    const int l = std::min(60, static_cast<int>(std::bit_width(extent)));
+    const std::int64_t pix = steps(p.lon), piy = steps(p.lat), qix = steps(q.lon), qiy = steps(q.lat);
+    hits.clear();
+    const std::int64_t side = std::int64_t{1} << l;
+    for (std::int64_t cx = (x_lo + kOffset) >> l; cx <= (x_hi + kOffset) >> l; ++cx)
+      for (std::int64_t cy = (y_lo + kOffset) >> l; cy <= (y_hi + kOffset) >> l; ++cy) {
+        const Key first = morton(static_cast<std::uint64_t>(cx << l), static_cast<std::uint64_t>(cy << l));
+        const Key last = morton(static_cast<std::uint64_t>((cx << l) + side - 1), static_cast<std::uint64_t>((cy << l) + side - 1));
+        auto it = std::lower_bound(order.begin(), order.end(), std::pair<Key, std::uint32_t>{first, 0});
+        for (; it != order.end() && it->first <= last; ++it) {
+          const HotPixel& h = pixels[it->second];
+          if ((h.ix == pix && h.iy == piy) || (h.ix == qix && h.iy == qiy)) continue;
+          if (h.ix < x_lo || h.ix > x_hi || h.iy < y_lo || h.iy > y_hi) continue;
+          double enter = 0;
+          if (meets_square(p, q, h.vertex.lon, h.vertex.lat, half, enter)) hits.push_back({enter, it->second});
+        }
+      }
+    std::sort(hits.begin(), hits.end());
+    for (const auto& [enter, k] : hits) out.push_back(pixels[k].vertex);
+    inserted += hits.size();
+  };
+
+  std::vector<SnapVertex> out;
+  for (std::vector<SnapVertex>& path : paths) {
+    if (path.size() < 2) continue;
+    out.clear();
+    out.push_back(path[0]);
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+      const SnapVertex &p = path[i], &q = path[i + 1];
+      if (const Crossing c = crossing(p, q); c.crosses) {
+        // Across the antimeridian: p to the crossing's hot pixel in p's sheet, which is put in
+        // the path, then from there in q's sheet to q.
+        const SnapVertex x = pixel_at(c.at_p);
+        route(p, on_side(x, p.raw_lon), out);
+        out.push_back(x);
+        ++inserted;
+        route(on_side(x, q.raw_lon), q, out);
+      } else {
+        const double side = p.raw_lon == -180 ? q.raw_lon : p.raw_lon;
+        route(on_side(p, side), on_side(q, side), out);
+      }
+      out.push_back(q);
+    }
+    if (out.size() != path.size()) path.swap(out);
+  }
+  return inserted;
+}
+
+}  // namespace geovor::lonlat
