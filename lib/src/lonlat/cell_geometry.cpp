@@ -338,30 +338,30 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
     bool rerouted;
   };
   std::vector<Edge> edges;
+  // Appends the edge between s and its neighbour i, from its canonical cell lo (its index
+  // there, and the other cell's slot), unless collapsed or computed in place: two sites sharing
+  // more than this edge (tiny diagrams), whose larger one's cell computes it, not snap rounded.
+  auto add_edge = [&](SiteId s, std::size_t i, bool rerouted) {
+    const SiteId w = vd.cell_neighbors(s)[i];
+    const SiteId lo = std::min(s, w), hi = std::max(s, w);
+    const std::span<const SiteId> lo_nbrs = vd.cell_neighbors(lo), hi_nbrs = vd.cell_neighbors(hi);
+    const std::span<const TriId> lo_tris = vd.cell_vertices(lo);
+    if (std::count(lo_nbrs.begin(), lo_nbrs.end(), hi) != 1 || std::count(hi_nbrs.begin(), hi_nbrs.end(), lo) != 1)
+      return;
+    const std::size_t j = lo == s ? i : static_cast<std::size_t>(std::find(lo_nbrs.begin(), lo_nbrs.end(), hi) - lo_nbrs.begin());
+    const std::size_t k = static_cast<std::size_t>(std::find(hi_nbrs.begin(), hi_nbrs.end(), lo) - hi_nbrs.begin());
+    const std::size_t slot = static_cast<std::size_t>(lo_nbrs.data() - nbr_base_) + j;
+    const TriId a = lo_tris[j], b = lo_tris[j + 1 == lo_tris.size() ? 0 : j + 1];
+    if (edge_slots_[slot].part == 0 || vertices_[a].rep == vertices_[b].rep) return;
+    edges.push_back({slot, static_cast<std::size_t>(hi_nbrs.data() - nbr_base_) + k, a, b, rerouted});
+  };
   for (int r = 0; r < 2; ++r)
     for (const SiteId s : cells[r]) {
-      const std::span<const TriId> tris = vd.cell_vertices(s);
       const std::span<const SiteId> nbrs = vd.cell_neighbors(s);
-      const std::size_t d = tris.size();
-      for (std::size_t i = 0; i < d; ++i) {
+      for (std::size_t i = 0; i < nbrs.size(); ++i) {
         const SiteId w = nbrs[i];
         if (w < s && ring[w] != 0) continue;  // found from w
-        // The edge from the canonical cell lo: its index there, and the other cell's.
-        const SiteId lo = std::min(s, w), hi = std::max(s, w);
-        const std::span<const SiteId> lo_nbrs = vd.cell_neighbors(lo), hi_nbrs = vd.cell_neighbors(hi);
-        const std::span<const TriId> lo_tris = vd.cell_vertices(lo);
-        const std::size_t j = lo == s ? i : static_cast<std::size_t>(std::find(lo_nbrs.begin(), lo_nbrs.end(), hi) - lo_nbrs.begin());
-        const auto k = std::find(hi_nbrs.begin(), hi_nbrs.end(), lo);
-        // Two sites sharing more than this edge (tiny diagrams): the larger one's cell computes
-        // it in place, not snap rounded (as construction leaves it).
-        if (std::count(lo_nbrs.begin(), lo_nbrs.end(), hi) != 1 || std::count(hi_nbrs.begin(), hi_nbrs.end(), lo) != 1)
-          continue;
-        const std::size_t slot = static_cast<std::size_t>(lo_nbrs.data() - nbr_base_) + j;
-        const EdgeSlot& e = edge_slots_[slot];
-        const TriId a = lo_tris[j], b = lo_tris[j + 1 == lo_tris.size() ? 0 : j + 1];
-        if (e.part == 0 || vertices_[a].rep == vertices_[b].rep) continue;
-        const std::size_t other = static_cast<std::size_t>(hi_nbrs.data() - nbr_base_) + static_cast<std::size_t>(k - hi_nbrs.begin());
-        edges.push_back({slot, other, a, b, ring[s] == 1 || ring[w] == 1});
+        add_edge(s, i, ring[s] == 1 || ring[w] == 1);
       }
     }
 
@@ -463,23 +463,11 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
     }
   }
   for (const SiteId s : touched) {
-    const std::span<const TriId> tris = vd.cell_vertices(s);
     const std::span<const SiteId> nbrs = vd.cell_neighbors(s);
-    for (std::size_t i = 0; i < tris.size(); ++i) {
+    for (std::size_t i = 0; i < nbrs.size(); ++i) {
       const SiteId w = nbrs[i];
-      if (w < s && ring[w] == 3) continue;  // found from w
-      if (ring[w] == 1 || ring[w] == 2) continue;  // in `edges` already
-      const SiteId lo = std::min(s, w), hi = std::max(s, w);
-      const std::span<const SiteId> lo_nbrs = vd.cell_neighbors(lo), hi_nbrs = vd.cell_neighbors(hi);
-      const std::span<const TriId> lo_tris = vd.cell_vertices(lo);
-      const std::size_t j = lo == s ? i : static_cast<std::size_t>(std::find(lo_nbrs.begin(), lo_nbrs.end(), hi) - lo_nbrs.begin());
-      const auto k = std::find(hi_nbrs.begin(), hi_nbrs.end(), lo);
-      if (std::count(lo_nbrs.begin(), lo_nbrs.end(), hi) != 1 || std::count(hi_nbrs.begin(), hi_nbrs.end(), lo) != 1)
-        continue;  // computed in place
-      const std::size_t slot = static_cast<std::size_t>(lo_nbrs.data() - nbr_base_) + j;
-      const TriId a = lo_tris[j], b = lo_tris[j + 1 == lo_tris.size() ? 0 : j + 1];
-      if (edge_slots_[slot].part == 0 || vertices_[a].rep == vertices_[b].rep) continue;
-      edges.push_back({slot, static_cast<std::size_t>(hi_nbrs.data() - nbr_base_) + static_cast<std::size_t>(k - hi_nbrs.begin()), a, b, false});
+      if ((w < s && ring[w] == 3) || ring[w] == 1 || ring[w] == 2) continue;  // found from w, or in `edges`
+      add_edge(s, i, false);
     }
   }
   std::vector<Pt> interior;
