@@ -76,21 +76,33 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
   };
   struct Crossing {
     bool crosses;
-    SnapVertex at_p, at_q;  // the crossing on p's side and on q's side
+    SnapVertex at_p;  // the crossing, on p's side
   };
   auto crossing = [&](const SnapVertex& p, const SnapVertex& q) {
-    Crossing c{false, {}, {}};
-    if (!(std::fabs(q.raw_lon - p.raw_lon) > 180) || p.raw_lon == -180 || q.raw_lon == -180) return c;
+    Crossing c{false, {}};
+    if (!(std::fabs(q.raw_lon - p.raw_lon) > 180) || std::fabs(p.raw_lon) == 180 || std::fabs(q.raw_lon) == 180) return c;
     const double p_side = p.raw_lon > 0 ? 180 : -180;
     const double q_lon = q.raw_lon + 2 * p_side;  // q in p's sheet
     const double t = (p_side - p.raw_lon) / (q_lon - p.raw_lon);
     const double lat = crossing_lat ? crossing_lat(p, q) : p.raw_lat + std::clamp(t, 0.0, 1.0) * (q.raw_lat - p.raw_lat);
     c.crosses = true;
     c.at_p = {p_side, lat, p_side, snap_to_decimals(lat, precision), kNewVertex};
-    c.at_q = c.at_p;
-    c.at_q.raw_lon = c.at_q.lon = -p_side;
     return c;
   };
+
+  // Each crossing of the antimeridian becomes a vertex on it, before anything is routed: the
+  // arrangement's segments then end on the antimeridian, as the cut takes them.
+  std::size_t inserted = 0;
+  std::vector<SnapVertex> out;
+  for (std::vector<SnapVertex>& path : paths) {
+    out.clear();
+    for (std::size_t i = 0; i < path.size(); ++i) {
+      if (i > 0)
+        if (const Crossing c = crossing(path[i - 1], path[i]); c.crosses) out.push_back(c.at_p), ++inserted;
+      out.push_back(path[i]);
+    }
+    if (out.size() != path.size()) path.swap(out);
+  }
 
   std::vector<HotPixel> pixels;
   auto add = [&](const SnapVertex& v) {
@@ -102,11 +114,8 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
       pixels.push_back({steps(mirror.lon), steps(mirror.lat), mirror});
     }
   };
-  for (const auto& path : paths) {
+  for (const auto& path : paths)
     for (const SnapVertex& v : path) add(v);
-    for (std::size_t i = 0; i + 1 < path.size(); ++i)
-      if (const Crossing c = crossing(path[i], path[i + 1]); c.crosses) add(c.at_p);
-  }
   for (const SnapVertex& v : extra) add(v);
   std::sort(pixels.begin(), pixels.end(), [](const HotPixel& a, const HotPixel& b) {
     return std::tie(a.ix, a.iy, a.vertex.raw_lon, a.vertex.raw_lat) <
@@ -115,14 +124,6 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
   pixels.erase(std::unique(pixels.begin(), pixels.end(),
                            [](const HotPixel& a, const HotPixel& b) { return a.ix == b.ix && a.iy == b.iy; }),
                pixels.end());
-  auto pixel_at = [&](const SnapVertex& v) {
-    const auto it = std::lower_bound(pixels.begin(), pixels.end(), std::pair{steps(v.lon), steps(v.lat)},
-                                     [](const HotPixel& h, const std::pair<std::int64_t, std::int64_t>& key) {
-                                       return std::pair{h.ix, h.iy} < key;
-                                     });
-    GEOVOR_ASSERT(it != pixels.end() && it->ix == steps(v.lon) && it->iy == steps(v.lat));
-    return it->vertex;
-  };
 
   // The pixels in Z order.
   std::vector<std::pair<Key, std::uint32_t>> order(pixels.size());
@@ -130,7 +131,6 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
     order[k] = {morton(static_cast<std::uint64_t>(pixels[k].ix + kOffset), static_cast<std::uint64_t>(pixels[k].iy + kOffset)), k};
   std::sort(order.begin(), order.end());
 
-  std::size_t inserted = 0;
   std::vector<std::pair<double, std::uint32_t>> hits;
   // Appends to `out` the hot pixels the segment p -> q of one sheet meets, but its ends', in order.
   auto route = [&](const SnapVertex& p, const SnapVertex& q, std::vector<SnapVertex>& out) {
@@ -164,25 +164,15 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
     inserted += hits.size();
   };
 
-  std::vector<SnapVertex> out;
   for (std::vector<SnapVertex>& path : paths) {
     if (path.size() < 2) continue;
     out.clear();
     out.push_back(path[0]);
     for (std::size_t i = 0; i + 1 < path.size(); ++i) {
       const SnapVertex &p = path[i], &q = path[i + 1];
-      if (const Crossing c = crossing(p, q); c.crosses) {
-        // Across the antimeridian: p to the crossing's hot pixel in p's sheet, which is put in
-        // the path, then from there in q's sheet to q.
-        const SnapVertex x = pixel_at(c.at_p);
-        route(p, on_side(x, p.raw_lon), out);
-        out.push_back(x);
-        ++inserted;
-        route(on_side(x, q.raw_lon), q, out);
-      } else {
-        const double side = p.raw_lon == -180 ? q.raw_lon : p.raw_lon;
-        route(on_side(p, side), on_side(q, side), out);
-      }
+      // In the sheet of the end off the antimeridian (an end on it is on both).
+      const double side = std::fabs(p.raw_lon) == 180 ? q.raw_lon : p.raw_lon;
+      route(on_side(p, side), on_side(q, side), out);
       out.push_back(q);
     }
     if (out.size() != path.size()) path.swap(out);
