@@ -39,10 +39,11 @@ inline constexpr int kSnapRoundMaxPrecision = 12;
 /// common written vertices, or coincide (which leaves spikes for remove_spikes, and rings that
 /// touch themselves at a vertex). The antimeridian is a segment of the arrangement too: where a
 /// segment crosses it (longitudes more than 180 degrees apart; at the latitude of its straight
-/// lon/lat line, or crossing_lat) is a hot pixel on it, which the segment is routed through (a vertex tagged
-/// kNewVertex, unless a vertex is written there), and a hot pixel on it is one on both sides.
-/// A segment with an end at a pole is left as it is. `extra` gives hot pixels only. REQUIRES: 0 <= precision <= kSnapRoundMaxPrecision. Returns the vertices
-/// inserted. O((n + k) log n) for n vertices and k insertions, on typical input.
+/// lon/lat line, or crossing_lat) becomes a vertex of its path on it (tagged kNewVertex) before
+/// anything is routed, and a hot pixel on it is one on both sides. A segment with an end at a
+/// pole is left as it is. `extra` gives hot pixels only.
+/// REQUIRES: 0 <= precision <= kSnapRoundMaxPrecision. Returns the vertices inserted.
+/// O((n + k) log n) for n vertices and k insertions, on typical input (hot pixels in Z order).
 /// `crossing_lat`, if given, is the raw latitude at which the segment p -> q crosses the
 /// antimeridian (the caller's great-circle arc; by default its straight lon/lat line).
 std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<const SnapVertex> extra,
