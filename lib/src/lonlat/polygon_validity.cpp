@@ -66,12 +66,6 @@ bool collinear(const Ring& r) {
 // rings that do not, appended to `parts`; `ring` keeps the last one. Returns whether it split.
 bool split_at_repeats(Ring& ring, std::vector<Ring>& parts) {
   if (ring.size() < 5) return false;
-  std::vector<LonLat> sorted(ring.begin(), ring.end() - 1);
-  auto less = [](const LonLat& a, const LonLat& b) {
-    return a.lon_deg < b.lon_deg || (a.lon_deg == b.lon_deg && a.lat_deg < b.lat_deg);
-  };
-  std::sort(sorted.begin(), sorted.end(), less);
-  if (std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end()) return false;
   // A stack walk: a position already on the stack closes the loop above it (where, by a map
   // of the positions on the stack: rings run to hundreds of thousands of positions).
   struct Hash {
@@ -82,6 +76,7 @@ bool split_at_repeats(Ring& ring, std::vector<Ring>& parts) {
   };
   std::unordered_map<LonLat, std::size_t, Hash> on_stack;
   std::vector<LonLat> stack;
+  const std::size_t split_before = parts.size();
   for (std::size_t i = 0; i + 1 < ring.size(); ++i) {
     const LonLat& p = ring[i];
     const auto it = on_stack.find(p);
@@ -97,6 +92,7 @@ bool split_at_repeats(Ring& ring, std::vector<Ring>& parts) {
     for (std::size_t k = at + 1; k < stack.size(); ++k) on_stack.erase(stack[k]);
     stack.resize(at + 1);
   }
+  if (parts.size() == split_before) return false;  // no position twice: the ring as it was
   stack.push_back(stack.front());
   ring.swap(stack);
   return true;

@@ -82,9 +82,11 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
     Crossing c{false, {}};
     if (!(std::fabs(q.raw_lon - p.raw_lon) > 180) || std::fabs(p.raw_lon) == 180 || std::fabs(q.raw_lon) == 180) return c;
     const double p_side = p.raw_lon > 0 ? 180 : -180;
-    const double q_lon = q.raw_lon + 2 * p_side;  // q in p's sheet
-    const double t = (p_side - p.raw_lon) / (q_lon - p.raw_lon);
-    const double lat = crossing_lat ? crossing_lat(p, q) : p.raw_lat + std::clamp(t, 0.0, 1.0) * (q.raw_lat - p.raw_lat);
+    auto straight = [&] {  // the straight line's latitude there, q taken in p's sheet
+      const double t = (p_side - p.raw_lon) / (q.raw_lon + 2 * p_side - p.raw_lon);
+      return p.raw_lat + std::clamp(t, 0.0, 1.0) * (q.raw_lat - p.raw_lat);
+    };
+    const double lat = crossing_lat ? crossing_lat(p, q) : straight();
     c.crosses = true;
     c.at_p = {p_side, lat, p_side, snap_to_decimals(lat, precision), kNewVertex};
     return c;
