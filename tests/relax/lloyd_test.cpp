@@ -134,6 +134,43 @@ TEST(CellCentroid, MatchesFineSubdivision) {
   }
 }
 
+// Cells from a metre to a kilometre across: the closed form's terms (edge angles ~ the cell's size,
+// each to an ulp) cancel to a mass of ~ size^2, and had put the centroid of a cell of a metre
+// 1.3 km away (a cluster of 4 sites in the oracle). The one-point rule area * normalize(p + a + b)
+// on the fan triangles, subdivided twice, is exact to ~ size^2 relative here: the centroids must
+// agree to a few ulps of a radian.
+TEST(CellCentroid, SmallCellsToAFewUlps) {
+  for (const double spread_m : {3.0, 30.0, 1000.0}) {
+    SCOPED_TRACE(spread_m);
+    std::vector<Vec3> pts = testing::clustered(48, 4, spread_m / SiteEncoder::kEarthRadiusM, 21);
+    const std::vector<Vec3> far = testing::uniform_on_sphere(12, 22);
+    pts.insert(pts.end(), far.begin(), far.end());
+    const SphericalDelaunay dt = SphericalDelaunay::build(pts);
+    const VoronoiDiagram vd(dt);
+    int checked = 0;
+    for (SiteId s = 0; s < dt.site_capacity(); ++s) {
+      if (!vd.has_cell(s)) continue;
+      const auto tris = vd.cell_vertices(s);
+      const Vec3& p = vd.site(s);
+      bool small = true;
+      Vec3 oracle{};
+      for (std::size_t i = 0; i < tris.size(); ++i) {
+        const Vec3& a = vd.vertex(tris[i]);
+        const Vec3& b = vd.vertex(tris[(i + 1) % tris.size()]);
+        small &= len(a - p) < 1e-3;
+        oracle = oracle + subdivided_mass(p, a, b, 2);
+      }
+      if (!small) continue;
+      ++checked;
+      const CellCentroid c = cell_centroid(vd, s);
+      ASSERT_TRUE(c.defined);
+      EXPECT_LT(len(c.centroid - unit(oracle)), 1e-13) << "site " << s;
+      EXPECT_NEAR(c.area_sr, len(oracle), 1e-12 * c.area_sr) << "site " << s;
+    }
+    EXPECT_GT(checked, 10);
+  }
+}
+
 TEST(CellCentroid, DegenerateKinds) {
   // One site: the whole sphere, M = 0, no centroid; energy = integral of |x - s|^2 = 8 pi.
   {
