@@ -89,6 +89,67 @@ TEST(PolygonValidity, TwoPartsAgainstGeos) {
   EXPECT_GT(touching_at_positions, 20);
 }
 
+// Up to six parts on a coarse grid: polygon_problem() accepting them means GEOS does (the
+// bounding-box sweep for nested parts must not miss a pair), and nested parts are found.
+TEST(PolygonValidity, SeveralPartsAgainstGeos) {
+  std::uint64_t state = 33;
+  auto next = [&](int n) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<int>((state >> 33) % static_cast<std::uint64_t>(n));
+  };
+  int accepted = 0, nested = 0;
+  for (int iter = 0; iter < 4000; ++iter) {
+    MultiPolygon mp;
+    const int parts = 2 + next(5);
+    for (int part = 0; part < parts; ++part) {
+      // Mostly small triangles (quarter steps); one part in three a large one, so that parts nest.
+      const bool large = next(3) == 0;
+      const double step = large ? 1 : 0.25;
+      const int x0 = next(7), y0 = next(7);
+      Ring r;
+      for (int i = 0; i < 3; ++i)
+        r.push_back({x0 + step * next(large ? 7 : 4), y0 + step * next(large ? 7 : 4)});
+      r.push_back(r.front());
+      if (polygon_problem({Polygon{r, {}}}).empty()) mp.push_back(Polygon{r, {}});
+    }
+    if (mp.size() < 2) continue;
+    const std::string ours = polygon_problem(mp);
+    const std::string geos = testing::geos_invalid(mp);
+    if (ours.empty()) {
+      EXPECT_EQ(geos, "") << "accepted";
+      ++accepted;
+    }
+    if (ours == "a part lies inside another") {
+      EXPECT_NE(geos, "");
+      ++nested;
+    }
+  }
+  EXPECT_GT(accepted, 100);
+  EXPECT_GT(nested, 20);
+}
+
+// Thousands of parts side by side (snap rounding pinches a thin lune into as many): the part
+// inside another is found wherever it is, including inside a long part that began far before.
+TEST(PolygonValidity, ThousandsOfParts) {
+  MultiPolygon chain;
+  for (int i = 0; i < 4000; ++i) {  // diamonds touching at their corners along y = 1
+    const double x = 2.0 * i;
+    chain.push_back(Polygon{{{x, 1}, {x + 1, 0.5}, {x + 2, 1}, {x + 1, 1.5}, {x, 1}}, {}});
+  }
+  // A long thin part below them, starting before the first and ending inside the diamond at 4998.
+  chain.push_back(Polygon{{{-1, -2}, {4999, -2}, {4999, 0}, {-1, 0}, {-1, -2}}, {}});
+  EXPECT_EQ(polygon_problem(chain), "");
+  EXPECT_EQ(testing::geos_invalid(chain), "");
+  MultiPolygon inner = chain;
+  // Inside the long part, after that diamond began (which the sweep must not take as its end).
+  inner.push_back(Polygon{{{4998.2, -1.5}, {4998.8, -1.5}, {4998.5, -1}, {4998.2, -1.5}}, {}});
+  EXPECT_EQ(polygon_problem(inner), "a part lies inside another");
+  EXPECT_NE(testing::geos_invalid(inner), "");
+  MultiPolygon twice = chain;
+  twice.push_back(chain[1234]);
+  EXPECT_NE(polygon_problem(twice), "");
+}
+
 // What snap rounding leaves: a ring through one position twice is split into parts touching
 // there (GEOS: valid MultiPolygon); a fold-back on a line (a, b, c with c back towards a) loses
 // its tip; a ring left on one line has collapsed, a fold has not.

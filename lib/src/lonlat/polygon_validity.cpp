@@ -176,17 +176,55 @@ std::string polygon_problem(const MultiPolygon& polygons) {
     }
   }
   // No two rings cross: parts must not lie inside one another, tested at a position of one
-  // that is not on the other (they meet only at common positions).
-  for (std::size_t k = 0; k < rings.size(); ++k)
-    for (std::size_t l = 0; l < rings.size(); ++l) {
-      if (k == l) continue;
-      const Ring &rk = *rings[k], &rl = *rings[l];
-      const auto p = std::find_if(rk.begin(), rk.end(), [&rl](const LonLat& q) {
-        return std::find(rl.begin(), rl.end(), q) == rl.end();
-      });
-      if (p == rk.end()) return "two parts share all their positions";
-      if (inside(rl, *p)) return "a part lies inside another";
+  // that is not on the other (they meet only at common positions). Only a part whose bounding
+  // box holds the other's can hold it: a sweep in longitude finds those pairs (snap rounding
+  // pinches a thin band into thousands of parts side by side, which all pairs made quadratic).
+  struct Box {
+    double xmin = 180, xmax = -180, ymin = 90, ymax = -90;
+    std::uint32_t ring = 0;
+  };
+  std::vector<Box> boxes(rings.size());
+  for (std::uint32_t k = 0; k < rings.size(); ++k) {
+    Box& b = boxes[k];
+    b.ring = k;
+    for (const LonLat& p : *rings[k])
+      b.xmin = std::min(b.xmin, p.lon_deg), b.xmax = std::max(b.xmax, p.lon_deg),
+      b.ymin = std::min(b.ymin, p.lat_deg), b.ymax = std::max(b.ymax, p.lat_deg);
+  }
+  std::sort(boxes.begin(), boxes.end(), [](const Box& a, const Box& b) { return a.xmin < b.xmin; });
+  std::vector<std::vector<LonLat>> sorted_positions(rings.size());  // filled on first use
+  auto position_less = [](const LonLat& a, const LonLat& b) {
+    return a.lon_deg < b.lon_deg || (a.lon_deg == b.lon_deg && a.lat_deg < b.lat_deg);
+  };
+  // "" if part k is outside part l, else why not.
+  auto outside = [&](std::uint32_t k, std::uint32_t l) -> const char* {
+    std::vector<LonLat>& on_l = sorted_positions[l];
+    if (on_l.empty()) {
+      on_l.assign(rings[l]->begin(), rings[l]->end());
+      std::sort(on_l.begin(), on_l.end(), position_less);
     }
+    const Ring& rk = *rings[k];
+    const auto p = std::find_if(rk.begin(), rk.end(), [&](const LonLat& q) {
+      return !std::binary_search(on_l.begin(), on_l.end(), q, position_less);
+    });
+    if (p == rk.end()) return "two parts share all their positions";
+    if (inside(*rings[l], *p)) return "a part lies inside another";
+    return "";
+  };
+  auto holds = [](const Box& outer, const Box& inner) {
+    return outer.xmin <= inner.xmin && inner.xmax <= outer.xmax && outer.ymin <= inner.ymin && inner.ymax <= outer.ymax;
+  };
+  std::vector<Box> active;  // boxes that began at or before the current one and reach it
+  for (const Box& b : boxes) {
+    std::erase_if(active, [&](const Box& a) { return a.xmax < b.xmin; });
+    for (const Box& a : active) {
+      if (holds(a, b))
+        if (const char* why = outside(b.ring, a.ring); *why) return why;
+      if (holds(b, a))
+        if (const char* why = outside(a.ring, b.ring); *why) return why;
+    }
+    active.push_back(b);
+  }
   return {};
 }
 
