@@ -30,18 +30,11 @@ Vec3 normalized(const Vec3& v) { return (1 / std::sqrt(norm2(v))) * v; }
 // Angle between two unit vectors, accurate at every angle (atan2, not acos).
 double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(std::sqrt(norm2(cross(a, b))), dot(a, b)); }
 
-// Cells whose vertices are all within kSmallCellChord of their site take the gnomonic quadrature
-// below: the closed form's terms (edge angles ~ the cell's size s, each with an absolute error of an
-// ulp) cancel to a mass of ~ s^2, so its direction erred by ~ ulp / s^2 radians (1.3 km for a cell
-// of a metre); the quadrature's error is ~ s^7, the closed form's ~ 1e-16 / s^2: equal near 0.02.
-constexpr double kSmallCellChord = 0.02;
-
-bool small_cell(const VoronoiDiagram& vd, const Vec3& p, std::span<const TriId> tris) {
-  if (tris.size() < 3) return false;
-  for (const TriId t : tris)
-    if (norm2(vd.vertex(t) - p) > kSmallCellChord * kSmallCellChord) return false;
-  return true;
-}
+// Cells of a perimeter below kSmallCellPerimeter (about 10 km across) take the gnomonic quadrature
+// below for M's part across the site: the closed form's terms (edge angles, each to an ulp)
+// cancel to a mass of ~ perimeter^2 / 14, so its direction errs by ~ 1e-16 k / |M| radians (1.3 km
+// for a cell of a metre, 0.6 mm at this perimeter); the quadrature's error is ~ size^7.
+constexpr double kSmallCellPerimeter = 0.01;
 
 // The part of M across p of a small cell, from its gnomonic projection about the site p, where
 // its edges are straight: x = (u e1 + v e2 + p) / sqrt(1 + q), q = u^2 + v^2, dA = du dv / (1 + q)^(3/2),
@@ -234,7 +227,7 @@ CellCentroid cell_centroid(const VoronoiDiagram& vd, SiteId s) {
   const std::span<const SiteId> nbrs = vd.cell_neighbors(s);
   const std::size_t d = tris.size();
   Vec3 m{};
-  double area = 0;
+  double area = 0, perimeter = 0;
   // The diagram starts each cell at its smallest neighbour: the sum's order is canonical.
   for (std::size_t i = 0; i < d; ++i) {
     const Vec3& a = vd.vertex(tris[i]);
@@ -245,6 +238,7 @@ CellCentroid cell_centroid(const VoronoiDiagram& vd, SiteId s) {
     // Edges turn positively by 0 to 180 degrees: a negative angle is a rounded 0 or 180.
     if (theta < 0) theta = cos_ab < 0 ? kPi : 0;
     m = m + theta * n;
+    perimeter += theta;
     if (cos_ab < 0) {
       // Long edge: two fan triangles, as in VoronoiDiagram::cell_area_sr.
       const Vec3 mid = VoronoiDiagram::arc_midpoint(a, b, n);
@@ -254,7 +248,7 @@ CellCentroid cell_centroid(const VoronoiDiagram& vd, SiteId s) {
     }
   }
   c.mass = 0.5 * m;
-  if (small_cell(vd, p, tris)) {
+  if (d >= 3 && perimeter < kSmallCellPerimeter) {
     const Vec3 radial = dot(c.mass, p) * p;  // ~ the area: no cancellation
     c.mass = radial + small_cell_tangential_mass(vd, p, tris);
   }

@@ -10,11 +10,12 @@
 /// n_ab the unit normal of the edge's great circle pointing into C. For the Voronoi edge between
 /// site s and neighbour w the normal is normalize(s - w) (its bisector plane), which stays exact for
 /// zero-length edges (co-circular sites) and 180-degree edges (lunes, three sites), where the cross
-/// product of the end vertices is useless. In a cell within 0.02 radians of its site the terms
-/// (~ its size s) cancel to a mass of ~ s^2, leaving its direction an error of ~ 1e-16 / s^2
-/// radians; there M's part across the site comes from the cell's gnomonic projection, where the
-/// edges are straight, by a 7-point rule on its fan triangles (error ~ s^7). Either way the
-/// centroid of the cell of the given vertices is right to about 1e-13 radians (a micrometre).
+/// product of the end vertices is useless. The terms (~ the cell's size s) cancel to a mass of
+/// ~ s^2, leaving its direction an error of ~ 1e-16 / s^2 radians; so in a cell of a perimeter
+/// below 0.01 radians (64 km) M's part across the site comes from the cell's gnomonic projection
+/// instead, where the edges are straight, by a 7-point rule on its fan triangles (error ~ s^7).
+/// The centroid of the cell of the given vertices is right to about 1e-10 radians (under a
+/// millimetre) at every size, and to about 1e-15 radians in the small cells.
 ///
 /// Energy (the quantity Lloyd's iterations decrease): E = sum over cells of integral over the cell
 /// of |x - s|^2 dA (sr, unit sphere). Since |x - s|^2 = 2 - 2 x.s on the sphere, each cell's term
