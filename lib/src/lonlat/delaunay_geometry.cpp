@@ -166,11 +166,11 @@ WrittenStatus DelaunayGeometry::triangle_polygon(TriId t, MultiPolygon& out) con
     append_canonical_arc(pu, pv, u, v, n, options_, edge_bound2(3 * t + j), sc.loop, sc.arc);
   }
   lonlat::loop_to_polygons(sc.loop, out, nullptr, options_.precision);
-  bool cleaned = false;
-  const WrittenStatus status = certify_written(out, &cleaned);
-  if (status != WrittenStatus::Written || !cleaned) return status;
-  // A corner thinner than a decimal step folds onto one point and its spike is removed: what is
-  // left is valid but is no triangle of its three sites, so it is reported instead of written.
+  const WrittenStatus status = certify_written(out, nullptr);
+  if (status != WrittenStatus::Written) return status;
+  // A corner thinner than a decimal step folds onto one point and its spike is removed (by the
+  // certification, or by the cut at +-180 when the corner pokes across it by less than a step):
+  // what is left is valid but is no triangle of its three sites, so it is reported instead.
   for (const SiteId site : s) {
     const SitePt& p = sites_[site];
     bool found = false;
