@@ -441,6 +441,38 @@ TEST(DelaunayGeometry, WrittenTrianglesKeepTheirSites) {
   EXPECT_GE(checked, 10u);
 }
 
+// A column of sites 0.38 m apart down the meridian 179.99 from the north pole: slivers with a
+// corner at the pole, and a site within 2^-36 rad of the antimeridian moved onto it. One of them
+// (1.9e-34 sr) was written closed along the antimeridian through the south pole, the whole
+// Earth (the oracle, seed 9). Every triangle written is at most its tiny lon/lat extent (planar
+// shoelace area in square degrees, our own sum), or reported.
+TEST(DelaunayGeometry, SliversAtThePoleAcrossTheAntimeridian) {
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 29; ++i) pts.push_back(SiteEncoder::from_lat_lon(90 - i * 3.44e-6, 179.99));
+  const SphericalDelaunay dt = SphericalDelaunay::build(pts);
+  ASSERT_EQ(dt.num_sites(), pts.size());
+  for (const int precision : {7, 9, -1}) {
+    SCOPED_TRACE(precision);
+    DelaunayGeometryOptions o;
+    o.precision = precision;
+    const DelaunayGeometry g(dt, o);
+    MultiPolygon mp;
+    std::size_t slivers = 0;
+    for (TriId t = 0; t < dt.num_triangles(); ++t) {
+      if (g.kind(t) == FaceKind::GreatCircle) continue;
+      ++slivers;
+      if (g.triangle_polygon(t, mp) != WrittenStatus::Written) continue;
+      EXPECT_EQ(testing::geos_invalid(mp), "") << t;
+      double area_deg2 = 0;
+      for (const Polygon& p : mp)
+        for (std::size_t i = 0; i + 1 < p.exterior.size(); ++i)
+          area_deg2 += 0.5 * (p.exterior[i].lon_deg * p.exterior[i + 1].lat_deg - p.exterior[i + 1].lon_deg * p.exterior[i].lat_deg);
+      EXPECT_LT(std::fabs(area_deg2), 0.01) << "triangle " << t << " (" << to_string(g.kind(t)) << ")";
+    }
+    EXPECT_GE(slivers, 2u);
+  }
+}
+
 TEST(DelaunayGeometry, CircumradiusIsTheDistanceToTheVoronoiVertex) {
   const SphericalDelaunay dt = SphericalDelaunay::build(testing::in_hemisphere(200, 21));
   const DelaunayGeometry g(dt);

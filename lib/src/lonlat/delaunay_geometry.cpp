@@ -8,6 +8,8 @@
 #include "geovor/core/error.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/kernel/predicates.hpp"
+#include "geovor/lonlat/cell_geometry.hpp"
+#include "geovor/lonlat/ellipsoid_area.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 #include "lonlat/boundary.hpp"
 
@@ -182,6 +184,18 @@ WrittenStatus DelaunayGeometry::triangle_polygon(TriId t, MultiPolygon& out) con
       out.clear();
       return WrittenStatus::Unwritable;
     }
+  }
+  // Near a pole longitudes are ill-conditioned, and a sliver with a corner there, cut at +-180,
+  // was closed along the antimeridian through the other pole: the whole Earth. As for cells
+  // (CellGeometry::check_near_pole), such a triangle's area is checked against its area on the
+  // sphere, and one that disagrees is reported, not written wrong.
+  bool near_pole_or_cut = out.size() > 1;
+  for (const Polygon& poly : out)
+    for (const LonLat& q : poly.exterior) near_pole_or_cut |= std::fabs(q.lat_deg) >= 89 || std::fabs(q.lon_deg) == 180;
+  if (near_pole_or_cut &&
+      !cell_areas_agree(ellipsoid_area_m2(out), triangle_area_sr(t), out, options_.densify_m, options_.precision)) {
+    out.clear();
+    return WrittenStatus::Unwritable;
   }
   return WrittenStatus::Written;
 }
