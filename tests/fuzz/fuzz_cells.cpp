@@ -12,7 +12,10 @@
 // and area 0 (never Unwritable but within a degree of a pole, or at 2 decimals or fewer).
 // From 7 decimals, the
 // written areas sum to the ellipsoid's. One input in 8 also builds the cells
-// on 2 threads, which must give the same bits.
+// on 2 threads, which must give the same bits. The Delaunay triangles of the same sites
+// (DelaunayGeometry::triangle_polygon, same precision and densification), when Written, must be
+// valid, on the grid and in range, with an ellipsoidal area that cell_areas_agree with their
+// area on the sphere (a sliver at a pole had been written as the whole Earth).
 // For triage: FUZZ_CELLS_VERBOSE=1 prints the cell counts by status; FUZZ_CELLS_DUMP=<site> prints
 // that site and its written cell, FUZZ_CELLS_DUMP=all every site with its status.
 #include <GeographicLib/Geodesic.hpp>
@@ -35,6 +38,8 @@
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/lonlat/cell_geometry.hpp"
+#include "geovor/lonlat/delaunay_geometry.hpp"
+#include "geovor/lonlat/ellipsoid_area.hpp"
 #include "geovor/lonlat/polygon_validity.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 
@@ -374,6 +379,34 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     FUZZ_CHECK(std::fabs(sum - total) <= 1e-9 * total,
                "%s, precision %d, %zu sites: the cells sum to %.17g m^2, the ellipsoid is %.17g", name, precision,
                dt.num_sites(), sum, total);
+  }
+
+  // The Delaunay triangles, written at the same precision.
+  DelaunayGeometryOptions tri_options;
+  tri_options.precision = precision;
+  tri_options.densify_m = options.densify_m;
+  const DelaunayGeometry triangles(dt, tri_options);
+  for (TriId t = 0; t < dt.num_triangles(); ++t) {
+    const WrittenStatus status = triangles.triangle_polygon(t, mp);
+    if (status != WrittenStatus::Written) {
+      FUZZ_CHECK(mp.empty(), "%s, precision %d, triangle %u: %s with %zu parts", name, precision, t, to_string(status),
+                 mp.size());
+      continue;
+    }
+    const std::string problem = polygon_problem(mp);
+    FUZZ_CHECK(problem.empty(), "%s, precision %d, triangle %u (%s) of %zu sites: invalid: %s", name, precision, t,
+               to_string(triangles.kind(t)), pts.size(), problem.c_str());
+    for (const Polygon& poly : mp)
+      for (const LonLat& c : poly.exterior)
+        FUZZ_CHECK(snap_to_decimals(c.lon_deg, precision) == c.lon_deg &&
+                       snap_to_decimals(c.lat_deg, precision) == c.lat_deg && c.lon_deg >= -180 &&
+                       c.lon_deg <= 180 && c.lat_deg >= -90 && c.lat_deg <= 90,
+                   "%s, precision %d, triangle %u: position (%.17g, %.17g) off the grid or out of range", name,
+                   precision, t, c.lon_deg, c.lat_deg);
+    const double tri_m2 = ellipsoid_area_m2(mp), tri_sr = triangles.triangle_area_sr(t);
+    FUZZ_CHECK(cell_areas_agree(tri_m2, tri_sr, mp, options.densify_m, precision),
+               "%s, precision %d, triangle %u (%s) of %zu sites: written %.17g m^2, %.17g sr on the sphere", name,
+               precision, t, to_string(triangles.kind(t)), pts.size(), tri_m2, tri_sr);
   }
 
   if (threads_too) {

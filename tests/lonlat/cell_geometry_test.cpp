@@ -859,5 +859,48 @@ TEST(CellGeometryAsWritten, RingOfSitesAroundAPole) {
   }
 }
 
+// Sites at one latitude, equally spaced in longitude, with one of them an ulp higher: it owns
+// the pole, which is a Voronoi vertex of all of them within rounding. Each cell's corner at the
+// pole is 360 / k degrees; the owner's had been dropped as if rounding had turned its wedge the
+// wrong way, so its ring ran straight from the pole to its next vertex and left a gap of that
+// wedge in lon/lat (GIS draws straight lines; PolygonArea's geodesics from the pole hid it).
+// Found by the oracle: relax of 3 sites around the south pole. The planar areas (our own
+// shoelace sum) must tile the 64800 square degrees.
+TEST(CellGeometryAsWritten, OwnerOfAPoleVertexKeepsItsWedge) {
+  auto shoelace_deg2 = [](const MultiPolygon& mp) {
+    double a = 0;
+    for (const Polygon& poly : mp)
+      for (std::size_t i = 0; i + 1 < poly.exterior.size(); ++i)
+        a += 0.5 * (poly.exterior[i].lon_deg * poly.exterior[i + 1].lat_deg -
+                    poly.exterior[i + 1].lon_deg * poly.exterior[i].lat_deg);
+    return a;
+  };
+  for (const std::size_t k : {3u, 4u, 5u, 7u}) {
+    for (std::size_t raised = 0; raised < k; ++raised) {
+      const double lat = 18.40227899387863;
+      std::vector<std::pair<double, double>> ll;
+      for (std::size_t i = 0; i < k; ++i)
+        ll.push_back({i == raised ? std::nextafter(lat, 90.0) : lat, -98.95425315185378 + 360.0 * i / k});
+      ll.push_back({-90, 0});
+      for (const int p : {7, kFullPrecision}) {
+        SCOPED_TRACE("k " + std::to_string(k) + ", raised " + std::to_string(raised) + ", precision " + std::to_string(p));
+        const VoronoiDiagram vd = diagram_of(from_lat_lon(ll));
+        CellGeometryOptions opt;
+        opt.precision = p;
+        const CellGeometry geom(vd, opt);
+        double planar = 0, area_m2 = 0, least = 64800, most = 0;
+        MultiPolygon mp;
+        for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+          ASSERT_EQ(geom.polygon(s, mp, area_m2), CellStatus::Written);
+          planar += shoelace_deg2(mp);
+          if (s < k) least = std::min(least, shoelace_deg2(mp)), most = std::max(most, shoelace_deg2(mp));
+        }
+        EXPECT_NEAR(planar, 64800, 1e-6);
+        EXPECT_NEAR(least, most, 1e-6 * most);  // the ring's cells are congruent
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace geovor

@@ -444,10 +444,7 @@ def _relaxed_tight_lunes(case, cmd):
 
 _COVERAGE_OPEN = lambda case, cmd: _near_pole_or_coarse(case, cmd) or _relaxed_tight_lunes(case, cmd)  # noqa: E731
 KNOWN_OPEN = {
-    "triangle area_sr = spherical triangle": (lambda case, cmd: True, "triangle_area_sr loses digits below 1e-17 sr"),
-    "circumradius_m": (lambda case, cmd: True, "circumcentres of near-degenerate triangles are ill-conditioned"),
-    "relax -n 1 moves every site to its cell's spherical centroid": (lambda case, cmd: True, "centroids of degenerate (sliver) cells"),
-    "triangle rings pass through their sites": (lambda case, cmd: True, "a sliver's corner at the antimeridian or a pole"),
+    "relax -n 1 moves every site to its cell's spherical centroid": (_COVERAGE_OPEN, "its precision-17 cells are the coverage checks' cases"),
     "every shared segment written once by each side": (_COVERAGE_OPEN, "near a pole, or at 2 decimals or fewer; relaxed tight lunes"),
     "the cut at +-180 and the pole lines are consistent": (_COVERAGE_OPEN, "same"),
     "planar areas sum to 64800 deg2": (_COVERAGE_OPEN, "same"),

@@ -323,12 +323,14 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
     ring.push_back({p.v, in, p.lat, 0});
     // The ring runs west along the north pole's line (east along the south's) from the incoming
     // meridian to the outgoing one: that span is the region's angle at the pole. When the caller
-    // knows whether the region holds the pole, a span on the wrong side of 180 degrees is
-    // rounding (a boundary passing within a decimal step of the pole, drawn at it): the ring then
-    // only touches the pole.
+    // knows that the region does not hold the pole, a span over 180 degrees is rounding (a
+    // boundary passing within a decimal step of the pole, drawn at it): the ring then only
+    // touches the pole. The owner keeps any span: its cell may hold the pole by an ulp, with a
+    // vertex of its neighbours at the pole within rounding, each taking its own wedge (sites on
+    // one latitude, one of them an ulp higher: dropping its wedge left a gap).
     const double span = std::fmod((p.lat > 0 ? in - outl : outl - in) + 720.0, 360.0);
     const int owns = p.lat > 0 ? pole_owner.north : pole_owner.south;
-    const bool wrong_side = (owns == 0 && span > 180) || (owns == 1 && span < 180);
+    const bool wrong_side = owns == 0 && span > 180;
     if (outl != in && !wrong_side) ring.push_back({p.v, outl, p.lat, 0});
   }
 
