@@ -184,6 +184,30 @@ TEST(PolygonValidity, CertifySplitsPinchesAndDropsFolds) {
   EXPECT_EQ(certify_written(bowtie), WrittenStatus::Unwritable);
 }
 
+// A path routed once more around three pixels (A B C A B, the tips of 19 cells of a co-circular
+// ring at 7 decimals, fuzz_cells' regression cocircular_ring_p7_tip_loop_winds_back): the loop
+// split off there is clockwise and smaller than a square of 1e-6 degree, so it has collapsed;
+// the same loop a thousand times larger is no rounding, and the ring is unwritable.
+TEST(PolygonValidity, CertifyDropsTinyLoopsWoundBack) {
+  for (const double scale : {1e-7, 1e-4}) {
+    SCOPED_TRACE(scale);
+    const double x0 = -166.47013, y0 = 16.5882352;
+    const LonLat a{x0, y0 + scale}, b{x0, y0}, c{x0 - 10 * scale, y0};
+    // From c: a, b, then a large part to the east and back to a, b, c.
+    MultiPolygon mp{Polygon{{c, a, b, {x0 + 5, y0 - 1}, {x0 + 5, y0 + 1}, a, b, c}, {}}};
+    EXPECT_NE(testing::geos_invalid(mp), "");
+    const WrittenStatus status = certify_written(mp);
+    if (scale < 1e-6) {
+      ASSERT_EQ(status, WrittenStatus::Written);
+      ASSERT_EQ(mp.size(), 1u);
+      EXPECT_EQ(testing::geos_invalid(mp), "");
+      EXPECT_EQ(mp[0].exterior.size(), 5u);  // a, b and the two eastern corners
+    } else {
+      EXPECT_EQ(status, WrittenStatus::Unwritable);
+    }
+  }
+}
+
 TEST(PolygonValidity, RemoveSpikes) {
   Ring r = {{0, 0}, {1, 0}, {2, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
   remove_spikes(r);

@@ -61,6 +61,9 @@ bool collinear(const Ring& r) {
   return std::all_of(r.begin(), r.end(), [&](const LonLat& p) { return orient(r.front(), *q, p) == 0; });
 }
 
+// Square degrees: a hundredth of a square metre at the equator, a square of 1e-6 degree.
+constexpr double kTinyLoopDeg2 = 1e-12;
+
 // Splits a closed ring that passes more than once through a position (snap rounding merges
 // the two sides of a thin part into one path, and the ring touches itself there) into closed
 // rings that do not, appended to `parts`; `ring` keeps the last one. Returns whether it split.
@@ -281,9 +284,13 @@ WrittenStatus certify_written(MultiPolygon& polygons, bool* cleaned_out) {
     if (r.size() >= 4) polygons.push_back(Polygon{std::move(r), {}});
   }
   // A ring whose positions all lie on one line (two sides rounded onto one meridian, a ring
-  // along a pole line) has collapsed.
+  // along a pole line) has collapsed. So has a clockwise loop smaller than kTinyLoopDeg2: snap
+  // rounding can route a path around a few pixels once more than it should (the tips of 19
+  // cells of a co-circular ring meeting in three pixels: A B C A B), and the loop split off
+  // there winds the wrong way; larger ones stay, and the ring is reported unwritable.
   for (Polygon& poly : polygons)
-    if (poly.exterior.size() >= 4 && collinear(poly.exterior)) {
+    if (poly.exterior.size() >= 4 &&
+        (collinear(poly.exterior) || (planar_area2(poly.exterior) < 0 && -planar_area2(poly.exterior) <= 2 * kTinyLoopDeg2))) {
       poly.exterior.clear();
       cleaned = true;
     }
