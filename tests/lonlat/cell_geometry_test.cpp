@@ -902,5 +902,48 @@ TEST(CellGeometryAsWritten, OwnerOfAPoleVertexKeepsItsWedge) {
   }
 }
 
+// Where relax takes a ring of 13 sites around the south pole after 3 iterations: near the
+// equator, 27.7 degrees apart, so their lunes' tips lie 6 to 130 m from the poles. A 130 m
+// Voronoi edge there spans 89 degrees of longitude, and its straight lon/lat segment (within
+// densify_m of the arc, as a circle of latitude) crossed its neighbours': one cell unwritable at
+// every precision. Within a few hundred metres of a pole segments now also keep within an
+// eighth of their distance to it. Every cell written, tiling the 64800 square degrees.
+TEST(CellGeometryAsWritten, LuneTipsMetresFromAPole) {
+  const std::vector<std::pair<double, double>> sites = {
+      {3.159610082474326e-05, -87.70250831383335},
+      {-7.465413003132405e-05, -60.010736730685096},
+      {8.353941926943596e-05, -32.319064689129284},
+      {-6.656931988091792e-05, -4.626382922036771},
+      {5.7554523081867085e-05, 23.06608260060986},
+      {-6.821041056644967e-05, 50.758483853735946},
+      {7.701057854832062e-05, 78.45148167756899},
+      {-5.837697952139551e-05, 106.1439530906385},
+      {1.6588494949864383e-05, 133.83562889890035},
+      {1.7779193604705734e-05, 161.52739612931657},
+      {-1.9485608706112303e-05, -170.7811514957054},
+      {-2.3951630125759113e-06, -143.08948265263166},
+      {5.617773451211896e-06, -115.39606577284967}};
+  const VoronoiDiagram vd = diagram_of(from_lat_lon(sites));
+  for (const int p : {5, 7, 12, kFullPrecision}) {
+    SCOPED_TRACE(p);
+    const written::Outcome o = written::check(from_lat_lon(sites), p);
+    EXPECT_EQ(o.written, 13u);
+    EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
+    CellGeometryOptions opt;
+    opt.precision = p;
+    const CellGeometry geom(vd, opt);
+    double planar = 0, area_m2 = 0;
+    MultiPolygon mp;
+    for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+      geom.polygon(s, mp, area_m2);
+      for (const Polygon& poly : mp)
+        for (std::size_t i = 0; i + 1 < poly.exterior.size(); ++i)
+          planar += 0.5 * (poly.exterior[i].lon_deg * poly.exterior[i + 1].lat_deg -
+                           poly.exterior[i + 1].lon_deg * poly.exterior[i].lat_deg);
+    }
+    EXPECT_NEAR(planar, 64800, 1e-6);
+  }
+}
+
 }  // namespace
 }  // namespace geovor

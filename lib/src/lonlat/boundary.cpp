@@ -267,7 +267,11 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
       // Great-circle midpoint against the midpoint of the straight lon/lat segment.
       const double dev2 = norm2(m - lonlat_midpoint(a, b));
       if (dev2 <= edge_tol2_) {
-        bool clear = true;
+        // Within a few hundred metres of a pole, also within an eighth of the distance to it:
+        // there a straight lon/lat segment is a circle of latitude, and one spanning 90 degrees
+        // of longitude 100 m from the pole crossed its neighbours (lunes of sites near the
+        // equator, their tips metres from the pole).
+        bool clear = 64 * dev2 <= m.x * m.x + m.y * m.y;
         for (const Vec3& g : guards_) {
           const double h = dot(m, g);
           clear &= 64 * dev2 <= h * h;
