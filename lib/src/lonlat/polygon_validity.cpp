@@ -288,12 +288,14 @@ WrittenStatus certify_written(MultiPolygon& polygons, bool* cleaned_out) {
   // rounding can route a path around a few pixels once more than it should (the tips of 19
   // cells of a co-circular ring meeting in three pixels: A B C A B), and the loop split off
   // there winds the wrong way; larger ones stay, and the ring is reported unwritable.
-  for (Polygon& poly : polygons)
-    if (poly.exterior.size() >= 4 &&
-        (collinear(poly.exterior) || (planar_area2(poly.exterior) < 0 && -planar_area2(poly.exterior) <= 2 * kTinyLoopDeg2))) {
+  for (Polygon& poly : polygons) {
+    if (poly.exterior.size() < 4) continue;
+    const double twice_area = planar_area2(poly.exterior);
+    if (collinear(poly.exterior) || (twice_area < 0 && -twice_area <= 2 * kTinyLoopDeg2)) {
       poly.exterior.clear();
       cleaned = true;
     }
+  }
   if (cleaned_out) *cleaned_out = cleaned;
   if (cleaned) {
     std::erase_if(polygons, [](const Polygon& poly) { return poly.exterior.size() < 4; });
