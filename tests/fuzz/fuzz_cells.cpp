@@ -9,9 +9,8 @@
 // when Written, a valid MultiPolygon (polygon_problem), every coordinate on the decimal grid and
 // in range, cell_areas_agree with the cell's area on the sphere, and area_m2 equal to
 // ellipsoid_area_m2(mp) within 1e-9 relative or 0.25 m^2; otherwise Collapsed, with an empty mp
-// and area 0 (never Unwritable but within a degree of a pole, or at 2 decimals or fewer).
-// From 7 decimals, the
-// written areas sum to the ellipsoid's. One input in 8 also builds the cells
+// and area 0 (never Unwritable but within a degree of a pole). With no cell unwritable, the
+// written areas sum to the ellipsoid's, at every precision. One input in 8 also builds the cells
 // on 2 threads, which must give the same bits. The Delaunay triangles of the same sites
 // (DelaunayGeometry::triangle_polygon, same precision and densification), when Written, must be
 // valid, on the grid and in range, with an ellipsoidal area that cell_areas_agree with their
@@ -318,14 +317,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     // A cell is written, or collapsed to nothing at this precision; never left out as a hole,
     // except (open, docs/design.md) one reaching within a degree of a pole (a pole is a line of
-    // the plate carree, its neighbourhood not snap rounded), or at 2 decimals or fewer (a step of
-    // a kilometre or more).
+    // the plate carree, its neighbourhood not snap rounded).
     if (status == CellStatus::Unwritable) {
       double max_abs_lat = std::fabs(SiteEncoder::to_lat_lon(vd.site(s)).lat_deg);
       for (const TriId t : vd.cell_vertices(s))
         max_abs_lat = std::max(max_abs_lat, std::fabs(SiteEncoder::to_lat_lon(vd.vertex(t)).lat_deg));
       const bool near_pole = max_abs_lat >= 89;
-      FUZZ_CHECK(near_pole || (precision >= 0 && precision <= 2),
+      FUZZ_CHECK(near_pole,
                  "%s, precision %d, site %u of %zu: unwritable, %.17g degrees from a pole", name, precision, s,
                  dt.num_sites(), 90 - max_abs_lat);
     }
@@ -371,10 +369,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   // The written cells tile the sphere (snap rounding keeps the tiling where rounding collapses
   // thin parts): with no cell unwritable, their areas sum to the ellipsoid's, collapsed cells
-  // having none. Checked from 7 decimals: coarser, where a whole group of cells falls into one
-  // step, neighbouring rounded boundaries can still overlap slightly (open, docs/design.md: a
-  // grid of 72 sites 0.01 degree apart at 0 decimals, 2e-7 of the ellipsoid).
-  if (counts[static_cast<int>(CellStatus::Unwritable)] == 0 && (precision < 0 || precision >= 7)) {
+  // having none. At every precision: at 2 decimals or fewer every cell is snap rounded, since a
+  // whole group of cells can fall into one step (a grid of 72 sites 0.01 degree apart at 0
+  // decimals had overlapped by 2e-7 of the ellipsoid).
+  if (counts[static_cast<int>(CellStatus::Unwritable)] == 0) {
     const double total = GeographicLib::Geodesic::WGS84().EllipsoidArea();
     FUZZ_CHECK(std::fabs(sum - total) <= 1e-9 * total,
                "%s, precision %d, %zu sites: the cells sum to %.17g m^2, the ellipsoid is %.17g", name, precision,

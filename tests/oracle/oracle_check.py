@@ -429,10 +429,9 @@ def write_csv(path, pts):
 # Checks that still fail on known, open defects of issue 14 (docs/design.md, "Open"), each in the
 # cases it concerns. With --known-open their failures there are listed as OPEN and do not fail
 # the run; every other check must pass.
-def _near_pole_or_coarse(case, cmd):
-    """a site within a degree of a pole, or cells at 2 decimals or fewer (docs/design.md, Open)."""
-    m = re.search(r"--precision (\d+)", cmd)
-    return (m is not None and int(m.group(1)) <= 2) or any(90 - abs(la) <= 1.0 for la, _ in case.pts)
+def _near_pole(case, cmd):
+    """a site within a degree of a pole (docs/design.md, Open)."""
+    return any(90 - abs(la) <= 1.0 for la, _ in case.pts)
 
 
 def _relaxed_tight_lunes(case, cmd):
@@ -442,10 +441,10 @@ def _relaxed_tight_lunes(case, cmd):
         float(re.search(r"(spacing|r)=([0-9.e-]+)", case.recipe).group(2)) < 1e-4
 
 
-_COVERAGE_OPEN = lambda case, cmd: _near_pole_or_coarse(case, cmd) or _relaxed_tight_lunes(case, cmd)  # noqa: E731
+_COVERAGE_OPEN = lambda case, cmd: _near_pole(case, cmd) or _relaxed_tight_lunes(case, cmd)  # noqa: E731
 KNOWN_OPEN = {
     "relax -n 1 moves every site to its cell's spherical centroid": (_COVERAGE_OPEN, "its precision-17 cells are the coverage checks' cases"),
-    "every shared segment written once by each side": (_COVERAGE_OPEN, "near a pole, or at 2 decimals or fewer; relaxed tight lunes"),
+    "every shared segment written once by each side": (_COVERAGE_OPEN, "near a pole; relaxed tight lunes"),
     "the cut at +-180 and the pole lines are consistent": (_COVERAGE_OPEN, "same"),
     "planar areas sum to 64800 deg2": (_COVERAGE_OPEN, "same"),
     "neighbors consistent with the shared segments": (_COVERAGE_OPEN, "same"),

@@ -103,6 +103,11 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   // And whether it is a cap, its circumradius over 8 times its longest side (an angle within 3.6
   // degrees of 180: its three cells have an angle below 3.6 degrees there, thin near it).
   cap_.assign(nv, 0);
+  // And whether it lies where the plate carree can turn a chord by a degree at its ends: one
+  // within densify_m of its arc turns by about sqrt(2 densify_m tan(lat) / R) radians, a degree
+  // from tan(lat) = 1.5e-4 R / densify_m (84 degrees for 100 m). Cells there are guarded
+  // like caps' (cap angles are below 3.6 degrees; lunes 1 km from a pole crossed).
+  const double pole_guard2 = std::pow(1.5e-4 * SiteEncoder::kEarthRadiusM / options.densify_m, 2);
   // And each triangle's sites, sorted (its smallest site s, then the other two): the collapsed
   // vertices take the position of the one with the smallest triple, which depends on the
   // triangulation's triangles only, not on how it numbers them (relax's relocation modes).
@@ -133,7 +138,9 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
           const double su = norm2(ps - pu), sw = norm2(ps - pw), uw = norm2(pu - pw);
           min_side2[a] = round_down(std::min({su, sw, uw}));
           if (min_side2[a] < small2) small[thread].push_back(a);
-          cap_[a] = norm2(diagram.vertex(a) - ps) > 64 * std::max({su, sw, uw});
+          const Vec3& va = diagram.vertex(a);
+          cap_[a] = (norm2(va - ps) > 64 * std::max({su, sw, uw}) ? kCap : 0) |
+                    (va.z * va.z > pole_guard2 * (va.x * va.x + va.y * va.y) ? kNearPole : 0);
           tri_sites[a] = {s, std::min(u, w), std::max(u, w)};
         }
       }
@@ -171,14 +178,19 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
 
   // The sites of the caps' triangles (their cells are thin near those vertices) and of the
   // small ones above: where a decimal step can be wider than a cell (snap_round_thin_cells).
+  // At kSnapAllDecimals or fewer, every cell: a step of a kilometre or more reaches beyond the
+  // neighbours of a thin cell, whose positions would not be hot pixels.
   std::vector<SiteId> thin_sites;
-  const bool snaps = options.precision < 0 || options.precision >= kMinSnapDecimals;
-  for (TriId t = 0; t < nv && snaps; ++t)
-    if (cap_[clustered.empty() ? t : rep[t]])
-      for (const SiteId s : tri_sites[t]) thin_sites.push_back(s);
-  for (const std::vector<TriId>& list : small)
-    for (const TriId t : snaps ? std::span<const TriId>(list) : std::span<const TriId>())
-      for (const SiteId s : tri_sites[t]) thin_sites.push_back(s);
+  if (options.precision >= 0 && options.precision <= kSnapAllDecimals) {
+    for (const SiteId s : order) thin_sites.push_back(s);
+  } else {
+    for (TriId t = 0; t < nv; ++t)
+      if (cap_[clustered.empty() ? t : rep[t]] & kCap)
+        for (const SiteId s : tri_sites[t]) thin_sites.push_back(s);
+    for (const std::vector<TriId>& list : small)
+      for (const TriId t : list)
+        for (const SiteId s : tri_sites[t]) thin_sites.push_back(s);
+  }
 
   // A collapsed cluster within collapse_m of a pole goes onto it: collapsing moves vertices as
   // far, which could put the pole inside a cell that does not own it (13 sites on a ring 60 m
@@ -401,11 +413,19 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
   std::vector<std::vector<lonlat::SnapVertex>> paths;
   std::vector<lonlat::SnapVertex> extra;
   std::vector<std::size_t> path_edge;
+  {  // every cell at coarse precisions: reserved, not grown
+    std::size_t total = 0, rerouted = 0;
+    for (const Edge& edge : edges) total += edge_slots_[edge.slot].count + 2, rerouted += edge.rerouted;
+    points.reserve(total);
+    paths.reserve(rerouted);
+    path_edge.reserve(rerouted);
+  }
   for (std::size_t k = 0; k < edges.size(); ++k) {
     const Edge& edge = edges[k];
     const EdgeSlot& e = edge_slots_[edge.slot];
     const Vertex &va = vertices_[edge.a], &vb = vertices_[edge.b];
     std::vector<lonlat::SnapVertex> path;
+    path.reserve(e.count + 2);
     path.push_back(vertex({va.v, va.lon, va.lat}, moved(va.rep), edge.rerouted || moved(va.rep)));
     const BoundaryPoint* p = points_[e.part - 1].data() + e.first;
     for (std::uint32_t i = 0; i < e.count; ++i) path.push_back(vertex(p[i], edge.rerouted, edge.rerouted));

@@ -107,6 +107,11 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
   }
 
   std::vector<HotPixel> pixels;
+  {
+    std::size_t total = extra.size();
+    for (const auto& path : paths) total += path.size();
+    pixels.reserve(total + total / 16);  // a few on the antimeridian twice
+  }
   auto add = [&](const SnapVertex& v) {
     pixels.push_back({steps(v.lon), steps(v.lat), v});
     if (std::fabs(v.lon) == 180) {  // on the antimeridian: a hot pixel in both sheets

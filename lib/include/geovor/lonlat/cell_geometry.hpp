@@ -9,9 +9,11 @@
 ///     max_depth levels. Near sites closer than 4 densify_m the tolerance of an edge drops to a
 ///     quarter of the shortest side of its two Delaunay triangles (at most a quarter of the
 ///     distance between its two sites), so every site stays inside its written cell. Near the
-///     vertex of a cap (a cell angle below 3.6 degrees: thin lunes) a piece is also split until
-///     it deviates by at most an eighth of its distance to the other sides of both cells, so
-///     that no two chords cross (lonlat::Densifier::set_guards).
+///     vertex of a cap (a cell angle below 3.6 degrees: thin lunes), and at vertices near a pole
+///     (where the plate carree can turn a chord by a degree: above 84 degrees of latitude for
+///     densify_m 100), a piece is also split until it deviates by at most an eighth of its
+///     distance to the other sides of both cells, so that no two chords cross
+///     (lonlat::Densifier::set_guards).
 ///     180-degree edges (lunes, three sites) are split by rotating in their bisector plane; an
 ///     arc with a pole as an end point is a meridian and is not split (except pole to pole); an
 ///     arc passing within kSnapRad of a pole is split at the pole. An edge is always densified in one canonical direction, from the cell of
@@ -31,7 +33,8 @@
 ///  Where a decimal step can be wider than a cell (near the vertex of a cap, or sites a few steps
 ///  apart), the edges of those cells are snap rounded at construction (kThinCellDecimals,
 ///  lonlat/snap_rounding.hpp): routed through every written position within a step, so that
-///  rounding merges their thin parts instead of folding them.
+///  rounding merges their thin parts instead of folding them; at kSnapAllDecimals or fewer, the
+///  edges of every cell.
 ///  5. Rings are closed by an exact copy of the first position, exterior rings counter-clockwise
 ///     in (lon, lat) (planar signed area > 0), without consecutive duplicates, longitudes within
 ///     [-180, 180] and latitudes within [-90, 90].
@@ -113,10 +116,10 @@ class CellGeometry {
   /// (1.1 cm) at a finer or full precision: collapsing already moves vertices by up to
   /// collapse_m there, and the sides of such cells cross at that scale.
   static constexpr int kThinCellDecimals = 7;
-  /// Below this many decimals (a step of a kilometre or more) cells are rounded vertex by vertex,
-  /// not snap rounded: where a whole band of cells fell onto one row of steps, snap rounding
-  /// wrote a cell 60 times its area (open, docs/design.md); rounding alone reports such cells.
-  static constexpr int kMinSnapDecimals = 3;
+  /// At this many decimals or fewer (a step of a kilometre or more) every cell is snap rounded,
+  /// not only the thin ones and their neighbours: a step can reach cells beyond those, whose
+  /// positions would not be hot pixels (a band of cells fell onto one row of steps).
+  static constexpr int kSnapAllDecimals = 2;
 
   /// @exception Error(InvalidArgument) if an option is out of range.
   explicit CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOptions& options = {});
@@ -170,7 +173,10 @@ class CellGeometry {
     float min_side2;
   };
   std::unique_ptr<Vertex[], Free> vertices_;
-  std::vector<std::uint8_t> cap_;  // per Voronoi vertex: its triangle is a cap (see the constructor)
+  // Per Voronoi vertex: its triangle is a cap (kCap), it lies near a pole (kNearPole); the
+  // edges at such a vertex are guarded (edge_guards). See the constructor.
+  std::vector<std::uint8_t> cap_;
+  static constexpr std::uint8_t kCap = 1, kNearPole = 2;
   // Per Voronoi edge and each of its two cells, in that cell's slot (slot = index in the
   // diagram's neighbour lists), computed at construction in the direction of the canonical cell
   // (the smaller site id): its densified points strictly between its end vertices
@@ -194,7 +200,8 @@ class CellGeometry {
   CellStatus build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
   // The great circles the edge between sites lo < hi, from vertex a to vertex b, must keep
   // clear of when one of its cells is thin (Densifier::set_guards), into `guards`. Called only
-  // for an edge at a cap's vertex (cap_): cells are thin only there.
+  // for an edge at a cap's vertex or one near a pole (cap_): cells are thin only at caps, and
+  // only near a pole can the plate carree turn chords by more than a cap's angle.
   void edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vertex& b, std::vector<Vec3>& guards) const;
   // Snap rounds (lonlat/snap_rounding.hpp) the edges of the cells of `thin_sites` and of their
   // neighbours, at a decimal precision: near a cap's vertex a cell can be narrower than a step
