@@ -68,6 +68,7 @@ struct RP {
   Vec3 v;
   double lon, lat;
   int k;
+  bool back = false;  // reached along a pole line the short way back (see loop_to_polygons)
 };
 
 // Sheet of q after p along the ring (exact: integer steps and comparisons only).
@@ -76,8 +77,9 @@ int next_sheet(const RP& p, const RP& q) {
     // Along a pole from the incoming meridian a = p.lon to the outgoing b = q.lon: the cell's
     // wedge at the pole is (a - b) mod 360 at the north pole (longitude decreases, interior on
     // the left), (b - a) mod 360 at the south pole.
-    if (p.lat > 0) return q.lon > p.lon ? p.k - 1 : p.k;
-    return q.lon < p.lon ? p.k + 1 : p.k;
+    // Taken back (q.back), the run goes the other way: east at the north pole, west at the south.
+    if (p.lat > 0) return q.back ? (q.lon < p.lon ? p.k + 1 : p.k) : (q.lon > p.lon ? p.k - 1 : p.k);
+    return q.back ? (q.lon > p.lon ? p.k - 1 : p.k) : (q.lon < p.lon ? p.k + 1 : p.k);
   }
   const double d = q.lon - p.lon;
   if (std::fabs(d) > 90 && !is_pole(p.lat) && !is_pole(q.lat)) {
@@ -328,14 +330,19 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
     // The ring runs west along the north pole's line (east along the south's) from the incoming
     // meridian to the outgoing one: that span is the region's angle at the pole. When the caller
     // knows that the region does not hold the pole, a span over 180 degrees is rounding (a
-    // boundary passing within a decimal step of the pole, drawn at it): the ring then only
-    // touches the pole. The owner keeps any span: its cell may hold the pole by an ulp, with a
-    // vertex of its neighbours at the pole within rounding, each taking its own wedge (sites on
-    // one latitude, one of them an ulp higher: dropping its wedge left a gap).
+    // boundary passing within a decimal step of the pole, drawn at it, with the region on the
+    // side away from the pole): the ring then runs the short way back along the pole line, the
+    // reverse of its neighbour's run there, and cancels against its own run along the pole line
+    // on the side nearer the pole (lunes passing the pole within a step: both runs are spikes
+    // on the line, removed alike on both sides). Only touching the pole there had drawn a chord
+    // where the neighbour ran along the pole line. The owner keeps any span: its cell may hold
+    // the pole by an ulp, with a vertex of its neighbours at the pole within rounding, each
+    // taking its own wedge (sites on one latitude, one of them an ulp higher: dropping its wedge
+    // left a gap).
     const double span = std::fmod((p.lat > 0 ? in - outl : outl - in) + 720.0, 360.0);
     const int owns = p.lat > 0 ? pole_owner.north : pole_owner.south;
-    const bool wrong_side = owns == 0 && span > 180;
-    if (outl != in && !wrong_side) ring.push_back({p.v, outl, p.lat, 0});
+    const bool back = owns == 0 && span > 180;
+    if (outl != in) ring.push_back({p.v, outl, p.lat, 0, back});
   }
 
   // Unwrap: sheets along the ring, and the winding (in turns) after closing it.

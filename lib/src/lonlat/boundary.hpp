@@ -88,8 +88,9 @@ class Densifier {
 /// pole, 0 when it encloses neither (a pole on the ring is not enclosed); and whether a point of
 /// the loop lies within 0.01 degree of a pole, where longitudes are ill-conditioned.
 /// `pole_owner` says, when known, whether the region holds each pole in its interior (1), not
-/// (0), or unknown (-1): the angle of the region at a point of the loop drawn at a pole is then
-/// taken on the right side of 180 degrees, else the ring only touches the pole there.
+/// (0), or unknown (-1): a region that does not hold the pole and spans more than 180 degrees
+/// of longitude at a point of the loop drawn at it runs the short way back along the pole line
+/// there (a spike on the line, cancelled by its other run, or removed when cleaning).
 struct PoleOwner {
   int north = -1, south = -1;
 };
