@@ -1061,5 +1061,27 @@ TEST(CellGeometryAsWritten, LunesPassingAPoleWithinAStep) {
   }
 }
 
+// relax of a column of sites 0.39 m apart on one meridian, with others far along it: the lunes
+// between the close sites are 0.39 m wide, and their triangles with a far site are no caps by
+// circumradius (90 degrees against a longest side of 50), though their angle at the middle site
+// is 180 degrees; and a lune's guards left out its other side, which shares both of its ends.
+// Chords within a quarter of the sites' distance (10 cm) of their arcs crossed: five cells
+// unwritable at every precision. Triangles with an angle within 3.6 degrees of 180 are now caps,
+// and a lune's other side is a guard.
+TEST(CellGeometryAsWritten, LunesOfAColumnAmongFarSitesOnItsMeridian) {
+  std::vector<std::pair<double, double>> sites = {{2.863166075607225, -180}, {87.23760305836096, -180},
+                                                  {59.200523011701115, 0},  {47.97238299983773, 0},
+                                                  {14.121721984384248, 0},  {-70.46564485590478, 0}};
+  // The column as relax left it (its spacing varies by 2 %).
+  for (const double lat : {53.59000687874744, 53.590003394425416, 53.589999955372754, 53.58999642149091, 53.58999288760908, 53.5899894080825, 53.589985823431256, 53.58998212027737, 53.58997869105425, 53.58997522227485, 53.589971722471, 53.58996808862793, 53.58996454211655, 53.58996108267256, 53.58995754879072, 53.58995408211568, 53.58995029140537})
+    sites.push_back({lat, 0});
+  for (const int p : {7, kFullPrecision}) {
+    SCOPED_TRACE(p);
+    const written::Outcome o = written::check(from_lat_lon(sites), p);
+    EXPECT_EQ(o.written, sites.size());
+    EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
+  }
+}
+
 }  // namespace
 }  // namespace geovor

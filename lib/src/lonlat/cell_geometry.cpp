@@ -112,6 +112,16 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   // vertices take the position of the one with the smallest triple, which depends on the
   // triangulation's triangles only, not on how it numbers them (relax's relocation modes).
   std::vector<std::array<SiteId, 3>> tri_sites(nv);
+  // Whether the triangle's angle at p (on the sphere, between the great circles to q and r) is
+  // within 3.6 degrees of 180: the test above, for triangles too large for it to hold (sites on
+  // one great circle, two of them close: their lunes are as thin, but the circumradius of a
+  // triangle with a far site is not 8 times its longest side).
+  auto near_straight = [](const Vec3& p, const Vec3& q, const Vec3& r) {
+    const Vec3 a = cross(p, q), b = cross(p, r);
+    if (!(dot(a, b) < 0)) return false;
+    constexpr double kSin2 = 0.003942649342761085;  // sin^2(3.6 degrees)
+    return norm2(cross(a, b)) < kSin2 * norm2(a) * norm2(b);
+  };
   auto round_down = [](double d2) {
     float f = static_cast<float>(d2);
     if (f > d2) f = std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) - 1);  // f > 0: the next float down
@@ -139,7 +149,9 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
           min_side2[a] = round_down(std::min({su, sw, uw}));
           if (min_side2[a] < small2) small[thread].push_back(a);
           const Vec3& va = diagram.vertex(a);
-          cap_[a] = (norm2(va - ps) > 64 * std::max({su, sw, uw}) ? kCap : 0) |
+          const bool cap = norm2(va - ps) > 64 * std::max({su, sw, uw}) || near_straight(ps, pu, pw) ||
+                           near_straight(pu, pw, ps) || near_straight(pw, ps, pu);
+          cap_[a] = (cap ? kCap : 0) |
                     (va.z * va.z > pole_guard2 * (va.x * va.x + va.y * va.y) ? kNearPole : 0);
           tri_sites[a] = {s, std::min(u, w), std::max(u, w)};
         }
@@ -524,9 +536,11 @@ void CellGeometry::edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vert
       const Vertex& f1 = vertices_[tris[i + 1 == d ? 0 : i + 1]];
       if (f0.rep == f1.rep) continue;  // collapsed
       const bool at_a = f0.rep == a.rep || f1.rep == a.rep, at_b = f0.rep == b.rep || f1.rep == b.rep;
-      if (at_a && at_b) continue;
       const Vec3 n = lonlat::normalized(vd.site(c) - vd.site(nbrs[i]));
-      if (at_a || at_b) {
+      if (at_a && at_b) {
+        // The other side of a lune (its ends collapsed onto ours): the side it must keep clear
+        // of most. Its chords had crossed a lune 0.39 m wide (relax of a column).
+      } else if (at_a || at_b) {
         // A side at a common vertex comes close only where the angle between them is acute.
         const Vec3& v = at_a ? a.v : b.v;
         const Vec3& e_far = at_a ? b.v : a.v;
