@@ -653,6 +653,7 @@ double polygon_area_m2(const MultiPolygon& mp) {
 struct Outcome {
   std::size_t cells = 0, written = 0, unwritable = 0, collapsed = 0;
   double area_sum = 0;
+  double planar_sum = 0;  // square degrees: 64800 when the written cells tile the plate carree
 };
 
 // Every cell at `precision`: a Written cell is valid for GEOS, every coordinate is a fixed point
@@ -689,6 +690,7 @@ Outcome check(const std::vector<Vec3>& pts, int precision) {
     EXPECT_TRUE(cell_areas_agree(area_m2, vd.cell_area_sr(s), mp, opt.densify_m, precision))
         << area_m2 << " m2 against " << vd.cell_area_sr(s) << " sr";
     out.area_sum += area_m2;
+    for (const Polygon& poly : mp) out.planar_sum += planar_area_deg2(poly.exterior);
   }
   return out;
 }
@@ -698,6 +700,15 @@ std::vector<Vec3> grid(double lat0, double lon0, double step, int n) {
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) ll.push_back({lat0 + i * step, lon0 + j * step});
   return from_lat_lon(ll);
+}
+
+// No cell unwritable at `precision`, the written cells tiling the ellipsoid and the plate carree.
+void expect_tiling(const std::vector<std::pair<double, double>>& sites, int precision) {
+  SCOPED_TRACE(precision);
+  const Outcome o = check(from_lat_lon(sites), precision);
+  EXPECT_EQ(o.unwritable, 0u);
+  EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
+  EXPECT_NEAR(o.planar_sum, 64800, 1e-6);
 }
 
 }  // namespace written
@@ -1002,23 +1013,7 @@ TEST(CellGeometryAsWritten, CoarsePrecisionsSnapRoundEveryCell) {
       if (lon < -180) lon += 360;
   for (const auto& sites : cases) {
     SCOPED_TRACE(sites.size());
-    const VoronoiDiagram vd = diagram_of(from_lat_lon(sites));
-    for (const int p : {0, 1, 2}) {
-      SCOPED_TRACE(p);
-      const written::Outcome o = written::check(from_lat_lon(sites), p);
-      EXPECT_EQ(o.unwritable, 0u);
-      EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
-      CellGeometryOptions opt;
-      opt.precision = p;
-      const CellGeometry geom(vd, opt);
-      double planar = 0, area_m2 = 0;
-      MultiPolygon mp;
-      for (SiteId s = 0; s < vd.site_capacity(); ++s) {
-        geom.polygon(s, mp, area_m2);
-        for (const Polygon& poly : mp) planar += planar_area_deg2(poly.exterior);
-      }
-      EXPECT_NEAR(planar, 64800, 1e-6);
-    }
+    for (const int p : {0, 1, 2}) written::expect_tiling(sites, p);
   }
 }
 
@@ -1041,23 +1036,7 @@ TEST(CellGeometryAsWritten, LunesPassingAPoleWithinAStep) {
         const double lon = g.lon0 + j * g.dlon;
         sites.push_back({90 - i * g.dlat, lon >= 180 ? lon - 360 : lon});
       }
-    const VoronoiDiagram vd = diagram_of(from_lat_lon(sites));
-    for (const int p : {1, 2, 3, 5, 7}) {
-      SCOPED_TRACE(p);
-      const written::Outcome o = written::check(from_lat_lon(sites), p);
-      EXPECT_EQ(o.unwritable, 0u);
-      EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
-      CellGeometryOptions opt;
-      opt.precision = p;
-      const CellGeometry geom(vd, opt);
-      double planar = 0, area_m2 = 0;
-      MultiPolygon mp;
-      for (SiteId s = 0; s < vd.site_capacity(); ++s) {
-        geom.polygon(s, mp, area_m2);
-        for (const Polygon& poly : mp) planar += planar_area_deg2(poly.exterior);
-      }
-      EXPECT_NEAR(planar, 64800, 1e-6);
-    }
+    for (const int p : {1, 2, 3, 5, 7}) written::expect_tiling(sites, p);
   }
 }
 
