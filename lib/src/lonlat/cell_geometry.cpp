@@ -116,6 +116,8 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   // within 3.6 degrees of 180: the test above, for triangles too large for it to hold (sites on
   // one great circle, two of them close: their lunes are as thin, but the circumradius of a
   // triangle with a far site is not 8 times its longest side).
+  // (Below a side of 5 degrees the two tests agree: the plane's law of sines holds.)
+  constexpr double kLargeSide2 = 0.0076;  // squared chord of 5 degrees
   auto near_straight = [](const Vec3& p, const Vec3& q, const Vec3& r) {
     const Vec3 a = cross(p, q), b = cross(p, r);
     if (!(dot(a, b) < 0)) return false;
@@ -149,8 +151,10 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
           min_side2[a] = round_down(std::min({su, sw, uw}));
           if (min_side2[a] < small2) small[thread].push_back(a);
           const Vec3& va = diagram.vertex(a);
-          const bool cap = norm2(va - ps) > 64 * std::max({su, sw, uw}) || near_straight(ps, pu, pw) ||
-                           near_straight(pu, pw, ps) || near_straight(pw, ps, pu);
+          const double longest2 = std::max({su, sw, uw});
+          const bool cap = norm2(va - ps) > 64 * longest2 ||
+                           (longest2 > kLargeSide2 && (near_straight(ps, pu, pw) || near_straight(pu, pw, ps) ||
+                                                       near_straight(pw, ps, pu)));
           cap_[a] = (cap ? kCap : 0) |
                     (va.z * va.z > pole_guard2 * (va.x * va.x + va.y * va.y) ? kNearPole : 0);
           tri_sites[a] = {s, std::min(u, w), std::max(u, w)};
