@@ -195,7 +195,10 @@ void make_sites(Bytes& in, int recipe, Recipe& r) {
           r.add(on_circle(centre, t1, t2, d, 2 * kPi * rnd.uniform()));
         }
       }
-      for (int k = 0; k < background; ++k) r.add(std::asin(2 * rnd.uniform() - 1) * 180 / kPi, 360 * rnd.uniform() - 180);
+      for (int k = 0; k < background; ++k) {
+        const double lat = std::asin(2 * rnd.uniform() - 1) * 180 / kPi;
+        r.add(lat, 360 * rnd.uniform() - 180);
+      }
       break;
     }
     case 5: {  // a near-co-circular ring: points on a circle moved by tiny noise, perhaps the centre
@@ -205,7 +208,8 @@ void make_sites(Bytes& in, int recipe, Recipe& r) {
       const Vec3 c = SiteEncoder::from_lat_lon(lat0, lon0);
       const std::uint8_t pick = in.u8();
       const Vec3 t1 = tangent(c, pick), t2 = cross(c, t1);
-      const double radius = std::ldexp(in.range(0.5, 1), -static_cast<int>(in.u8() % 28));
+      const double mantissa = in.range(0.5, 1);
+      const double radius = std::ldexp(mantissa, -static_cast<int>(in.u8() % 28));
       const int m = 4 + in.u8() % 40;
       const double noise = std::ldexp(1.0, -30 - static_cast<int>(in.u8() % 24));  // 2^-30 .. 2^-53 rad
       Random rnd(in.u64());

@@ -73,13 +73,19 @@ void add(std::vector<Vec3>& pts, const Vec3& p) {
   if (pts.size() < kMaxPoints && usable(p)) pts.push_back(p);
 }
 
+// A lat/lon position, latitude read first (a call's arguments are evaluated in no fixed order).
+Vec3 any_lat_lon(Bytes& in) {
+  const double lat = in.range(-90, 90);
+  return SiteEncoder::from_lat_lon(lat, in.range(-180, 180));
+}
+
 // Appends the points of one recipe operation.
 void operation(Bytes& in, std::vector<Vec3>& pts) {
   const std::uint8_t op = in.u8();
   const auto any = [&]() -> const Vec3& { return pts[in.u8() % pts.size()]; };
   switch (op % 9) {
     case 0:  // a lat/lon position
-      add(pts, SiteEncoder::from_lat_lon(in.range(-90, 90), in.range(-180, 180)));
+      add(pts, any_lat_lon(in));
       break;
     case 1:  // near-duplicate of an existing point, at a distance near the merge distance
       if (!pts.empty()) {
@@ -101,10 +107,11 @@ void operation(Bytes& in, std::vector<Vec3>& pts) {
       break;
     }
     case 3: {  // near-co-circular: points on a small circle, each moved by a few ulps
-      const Vec3 c = SiteEncoder::from_lat_lon(in.range(-90, 90), in.range(-180, 180));
+      const Vec3 c = any_lat_lon(in);
       const Vec3 t1 = tangent(c, in.u8());
       const Vec3 t2 = cross(c, t1);
-      const double radius = std::ldexp(in.range(0.5, 1), -static_cast<int>(in.u8() % 26));
+      const double mantissa = in.range(0.5, 1);
+      const double radius = std::ldexp(mantissa, -static_cast<int>(in.u8() % 26));
       const int m = 3 + in.u8() % 8;
       const double phase = in.range(0, 2 * std::numbers::pi);
       for (int k = 0; k < m; ++k) {
@@ -118,7 +125,7 @@ void operation(Bytes& in, std::vector<Vec3>& pts) {
       break;
     }
     case 4: {  // points on one great circle (coplanar with the centre)
-      const Vec3 n = SiteEncoder::from_lat_lon(in.range(-90, 90), in.range(-180, 180));
+      const Vec3 n = any_lat_lon(in);
       const Vec3 t1 = tangent(n, in.u8());
       const Vec3 t2 = cross(n, t1);
       const int m = 1 + in.u8() % 12;
@@ -132,7 +139,8 @@ void operation(Bytes& in, std::vector<Vec3>& pts) {
     case 5: {  // poles, the antimeridian, and just off them
       static constexpr double kLat[] = {90, -90, 89.999999999, -89.99999999, 0, 1e-300, 45};
       static constexpr double kLon[] = {180, -180, 179.99999999999997, -179.99999999999997, 0, 540, -540, 90};
-      add(pts, SiteEncoder::from_lat_lon(kLat[in.u8() % std::size(kLat)], kLon[in.u8() % std::size(kLon)]));
+      const double lat = kLat[in.u8() % std::size(kLat)];
+      add(pts, SiteEncoder::from_lat_lon(lat, kLon[in.u8() % std::size(kLon)]));
       break;
     }
     case 6:  // an existing point moved by a few ulps (not renormalised)
@@ -252,7 +260,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       SiteId s = static_cast<SiteId>(in.u16() % dt.site_capacity());
       while (!dt.is_live(s)) s = static_cast<SiteId>((s + 1) % dt.site_capacity());
       Vec3 p = moved(dt.site(s), in.u8());
-      if (what & 2) p = moved(dt.site(static_cast<SiteId>(in.u16() % dt.site_capacity())), in.u8());
+      if (what & 2) {
+        const SiteId onto = static_cast<SiteId>(in.u16() % dt.site_capacity());
+        p = moved(dt.site(onto), in.u8());
+      }
       if (!usable(p)) continue;
       const MoveStats st = dt.move(s, p, ro);
       FUZZ_CHECK(st.moved + st.refused <= 1 && st.moved == st.filtered + st.flipped + st.reinserted, "move stats");
