@@ -17,7 +17,8 @@
 // cell_areas_agree with their area on the sphere (a sliver at a pole had been written as the
 // whole Earth).
 // For triage: FUZZ_CELLS_VERBOSE=1 prints the cell counts by status; FUZZ_CELLS_DUMP=<site> prints
-// that site and its written cell, FUZZ_CELLS_DUMP=all every site with its status.
+// that site and its written cell, FUZZ_CELLS_DUMP=all every site with its status, and
+// FUZZ_CELLS_DUMP=sites only the sites, as a CSV for `geovor cells` (17 digits: the same doubles).
 #include <GeographicLib/Geodesic.hpp>
 #include <algorithm>
 #include <bit>
@@ -285,17 +286,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   Recipe r;
   make_sites(in, recipe, r);
+  const char* dump = std::getenv("FUZZ_CELLS_DUMP");
+  const bool dump_csv = dump != nullptr && std::string(dump) == "sites";
+  if (dump_csv) std::printf("id,lat,lon\n");
   std::vector<Vec3> pts;
   for (LatLon ll : r.sites)
-    if (normalize_lat_lon(ll.lat_deg, ll.lon_deg).empty()) pts.push_back(SiteEncoder::from_lat_lon(ll.lat_deg, ll.lon_deg));
-  if (pts.empty()) return 0;
+    if (normalize_lat_lon(ll.lat_deg, ll.lon_deg).empty()) {
+      if (dump_csv) std::printf("%zu,%.17g,%.17g\n", pts.size(), ll.lat_deg, ll.lon_deg);
+      pts.push_back(SiteEncoder::from_lat_lon(ll.lat_deg, ll.lon_deg));
+    }
+  if (pts.empty() || dump_csv) return 0;
 
   const SphericalDelaunay dt = SphericalDelaunay::build(pts);
   const VoronoiDiagram vd(dt);
   const CellGeometry geom(vd, options);
   const int precision = options.precision;
 
-  const char* dump = std::getenv("FUZZ_CELLS_DUMP");
   const long dump_site = dump == nullptr ? -1 : std::string(dump) == "all" ? -2 : std::atol(dump);
   MultiPolygon mp;
   double area_m2 = -1;
