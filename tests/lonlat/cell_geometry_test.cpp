@@ -595,9 +595,6 @@ TEST(CellGeometry, RejectsBadOptions) {
   o = {};
   o.max_depth = 0;
   EXPECT_THROW(CellGeometry(vd, o), Error);
-  o = {};
-  o.collapse_m = 1;
-  EXPECT_THROW(CellGeometry(vd, o), Error);
   EXPECT_TRUE(cell_polygon(vd, 99).empty());
   EXPECT_EQ(cell_polygon(vd, 0).size(), 1u);
 }
@@ -846,9 +843,9 @@ TEST(CellGeometryAsWritten, ColumnOfSitesOnAMeridian) {
 }
 
 // 13 sites on a ring 60 m around the south pole, 2 mm of noise (oracle_check seed 1 case 43):
-// their Voronoi vertices near each pole are millimetres apart and collapse into one, which moved
-// the pole into cells that do not own it; three cells were unwritable at every precision. A
-// cluster within collapse_m of a pole now goes onto it, a vertex of every cell, owned by none.
+// their Voronoi vertices near each pole are millimetres apart and had been merged into one,
+// which moved the pole into cells that do not own it; three cells were unwritable at every
+// precision. Vertices are no longer merged (docs/design.md, rule 6).
 TEST(CellGeometryAsWritten, RingOfSitesAroundAPole) {
   const std::vector<std::pair<double, double>> ring = {
       {-89.99944589221411, -87.70325894221976}, {-89.99944592713952, -60.01095128378998},
@@ -868,6 +865,36 @@ TEST(CellGeometryAsWritten, RingOfSitesAroundAPole) {
       if (o.written == 13) EXPECT_NEAR(o.area_sum / kEllipsoidArea, 1, 1e-9);
     }
   }
+}
+
+// 37 sites on a ring 650 m across, each moved by millimetres (fuzz_cells, co-circular ring): the
+// lunes' tips at the centre are chains of Voronoi vertices millimetres apart. Vertices within
+// 5 mm joined by an edge had been merged into one position, and a chain of them is longer: a
+// tip moved 6 mm, across the side of its own lune that starts 1 cm away outside the chain, and
+// two cells were unwritable at 7 decimals and finer. Vertices are no longer merged (their short
+// edges are snap rounded).
+TEST(CellGeometryAsWritten, CoCircularRingWithMillimetreNoise) {
+  const std::vector<std::pair<double, double>> ring = {
+      {16.593648647196012, 44.428202949276937}, {16.593825124647278, 44.427231757093182},
+      {16.593840789581424, 44.426243604803851}, {16.593695190309631, 44.425266921292987},
+      {16.593392512906181, 44.424329807904208}, {16.592941473463668, 44.423459224040421},
+      {16.592355038076224, 44.422680216329375}, {16.591650085008887, 44.422015196021832},
+      {16.590846896290618, 44.421483295056078}, {16.589968577049522, 44.421099813770176},
+      {16.589040394175981, 44.420875784558916}, {16.588089052816454, 44.420817646307945},
+      {16.587141922319763, 44.420927070287604}, {16.58622624368062, 44.421200908009183},
+      {16.585368367153126, 44.421631278234543}, {16.584592967227159, 44.422205798645827},
+      {16.583922348206134, 44.422907938783617}, {16.583375802685829, 44.423717505074983},
+      {16.582969053835868, 44.424611202552519}, {16.582713800434103, 44.425563324802084},
+      {16.58261738830058, 44.426546483629636}, {16.582682585714753, 44.427532397182233},
+      {16.582907521518603, 44.428492705928775}, {16.583285723560536, 44.429399784318363},
+      {16.583806313846413, 44.430227539373242}, {16.584454315899649, 44.430952157349608},
+      {16.585211084926808, 44.43155279551749}, {16.586054860600409, 44.432012177196363},
+      {16.586961360612236, 44.432317074710404}, {16.58790451182978, 44.432458724295898},
+      {16.58885718154729, 44.43243304527541}, {16.589791963772612, 44.432240772051451},
+      {16.590681966338721, 44.431887438402157}, {16.591501581439292, 44.431383202941817},
+      {16.592227229812217, 44.430742572288558}, {16.592838037368875, 44.429983976886483},
+      {16.593316431863062, 44.429129238803171}};
+  for (const int p : {5, 7, 9, 17, kFullPrecision}) written::expect_tiling(ring, p);
 }
 
 // Sites at one latitude, equally spaced in longitude, with one of them an ulp higher: it owns

@@ -55,9 +55,9 @@ R_MEAN = (2 * _A + _A * (1 - _F)) / 3        # m, R1 = (2a+b)/3 = 6371008.7714: 
 MERGE_CHORD = 2.0 ** -24                    # merge distance, in Earth radii (unit sphere chord)
 MERGE_M = MERGE_CHORD * R_MEAN              # ~0.38 m
 FOUR_PI = 4.0 * math.pi
-COLLAPSE_M = 0.005                          # geovor's collapse_m: Voronoi edges shorter are collapsed (docs/design.md)
 THIN_DECIMALS = 7                           # the grid thin cells are snap rounded to at finer precisions (docs/design.md)
 POLE_SNAP_M = 0.18                          # geovor draws a triangle's site this close to a pole at the pole (docs/user-guide.md)
+SNAP_RAD = 2.0 ** -36                        # CellGeometry::kSnapRad: points this close to the antimeridian are moved onto it
 SNAP_RAD = 2.0 ** -36                       # points this close to a pole or the antimeridian are moved onto it (cell_geometry.hpp)
 TIMEOUT_S = 30
 GEOD = Geod(ellps="WGS84")
@@ -201,10 +201,10 @@ def circumradius(a, b, c):
 
 def moved_rad(precision):
     """Bound (radians) of how far a written vertex may lie from the exact cell's boundary, besides
-    densification: collapsing (collapse_m) and snap rounding of thin cells (half a diagonal of a
-    step of the output's decimals, or of THIN_DECIMALS at finer or full precision)."""
+    densification: snap rounding of thin cells (half a diagonal of a step of the output's
+    decimals, or of THIN_DECIMALS at finer or full precision)."""
     decimals = THIN_DECIMALS if precision is None else min(precision, THIN_DECIMALS)
-    return COLLAPSE_M / R_MEAN + math.radians(0.5 * math.sqrt(2) * 10.0 ** (-decimals))
+    return math.radians(0.5 * math.sqrt(2) * 10.0 ** (-decimals))
 
 
 def round_err_deg(precision):
@@ -963,6 +963,12 @@ def check_delaunay(case, geovor, sites, collinear_all):
         if prec >= 5 and kind != "ghost":
             # a site within POLE_SNAP_M of a pole is drawn at the pole (docs/user-guide.md)
             snapped = max((d for d in (math.radians(90.0 - abs(sites[0][s_])) * R_MEAN for s_ in t) if d <= POLE_SNAP_M * 1.01), default=0.0)
+            # and one within SNAP_RAD of the antimeridian on it (a site 1e-7 degree from it 6 km
+            # from the north pole moved by 11 um: seed 3 case 41)
+            for s_ in t:
+                am = math.asin(min(1.0, abs(math.cos(math.radians(sites[0][s_])) * math.sin(math.radians(sites[1][s_])))))
+                if abs(sites[1][s_]) > 90 and am <= SNAP_RAD * 1.01:
+                    snapped = max(snapped, am * R_MEAN)
             tol = (2.0 * perim * math.radians(rerr) * math.sqrt(2) + 1e-14 * absterms + 1e-13 * abs(s_sr) + 1e-18 +
                    perim * snapped / R_MEAN)
             if abs(got_sr - s_sr) > tol and not (kind == "great_circle"):

@@ -63,8 +63,6 @@ int append_segments(const Pt& a, const Interior& interior, const Pt& b, std::vec
 CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOptions& options)
     : vd_(&diagram), options_(options) {
   lonlat::check_densify_options(options.densify_m, options.max_step_deg, options.max_depth);
-  if (!(options.collapse_m >= 0) || !(options.collapse_m < 0.1))
-    throw Error(ErrorCode::InvalidArgument, "collapse_m must be in [0, 0.1) metres");
   {
     double zmax = -2, zmin = 2;
     for (SiteId s = 0; s < diagram.site_capacity(); ++s) {
@@ -84,11 +82,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       std::min<std::size_t>(thread_count(options.threads), std::max<std::size_t>(1, nv / 16384)));
   auto split = [threads](std::size_t n, const auto& work) { parallel_for(n, threads, work); };
 
-  // Union-find over the Voronoi vertices joined by a short edge (found on all threads, joined
-  // here); the root is the smallest id, whatever the order of the unions.
-  const double collapse2 = std::pow(options.collapse_m / SiteEncoder::kEarthRadiusM, 2);
-  std::vector<std::vector<std::pair<TriId, TriId>>> short_edges(threads);
-  // And the edges shorter than two decimal steps (chord), which rounding alone can fold, and the
+  // The edges shorter than two decimal steps (chord), which rounding alone can fold, and the
   // triangles with a side shorter than four: their cells are snap rounded (snap_round_thin_cells).
   // (The step of the grid they are snapped to: the output's, at most kThinCellDecimals, so that
   // 17 decimals and full precision write the same.)
@@ -108,9 +102,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   // from tan(lat) = 1.5e-4 R / densify_m (84 degrees for 100 m). Cells there are guarded
   // like caps' (cap angles are below 3.6 degrees; lunes 1 km from a pole crossed).
   const double pole_guard2 = std::pow(1.5e-4 * SiteEncoder::kEarthRadiusM / options.densify_m, 2);
-  // And each triangle's sites, sorted (its smallest site s, then the other two): the collapsed
-  // vertices take the position of the one with the smallest triple, which depends on the
-  // triangulation's triangles only, not on how it numbers them (relax's relocation modes).
+  // And each triangle's sites, sorted (its smallest site s, then the other two).
   std::vector<std::array<SiteId, 3>> tri_sites(nv);
   // Whether the triangle's angle at p (on the sphere, between the great circles to q and r) is
   // within 3.6 degrees of 180: the test above, for triangles too large for it to hold (sites on
@@ -141,7 +133,6 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
         const TriId a = tris[i], b = tris[i + 1 == d ? 0 : i + 1];
         if (a < b) {
           const double ab2 = norm2(diagram.vertex(a) - diagram.vertex(b));
-          if (ab2 < collapse2) short_edges[thread].push_back({a, b});
           if (ab2 < fold2) small[thread].insert(small[thread].end(), {a, b});
         }
         const SiteId u = nbrs[i == 0 ? d - 1 : i - 1], w = nbrs[i];
@@ -162,36 +153,6 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       }
     }
   });
-  std::vector<TriId> rep(nv);
-  for (TriId t = 0; t < nv; ++t) rep[t] = t;
-  auto find = [&rep](TriId t) {
-    while (rep[t] != t) t = rep[t] = rep[rep[t]];
-    return t;
-  };
-  for (const auto& edges : short_edges)
-    for (const auto& [a, b] : edges) {
-      const TriId ra = find(a), rb = find(b);
-      if (ra < rb) rep[rb] = ra;
-      if (rb < ra) rep[ra] = rb;
-    }
-  for (TriId t = 0; t < nv; ++t) rep[t] = find(t);
-  std::vector<std::uint8_t> clustered;  // per representative: it stands for collapsed vertices
-  {
-    std::vector<TriId> best(nv, kNoIndex);  // by root: the member with the smallest sites
-    bool collapsed = false;
-    for (TriId t = 0; t < nv; ++t) {
-      TriId& b = best[rep[t]];
-      if (b == kNoIndex || tri_sites[t] < tri_sites[b]) b = t;
-      collapsed |= rep[t] != t;
-    }
-    if (collapsed) {
-      for (TriId t = 0; t < nv; ++t) rep[t] = best[rep[t]];
-      for (TriId t = 0; t < nv; ++t) cap_[rep[t]] |= cap_[t];  // a cluster is a cap's if one member is
-      clustered.assign(nv, 0);
-      for (TriId t = 0; t < nv; ++t) clustered[rep[t]] |= rep[t] != t;
-    }
-  }
-
   // The sites of the caps' triangles (their cells are thin near those vertices) and of the
   // small ones above: where a decimal step can be wider than a cell (snap_round_thin_cells).
   // At kSnapAllDecimals or fewer, every cell: a step of a kilometre or more reaches beyond the
@@ -201,42 +162,22 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     for (const SiteId s : order) thin_sites.push_back(s);
   } else {
     for (TriId t = 0; t < nv; ++t)
-      if (cap_[clustered.empty() ? t : rep[t]] & kCap)
+      if (cap_[t] & kCap)
         for (const SiteId s : tri_sites[t]) thin_sites.push_back(s);
     for (const std::vector<TriId>& list : small)
       for (const TriId t : list)
         for (const SiteId s : tri_sites[t]) thin_sites.push_back(s);
   }
 
-  // A collapsed cluster within collapse_m of a pole goes onto it: collapsing moves vertices as
-  // far, which could put the pole inside a cell that does not own it (13 sites on a ring 60 m
-  // around a pole: three cells unwritable by the pole rule). The pole is then a vertex of those
-  // cells, on their boundaries, and owned by none.
-  auto on_pole = [&](TriId t) {
-    const Vec3& v = diagram.vertex(t);
-    return !clustered.empty() && clustered[t] && v.x * v.x + v.y * v.y < collapse2;
-  };
-  if (!clustered.empty())
-    for (TriId t = 0; t < nv; ++t)
-      if (rep[t] == t && on_pole(t)) (diagram.vertex(t).z > 0 ? north_owner_ : south_owner_) = kNoIndex;
-
-  // The representatives' lon/lat (the costly part), then their copies.
+  // The vertices' lon/lat (the costly part).
   vertices_.reset(static_cast<Vertex*>(std::calloc(std::max<std::size_t>(nv, 1), sizeof(Vertex))));
   if (!vertices_) throw std::bad_alloc();
   split(nv, [&](unsigned, std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
-      if (rep[t] != t) continue;
-      Vec3 raw = diagram.vertex(static_cast<TriId>(t));
-      if (on_pole(static_cast<TriId>(t))) raw = {0, 0, raw.z > 0 ? 1.0 : -1.0};
-      const Pt p = make_pt(raw, options_.precision);
+      const Pt p = make_pt(diagram.vertex(static_cast<TriId>(t)), options_.precision);
       vertices_[t] = {p.v, p.lon, p.lat, static_cast<TriId>(t), min_side2[t]};
     }
   });
-  for (TriId t = 0; t < nv; ++t)
-    if (rep[t] != t) {
-      vertices_[t] = vertices_[rep[t]];
-      vertices_[t].min_side2 = min_side2[t];
-    }
 
   // Every edge once, in the direction of its canonical cell (the smaller site id): its densified
   // points, and its area terms in batches of segments (geodesic_s12 solves them in vector lanes).
@@ -273,7 +214,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       }
       if (j + kLists < order.size()) {
         const SiteId s = order[j + kLists];
-        for (const TriId t : diagram.cell_vertices(s)) __builtin_prefetch(&vertices_[t].rep);
+        for (const TriId t : diagram.cell_vertices(s)) __builtin_prefetch(&vertices_[t].id);
         for (const SiteId w : diagram.cell_neighbors(s))
           if (w > s) {
             diagram.prefetch(w, 1);
@@ -309,13 +250,13 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
           const SiteId w = nbrs[i];
           const Vertex& va = vertices_[tris[i]];
           const Vertex& vb = vertices_[tris[i + 1 == d ? 0 : i + 1]];
-          if (w < s || va.rep == vb.rep) continue;  // the other cell's, or collapsed
+          if (w < s) continue;  // the other cell's
           const Pt a{va.v, va.lon, va.lat}, b{vb.v, vb.lon, vb.lat};
           // Both triangles of the edge contain its two sites: the shorter of their shortest
           // sides bounds their distance.
           edge.clear();
           guards.clear();
-          if (cap_[va.rep] | cap_[vb.rep]) edge_guards(s, w, va, vb, guards);
+          if (cap_[va.id] | cap_[vb.id]) edge_guards(s, w, va, vb, guards);
           dens.set_guards(guards);
           dens.edge(a, b, diagram.site(s), diagram.site(w), std::min(va.min_side2, vb.min_side2));
           const std::size_t slot = static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
@@ -342,12 +283,11 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     }
     flush();
   });
-  if (!thin_sites.empty()) snap_round_thin_cells(thin_sites, tri_sites, rep);
+  if (!thin_sites.empty()) snap_round_thin_cells(thin_sites, tri_sites);
 }
 
 void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
-                                         std::span<const std::array<SiteId, 3>> tri_sites,
-                                         std::span<const TriId> rep) {
+                                         std::span<const std::array<SiteId, 3>> tri_sites) {
   const VoronoiDiagram& vd = *vd_;
   // The thin cells (ring 1) have their edges snap rounded; their neighbours (ring 2) give hot
   // pixels (every position of their edges) and take the rerouted edges they share.
@@ -367,7 +307,7 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
   };
   std::vector<Edge> edges;
   // Appends the edge between s and its neighbour i, from its canonical cell lo (its index
-  // there, and the other cell's slot), unless collapsed or computed in place: two sites sharing
+  // there, and the other cell's slot), unless computed in place: two sites sharing
   // more than this edge (tiny diagrams), whose larger one's cell computes it, not snap rounded.
   auto add_edge = [&](SiteId s, std::size_t i, bool rerouted) {
     const SiteId w = vd.cell_neighbors(s)[i];
@@ -380,7 +320,7 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
     const std::size_t k = static_cast<std::size_t>(std::find(hi_nbrs.begin(), hi_nbrs.end(), lo) - hi_nbrs.begin());
     const std::size_t slot = static_cast<std::size_t>(lo_nbrs.data() - nbr_base_) + j;
     const TriId a = lo_tris[j], b = lo_tris[j + 1 == lo_tris.size() ? 0 : j + 1];
-    if (edge_slots_[slot].part == 0 || vertices_[a].rep == vertices_[b].rep) return;
+    if (edge_slots_[slot].part == 0) return;
     edges.push_back({slot, static_cast<std::size_t>(hi_nbrs.data() - nbr_base_) + k, a, b, rerouted});
   };
   for (int r = 0; r < 2; ++r)
@@ -393,25 +333,25 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
       }
     }
 
-  // The grid: the output's decimals, at most kThinCellDecimals (collapsing already moves
-  // vertices by up to collapse_m, and the sides of a thin cell cross at that scale).
+  // The grid: the output's decimals, at most kThinCellDecimals (the sides of a thin cell cross
+  // at that scale).
   const int decimals = options_.precision < 0 ? kThinCellDecimals : std::min(options_.precision, kThinCellDecimals);
   auto on_grid = [decimals](double x) { return snap_to_decimals(x, decimals); };
-  // The ends of the rerouted edges are then written on the grid (by representative): they move
+  // The ends of the rerouted edges are then written on the grid: they move
   // only when the grid is coarser than the output's decimals.
   const bool moves = decimals != options_.precision;
-  std::vector<TriId> moved_reps;
+  std::vector<TriId> moved_ids;
   if (moves)
     for (const Edge& edge : edges)
-      if (edge.rerouted) moved_reps.insert(moved_reps.end(), {vertices_[edge.a].rep, vertices_[edge.b].rep});
-  std::sort(moved_reps.begin(), moved_reps.end());
-  moved_reps.erase(std::unique(moved_reps.begin(), moved_reps.end()), moved_reps.end());
-  auto moved_index = [&moved_reps](TriId r) {
-    const auto it = std::lower_bound(moved_reps.begin(), moved_reps.end(), r);
-    return it != moved_reps.end() && *it == r ? static_cast<std::size_t>(it - moved_reps.begin()) : moved_reps.size();
+      if (edge.rerouted) moved_ids.insert(moved_ids.end(), {edge.a, edge.b});
+  std::sort(moved_ids.begin(), moved_ids.end());
+  moved_ids.erase(std::unique(moved_ids.begin(), moved_ids.end()), moved_ids.end());
+  auto moved_index = [&moved_ids](TriId r) {
+    const auto it = std::lower_bound(moved_ids.begin(), moved_ids.end(), r);
+    return it != moved_ids.end() && *it == r ? static_cast<std::size_t>(it - moved_ids.begin()) : moved_ids.size();
   };
   std::vector<bool> moved_set(moves ? vd.num_vertices() : 0);
-  for (const TriId r : moved_reps) moved_set[r] = true;
+  for (const TriId r : moved_ids) moved_set[r] = true;
   auto moved = [&](TriId r) { return moves && moved_set[r]; };
 
   // The edges as paths of their vertices, raw and written; a tag indexes `points`.
@@ -442,10 +382,10 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
     const Vertex &va = vertices_[edge.a], &vb = vertices_[edge.b];
     std::vector<lonlat::SnapVertex> path;
     path.reserve(e.count + 2);
-    path.push_back(vertex({va.v, va.lon, va.lat}, moved(va.rep), edge.rerouted || moved(va.rep)));
+    path.push_back(vertex({va.v, va.lon, va.lat}, moved(edge.a), edge.rerouted || moved(edge.a)));
     const BoundaryPoint* p = points_[e.part - 1].data() + e.first;
     for (std::uint32_t i = 0; i < e.count; ++i) path.push_back(vertex(p[i], edge.rerouted, edge.rerouted));
-    path.push_back(vertex({vb.v, vb.lon, vb.lat}, moved(vb.rep), edge.rerouted || moved(vb.rep)));
+    path.push_back(vertex({vb.v, vb.lon, vb.lat}, moved(edge.b), edge.rerouted || moved(edge.b)));
     if (edge.rerouted) {
       paths.push_back(std::move(path));
       path_edge.push_back(k);
@@ -461,24 +401,23 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
   };
   lonlat::snap_round(paths, extra, decimals, crossing_lat);
 
-  // The written positions: the moved vertices (every member of their clusters), the rerouted
+  // The written positions: the moved vertices, the rerouted
   // edges' points in a part of their own; then the area terms of every edge of the region.
   auto written = [](const lonlat::SnapVertex& q) { return std::pair{q.lon == 180 ? -180.0 : q.lon, q.lat}; };
-  std::vector<std::pair<double, double>> moved_to(moved_reps.size());
+  std::vector<std::pair<double, double>> moved_to(moved_ids.size());
   for (std::size_t k = 0; k < paths.size() && moves; ++k) {
     const Edge& edge = edges[path_edge[k]];
-    moved_to[moved_index(vertices_[edge.a].rep)] = written(paths[k].front());
-    moved_to[moved_index(vertices_[edge.b].rep)] = written(paths[k].back());
+    moved_to[moved_index(edge.a)] = written(paths[k].front());
+    moved_to[moved_index(edge.b)] = written(paths[k].back());
   }
-  // Every member of a moved cluster moves, and the cells around it beyond the region need their
-  // edges' area terms again.
+  // The cells around a moved vertex beyond the region need their edges' area terms again.
   std::vector<SiteId> touched;
-  for (TriId t = 0; t < vd.num_vertices() && moves; ++t)
-    if (moved_set[rep[t]]) {
-      std::tie(vertices_[t].lon, vertices_[t].lat) = moved_to[moved_index(rep[t])];
-      for (const SiteId s : tri_sites[t])
-        if (ring[s] == 0) ring[s] = 3, touched.push_back(s);
-    }
+  for (std::size_t k = 0; k < moved_ids.size(); ++k) {
+    const TriId t = moved_ids[k];
+    std::tie(vertices_[t].lon, vertices_[t].lat) = moved_to[k];
+    for (const SiteId s : tri_sites[t])
+      if (ring[s] == 0) ring[s] = 3, touched.push_back(s);
+  }
   std::vector<BoundaryPoint>& part = points_.emplace_back();
   for (std::size_t k = 0; k < paths.size(); ++k) {
     EdgeSlot& e = edge_slots_[edges[path_edge[k]].slot];
@@ -512,7 +451,7 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
   for (const Edge& edge : edges) {
     EdgeSlot& e = edge_slots_[edge.slot];
     const Vertex &va = vertices_[edge.a], &vb = vertices_[edge.b];
-    if (!edge.rerouted && !moved(va.rep) && !moved(vb.rep)) continue;
+    if (!edge.rerouted && !moved(edge.a) && !moved(edge.b)) continue;
     interior.clear();
     const BoundaryPoint* p = points_[e.part - 1].data() + e.first;
     for (std::uint32_t i = 0; i < e.count; ++i) interior.push_back({p[i].v, p[i].lon, p[i].lat});
@@ -538,17 +477,16 @@ void CellGeometry::edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vert
       if (nbrs[i] == across) continue;
       const Vertex& f0 = vertices_[tris[i]];
       const Vertex& f1 = vertices_[tris[i + 1 == d ? 0 : i + 1]];
-      if (f0.rep == f1.rep) continue;  // collapsed
-      const bool at_a = f0.rep == a.rep || f1.rep == a.rep, at_b = f0.rep == b.rep || f1.rep == b.rep;
+      const bool at_a = f0.id == a.id || f1.id == a.id, at_b = f0.id == b.id || f1.id == b.id;
       const Vec3 n = lonlat::normalized(vd.site(c) - vd.site(nbrs[i]));
       if (at_a && at_b) {
-        // The other side of a lune (its ends collapsed onto ours): the side it must keep clear
+        // The other side of a lune (its ends ours): the side it must keep clear
         // of most. Its chords had crossed a lune 0.39 m wide (relax of a column).
       } else if (at_a || at_b) {
         // A side at a common vertex comes close only where the angle between them is acute.
         const Vec3& v = at_a ? a.v : b.v;
         const Vec3& e_far = at_a ? b.v : a.v;
-        const Vec3& f_far = (f0.rep == (at_a ? a.rep : b.rep)) ? f1.v : f0.v;
+        const Vec3& f_far = (f0.id == (at_a ? a.id : b.id)) ? f1.v : f0.v;
         if (dot(e_far - dot(v, e_far) * v, f_far - dot(v, f_far) * v) <= 0) continue;
       } else if (std::min(std::fabs(dot(a.v, n)), std::fabs(dot(b.v, n))) >= far) {
         continue;  // the distance along the edge is least at an end (concave): never binding
@@ -738,7 +676,6 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
     for (std::size_t i = 0; i < d; ++i) {
       const Vertex& va = vertices_[tris[i]];
       const Vertex& vb = vertices_[tris[i + 1 == d ? 0 : i + 1]];
-      if (va.rep == vb.rep) continue;  // collapsed edge
       const Pt a{va.v, va.lon, va.lat}, b{vb.v, vb.lon, vb.lat};
       loop.push_back(a);
       const SiteId w = nbrs[i];
@@ -763,7 +700,7 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
         edge.clear();
         std::vector<Vec3>& guards = scratch<Vec3>();
         guards.clear();
-        if (cap_[va.rep] | cap_[vb.rep])
+        if (cap_[va.id] | cap_[vb.id])
           edge_guards(std::min(s, w), std::max(s, w), forward ? va : vb, forward ? vb : va, guards);
         dens.set_guards(guards);
         dens.edge(from, to, vd.site(std::min(s, w)), vd.site(std::max(s, w)), std::min(va.min_side2, vb.min_side2));

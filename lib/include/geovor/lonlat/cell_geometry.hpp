@@ -40,11 +40,11 @@
 ///     [-180, 180] and latitudes within [-90, 90].
 /// One site gives the whole sphere [-180, 180] x [-90, 90]; two sites give two hemispheres.
 ///
-/// Voronoi edges shorter than collapse_m are collapsed (their end vertices, and every vertex
-/// linked to them by such short edges, become one point): co-circular sites give several
-/// triangles with one circumcentre, and the rounding noise between those copies could fold a
-/// ring. Every cell contains a disk of radius 0.19 m around its site (sites are at least 0.38 m
-/// apart), so no cell vanishes.
+/// Voronoi vertices are written where they are computed, never merged: co-circular sites give
+/// several triangles with one circumcentre, computed as copies millimetres apart, and their
+/// short edges are snap rounded (above); merging them had moved a vertex across a neighbouring
+/// lune's side. Every cell contains a disk of radius 0.19 m around its site (sites are at least
+/// 0.38 m apart), so no cell vanishes.
 #pragma once
 
 #include <array>
@@ -79,9 +79,6 @@ struct CellGeometryOptions {
   double max_step_deg = 1;
   /// Recursion depth cap of the bisection of one edge. DEFAULT: 20 (2^20 pieces at most).
   int max_depth = 20;
-  /// Voronoi edges shorter than this (metres on the sphere) are collapsed. DEFAULT: 0.005 m.
-  /// REQUIRES: >= 0 and well below 0.19 m.
-  double collapse_m = 0.005;
   /// Threads computing the vertices' lon/lat and the edges at construction (0: one per core).
   /// DEFAULT: 1.
   /// The result does not depend on it.
@@ -98,7 +95,7 @@ struct CellGeometryOptions {
 using CellStatus = WrittenStatus;
 
 /// Builds the lon/lat polygons of the cells of one VoronoiDiagram. Construction precomputes, for
-/// every Voronoi vertex, its collapsed representative, its snapped position and its lon/lat, and
+/// every Voronoi vertex, its snapped position and its lon/lat, and
 /// for every Voronoi edge, once, its densified points and its geodesic area terms, in one slot
 /// per edge and cell (24 bytes, about 144 bytes per site, plus 40 bytes per densified point);
 /// O(size of the diagram and of the densified edges), on options.threads threads. Each cell is
@@ -113,8 +110,8 @@ class CellGeometry {
   /// Near the vertex of a cap (three sites nearly on one great circle: the tips of the lunes of
   /// sites on one meridian), cells are narrower than a decimal step over kilometres and their
   /// sides are snap rounded (Hobby) to the grid of options().precision decimals, or of this many
-  /// (1.1 cm) at a finer or full precision: collapsing already moves vertices by up to
-  /// collapse_m there, and the sides of such cells cross at that scale.
+  /// (1.1 cm) at a finer or full precision: the sides of a lune whose angle is a microradian
+  /// crossed at that scale even in doubles.
   static constexpr int kThinCellDecimals = 7;
   /// At this many decimals or fewer (a step of a kilometre or more) every cell is snap rounded,
   /// not only the thin ones and their neighbours: a step can reach cells beyond those, whose
@@ -163,13 +160,14 @@ class CellGeometry {
   struct Free {
     void operator()(void* p) const { std::free(p); }
   };
-  // Per Voronoi vertex, in 48 bytes: the snapped position and longitude/latitude (degrees) of
-  // its representative (collapsed edges), that representative, and the squared chord of the
-  // shortest side of its triangle (a lower bound of the distance between the sites of an edge).
+  // Per Voronoi vertex, in 48 bytes: its snapped position and longitude/latitude (degrees), its
+  // own index (which edge_guards and snap rounding tell vertices apart by), and the squared chord
+  // of the shortest side of its triangle (a lower bound of the distance between the sites of an
+  // edge).
   struct Vertex {
     Vec3 v;
     double lon, lat;
-    TriId rep;
+    TriId id;
     float min_side2;
   };
   std::unique_ptr<Vertex[], Free> vertices_;
@@ -206,9 +204,8 @@ class CellGeometry {
   // Snap rounds (lonlat/snap_rounding.hpp) the edges of the cells of `thin_sites` and of their
   // neighbours, at a decimal precision: near a cap's vertex a cell can be narrower than a step
   // over kilometres, and its rounded sides crossed. Called at the end of construction.
-  // tri_sites: each Voronoi vertex's three sites; rep: its collapsed representative.
-  void snap_round_thin_cells(std::span<const SiteId> thin_sites, std::span<const std::array<SiteId, 3>> tri_sites,
-                             std::span<const TriId> rep);
+  // tri_sites: each Voronoi vertex's three sites.
+  void snap_round_thin_cells(std::span<const SiteId> thin_sites, std::span<const std::array<SiteId, 3>> tri_sites);
   // Cleans and checks `out` as built for site s, whose ring encloses the pole info.winding says
   // (loop_to_polygons, lonlat/boundary.hpp); empties it unless valid.
   CellStatus finish(SiteId s, const lonlat::LoopInfo& info, MultiPolygon& out, BBox* bbox) const;
