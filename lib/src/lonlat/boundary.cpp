@@ -250,12 +250,24 @@ Vec3 Densifier::midpoint(const Vec3& a, const Vec3& b) {
 }
 
 void Densifier::split(const Pt& a, const Pt& b, int depth) {
-  if (depth >= max_depth_ || a.v == b.v) return;
+  if (a.v == b.v) return;
+  // Past max_depth only the pole rule below splits on: a side of a lune from pole to pole
+  // reaches max_depth at pieces of 19 m, and a vertex centimetres from the pole is then joined
+  // by a straight lon/lat segment spanning 20 degrees of longitude (a ring of sites 1.5 m around
+  // the other pole: two cells unwritable). The rule ends by itself once a piece is within an
+  // eighth of its distance to the pole, which is over kSnapRad (else the end is at the pole):
+  // about 38 levels from a side of 180 degrees; kMaxPoleDepth only guards against a bug.
+  const bool past = depth >= max_depth_;
+  if (past && depth >= kMaxPoleDepth) return;
   // On the sphere: a point merely written at a pole (within a decimal step of it) is not one,
   // and an arc from it is no meridian.
   const bool pa = at_pole(a.v), pb = at_pole(b.v);
   Vec3 m;
-  if (pa || pb) {
+  if (past) {
+    if (pa || pb) return;
+    m = midpoint(a.v, b.v);
+    if (64 * norm2(m - lonlat_midpoint(a, b)) <= m.x * m.x + m.y * m.y) return;
+  } else if (pa || pb) {
     // From a pole the arc is a meridian, straight in lon/lat. Pole to pole (N to S) needs a
     // midpoint, which gives the meridian its longitude; so does an arc from a pole to a point
     // near the other pole (longer than 120 degrees), whose own longitude is ill-conditioned:

@@ -44,7 +44,9 @@ class Densifier {
  public:
   /// densify_m: largest distance (metres on the sphere of radius kEarthRadiusM) between a
   /// straight lon/lat segment's midpoint and the arc; arcs longer than max_step_deg are always
-  /// split; at most max_depth levels. Points are appended to `out`.
+  /// split; at most max_depth levels, except within metres of a pole, where pieces are split on
+  /// (up to kMaxPoleDepth levels) until each is within an eighth of its distance to the pole.
+  /// Points are appended to `out`.
   /// Positions are written with `precision` decimals (make_pt).
   Densifier(double densify_m, double max_step_deg, int max_depth, std::vector<Pt>& out,
             int precision = kFullPrecision);
@@ -66,6 +68,7 @@ class Densifier {
   Vec3 midpoint(const Vec3& a, const Vec3& b);
   void split(const Pt& a, const Pt& b, int depth);
 
+  static constexpr int kMaxPoleDepth = 64;
   std::vector<Pt>& out_;
   double tol2_, cos_step_;
   int max_depth_;

@@ -77,7 +77,9 @@ struct CellGeometryOptions {
   /// Arcs longer than this (degrees) are always split, so the midpoint test is meaningful.
   /// DEFAULT: 1 degree. REQUIRES: > 0.
   double max_step_deg = 1;
-  /// Recursion depth cap of the bisection of one edge. DEFAULT: 20 (2^20 pieces at most).
+  /// Recursion depth cap of the bisection of one edge, except within metres of a pole, where a
+  /// piece is split on until it is within an eighth of its distance to the pole (a side from
+  /// pole to pole reaches 20 levels at pieces of 19 m). DEFAULT: 20. REQUIRES: in [1, 40].
   int max_depth = 20;
   /// Threads computing the vertices' lon/lat and the edges at construction (0: one per core).
   /// DEFAULT: 1.

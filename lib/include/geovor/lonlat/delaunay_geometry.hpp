@@ -54,7 +54,8 @@ struct DelaunayGeometryOptions {
   double densify_m = 100;
   /// Arcs longer than this (degrees) are always split. DEFAULT: 1 degree. REQUIRES: in (0, 180].
   double max_step_deg = 1;
-  /// Recursion depth cap of the bisection of one arc. DEFAULT: 20. REQUIRES: in [1, 40].
+  /// Recursion depth cap of the bisection of one arc, except within metres of a pole (as
+  /// CellGeometryOptions::max_depth). DEFAULT: 20. REQUIRES: in [1, 40].
   int max_depth = 20;
   /// Decimals of the written coordinates (0..17), or kFullPrecision for formats that store
   /// doubles: positions are computed as a reader gets them back (snap_to_decimals), so that
