@@ -250,7 +250,10 @@ Vec3 Densifier::midpoint(const Vec3& a, const Vec3& b) {
 }
 
 void Densifier::split(const Pt& a, const Pt& b, int depth) {
-  if (a.v == b.v) return;
+  // Not below kMinPieceRad: the copies of one Voronoi vertex (co-circular sites) are joined by
+  // edges nanometres long, which the guards below would split to max_depth (2^20 points each:
+  // a 7 x 7 grid on a pole took 17 s and 1.3 GB).
+  if (norm2(a.v - b.v) < kMinPieceRad * kMinPieceRad) return;
   // Past max_depth only the pole rule below splits on: a side of a lune from pole to pole
   // reaches max_depth at pieces of 19 m, and a vertex centimetres from the pole is then joined
   // by a straight lon/lat segment spanning 20 degrees of longitude (a ring of sites 1.5 m around

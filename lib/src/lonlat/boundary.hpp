@@ -69,6 +69,7 @@ class Densifier {
   void split(const Pt& a, const Pt& b, int depth);
 
   static constexpr int kMaxPoleDepth = 64;
+  static constexpr double kMinPieceRad = 0x1p-40;  // 6 micrometres: no piece is split below
   std::vector<Pt>& out_;
   double tol2_, cos_step_;
   int max_depth_;
