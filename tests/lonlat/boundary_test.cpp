@@ -65,5 +65,21 @@ TEST(Densifier, PoleRuleSplitsPastMaxDepth) {
   }
 }
 
+// But past max_depth no point is added within four steps of the thin cells' grid (7 decimals,
+// 4.4 cm) of a pole: written on the pole line, it loses the side of the pole the arc passed on
+// (a lune passing a pole 5 mm off on both sides wound the wrong way round it: oracle seed 8).
+TEST(Densifier, NoPointNearAPolePastMaxDepth) {
+  const double metre = 1 / SiteEncoder::kEarthRadiusM;
+  for (const double off_deg : {0.005, 0.05}) {  // passing the pole 1.5 mm, 1.5 cm off
+    SCOPED_TRACE(off_deg);
+    const Vec3 a = at_colatitude(100 * metre, 0), b = at_colatitude(20 * metre, 180 - off_deg);
+    std::vector<Pt> out;
+    Densifier dens(100, 1, 2, out);
+    dens.edge(make_pt(a), make_pt(b), a, b, kInf);
+    EXPECT_LT(out.size(), 200u);
+    for (const Pt& p : out) EXPECT_GT(std::hypot(p.v.x, p.v.y), 4e-7 * kDeg) << p.lon << " " << p.lat;
+  }
+}
+
 }  // namespace
 }  // namespace geovor::lonlat

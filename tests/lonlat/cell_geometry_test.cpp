@@ -932,9 +932,23 @@ TEST(CellGeometryAsWritten, RingsAroundAPoleReachingTheOther) {
       {89.97086886590826, -163.9696212049586}, {89.97086862629615, -131.2423481107749},
       {89.97086905938845, -98.51507603498813}, {89.97086904321081, -65.78780285744614},
       {89.97086830064387, -33.06052996730071}};
+  // Seed 8 case 29: 14 sites on a circle of 2.3 degrees around a point 1 cm from the south
+  // pole, and that point: the lunes' tips are 1 cm from the north pole, and the owner's sides
+  // pass it 5 mm off. Split finer there, they were written on the pole line, which lost the
+  // side they passed on: the owner wound the wrong way round it.
+  const std::vector<std::pair<double, double>> circle = {
+      {-87.6989558386847, -1.4320248201514403}, {-87.69895588316922, 24.2822462097011},
+      {-87.69895592267463, 49.996525304837235}, {-87.69895594937655, 75.7108513028432},
+      {-87.69895595798616, 101.42512812331171}, {-87.69895594679821, 127.13940483689424},
+      {-87.69895591802872, 152.8536770953537}, {-87.69895587737577, 178.56797517984853},
+      {-87.69895583289126, -155.7177537902989}, {-87.69895579338584, -130.00347469516277},
+      {-87.69895576668392, -104.28914869715675}, {-87.69895575807432, -78.5748718766883},
+      {-87.69895576926227, -52.8605951631058}, {-87.69895579803175, -27.14632290464627},
+      {-89.9999999, -80.27752188619503}};
   for (const int p : {5, 7, 12, 17, kFullPrecision}) {
     written::expect_tiling(south, p);
     written::expect_tiling(north, p);
+    written::expect_tiling(circle, p);
   }
 }
 

@@ -201,7 +201,11 @@ Densifier::Densifier(double densify_m, double max_step_deg, int max_depth, std::
       tol2_(std::pow(densify_m / SiteEncoder::kEarthRadiusM, 2)),
       cos_step_(std::cos(max_step_deg * kDeg)),
       max_depth_(max_depth),
-      precision_(precision) {}
+      precision_(precision) {
+  // Four steps of the grid thin cells are written on (at most 7 decimals), in radians.
+  const double step_rad = std::pow(10.0, -(precision < 0 ? 7 : std::min(precision, 7))) * kDeg;
+  pole_clear2_ = 16 * step_rad * step_rad;
+}
 
 void Densifier::edge(const Pt& a, const Pt& b, const Vec3& left, const Vec3& right, double site_chord2) {
   left_ = &left;
@@ -257,9 +261,11 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
   // Past max_depth only the pole rule below splits on: a side of a lune from pole to pole
   // reaches max_depth at pieces of 19 m, and a vertex centimetres from the pole is then joined
   // by a straight lon/lat segment spanning 20 degrees of longitude (a ring of sites 1.5 m around
-  // the other pole: two cells unwritable). The rule ends by itself once a piece is within an
-  // eighth of its distance to the pole, which is over kSnapRad (else the end is at the pole):
-  // about 38 levels from a side of 180 degrees; kMaxPoleDepth only guards against a bug.
+  // the other pole: two cells unwritable). It ends by itself once a piece is within an eighth of
+  // its distance to the pole, and adds no point within four grid steps of the pole: a point
+  // there is written on the pole line, and the side of the pole it passed on is lost (a lune
+  // passing a pole 5 mm off on both sides then wound the wrong way round it); kMaxPoleDepth only
+  // guards against a bug.
   const bool past = depth >= max_depth_;
   if (past && depth >= kMaxPoleDepth) return;
   // On the sphere: a point merely written at a pole (within a decimal step of it) is not one,
@@ -269,7 +275,8 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
   if (past) {
     if (pa || pb) return;
     m = midpoint(a.v, b.v);
-    if (64 * norm2(m - lonlat_midpoint(a, b)) <= m.x * m.x + m.y * m.y) return;
+    const double to_pole2 = m.x * m.x + m.y * m.y;
+    if (to_pole2 <= pole_clear2_ || 64 * norm2(m - lonlat_midpoint(a, b)) <= to_pole2) return;
   } else if (pa || pb) {
     // From a pole the arc is a meridian, straight in lon/lat. Pole to pole (N to S) needs a
     // midpoint, which gives the meridian its longitude; so does an arc from a pole to a point

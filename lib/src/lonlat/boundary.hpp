@@ -45,7 +45,8 @@ class Densifier {
   /// densify_m: largest distance (metres on the sphere of radius kEarthRadiusM) between a
   /// straight lon/lat segment's midpoint and the arc; arcs longer than max_step_deg are always
   /// split; at most max_depth levels, except within metres of a pole, where pieces are split on
-  /// (up to kMaxPoleDepth levels) until each is within an eighth of its distance to the pole.
+  /// (up to kMaxPoleDepth levels) until each is within an eighth of its distance to the pole,
+  /// adding no point within four steps of the written grid of it.
   /// Points are appended to `out`.
   /// Positions are written with `precision` decimals (make_pt).
   Densifier(double densify_m, double max_step_deg, int max_depth, std::vector<Pt>& out,
@@ -74,6 +75,7 @@ class Densifier {
   double tol2_, cos_step_;
   int max_depth_;
   int precision_;
+  double pole_clear2_;  // past max_depth, no point is added this close to a pole (squared chord)
   const Vec3* left_ = nullptr;
   const Vec3* right_ = nullptr;
   bool have_axis_ = false;
