@@ -202,8 +202,10 @@ Densifier::Densifier(double densify_m, double max_step_deg, int max_depth, std::
       cos_step_(std::cos(max_step_deg * kDeg)),
       max_depth_(max_depth),
       precision_(precision) {
-  // Four steps of the grid thin cells are written on (at most 7 decimals), in radians.
-  const double step_rad = std::pow(10.0, -(precision < 0 ? 7 : std::min(precision, 7))) * kDeg;
+  // Four steps of the grid thin cells are written on (at most 7 decimals), in radians (a table:
+  // a Densifier is made per cell).
+  static constexpr double kStepDeg[8] = {1, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
+  const double step_rad = kStepDeg[precision < 0 ? 7 : std::min(precision, 7)] * kDeg;
   pole_clear2_ = 16 * step_rad * step_rad;
 }
 

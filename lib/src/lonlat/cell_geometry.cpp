@@ -175,7 +175,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   split(nv, [&](unsigned, std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
       const Pt p = make_pt(diagram.vertex(static_cast<TriId>(t)), options_.precision);
-      vertices_[t] = {p.v, p.lon, p.lat, static_cast<TriId>(t), min_side2[t]};
+      vertices_[t] = {p.v, p.lon, p.lat, min_side2[t]};
     }
   });
 
@@ -214,7 +214,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       }
       if (j + kLists < order.size()) {
         const SiteId s = order[j + kLists];
-        for (const TriId t : diagram.cell_vertices(s)) __builtin_prefetch(&vertices_[t].id);
+        for (const TriId t : diagram.cell_vertices(s)) __builtin_prefetch(&vertices_[t]);
         for (const SiteId w : diagram.cell_neighbors(s))
           if (w > s) {
             diagram.prefetch(w, 1);
@@ -248,15 +248,15 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
         const std::size_t d = tris.size();
         for (std::size_t i = 0; i < d; ++i) {
           const SiteId w = nbrs[i];
-          const Vertex& va = vertices_[tris[i]];
-          const Vertex& vb = vertices_[tris[i + 1 == d ? 0 : i + 1]];
+          const TriId ta = tris[i], tb = tris[i + 1 == d ? 0 : i + 1];
+          const Vertex &va = vertices_[ta], &vb = vertices_[tb];
           if (w < s) continue;  // the other cell's
           const Pt a{va.v, va.lon, va.lat}, b{vb.v, vb.lon, vb.lat};
           // Both triangles of the edge contain its two sites: the shorter of their shortest
           // sides bounds their distance.
           edge.clear();
           guards.clear();
-          if (cap_[va.id] | cap_[vb.id]) edge_guards(s, w, va, vb, guards);
+          if (cap_[ta] | cap_[tb]) edge_guards(s, w, va, vb, guards);
           dens.set_guards(guards);
           dens.edge(a, b, diagram.site(s), diagram.site(w), std::min(va.min_side2, vb.min_side2));
           const std::size_t slot = static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
@@ -477,7 +477,7 @@ void CellGeometry::edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vert
       if (nbrs[i] == across) continue;
       const Vertex& f0 = vertices_[tris[i]];
       const Vertex& f1 = vertices_[tris[i + 1 == d ? 0 : i + 1]];
-      const bool at_a = f0.id == a.id || f1.id == a.id, at_b = f0.id == b.id || f1.id == b.id;
+      const bool at_a = &f0 == &a || &f1 == &a, at_b = &f0 == &b || &f1 == &b;  // vertices_ entries
       const Vec3 n = lonlat::normalized(vd.site(c) - vd.site(nbrs[i]));
       if (at_a && at_b) {
         // The other side of a lune (its ends ours): the side it must keep clear
@@ -486,7 +486,7 @@ void CellGeometry::edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vert
         // A side at a common vertex comes close only where the angle between them is acute.
         const Vec3& v = at_a ? a.v : b.v;
         const Vec3& e_far = at_a ? b.v : a.v;
-        const Vec3& f_far = (f0.id == (at_a ? a.id : b.id)) ? f1.v : f0.v;
+        const Vec3& f_far = (&f0 == (at_a ? &a : &b)) ? f1.v : f0.v;
         if (dot(e_far - dot(v, e_far) * v, f_far - dot(v, f_far) * v) <= 0) continue;
       } else if (std::min(std::fabs(dot(a.v, n)), std::fabs(dot(b.v, n))) >= far) {
         continue;  // the distance along the edge is least at an end (concave): never binding
@@ -674,8 +674,8 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
     std::vector<double>& s12 = scratch<double>();
     const EdgeSlot* own = edge_slots_.get() + (nbrs.data() - nbr_base_);  // this cell's slots
     for (std::size_t i = 0; i < d; ++i) {
-      const Vertex& va = vertices_[tris[i]];
-      const Vertex& vb = vertices_[tris[i + 1 == d ? 0 : i + 1]];
+      const TriId ta = tris[i], tb = tris[i + 1 == d ? 0 : i + 1];
+      const Vertex &va = vertices_[ta], &vb = vertices_[tb];
       const Pt a{va.v, va.lon, va.lat}, b{vb.v, vb.lon, vb.lat};
       loop.push_back(a);
       const SiteId w = nbrs[i];
@@ -700,7 +700,7 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
         edge.clear();
         std::vector<Vec3>& guards = scratch<Vec3>();
         guards.clear();
-        if (cap_[va.id] | cap_[vb.id])
+        if (cap_[ta] | cap_[tb])
           edge_guards(std::min(s, w), std::max(s, w), forward ? va : vb, forward ? vb : va, guards);
         dens.set_guards(guards);
         dens.edge(from, to, vd.site(std::min(s, w)), vd.site(std::max(s, w)), std::min(va.min_side2, vb.min_side2));

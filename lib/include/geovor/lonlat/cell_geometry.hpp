@@ -162,14 +162,12 @@ class CellGeometry {
   struct Free {
     void operator()(void* p) const { std::free(p); }
   };
-  // Per Voronoi vertex, in 48 bytes: its snapped position and longitude/latitude (degrees), its
-  // own index (which edge_guards and snap rounding tell vertices apart by), and the squared chord
-  // of the shortest side of its triangle (a lower bound of the distance between the sites of an
-  // edge).
+  // Per Voronoi vertex, in 48 bytes: its snapped position and longitude/latitude (degrees), and
+  // the squared chord of the shortest side of its triangle (a lower bound of the distance between
+  // the sites of an edge).
   struct Vertex {
     Vec3 v;
     double lon, lat;
-    TriId id;
     float min_side2;
   };
   std::unique_ptr<Vertex[], Free> vertices_;
@@ -198,8 +196,9 @@ class CellGeometry {
   };
   std::vector<std::vector<BoundaryPoint>> points_;  // one part per construction thread
   CellStatus build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
-  // The great circles the edge between sites lo < hi, from vertex a to vertex b, must keep
-  // clear of when one of its cells is thin (Densifier::set_guards), into `guards`. Called only
+  // The great circles the edge between sites lo < hi, from vertex a to vertex b (entries of
+  // vertices_, told apart by address), must keep clear of when one of its cells is thin
+  // (Densifier::set_guards), into `guards`. Called only
   // for an edge at a cap's vertex or one near a pole (cap_): cells are thin only at caps, and
   // only near a pole can the plate carree turn chords by more than a cap's angle.
   void edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vertex& b, std::vector<Vec3>& guards) const;
