@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <numeric>
 #include <tuple>
 
 #include "geovor/core/assert.hpp"
@@ -139,6 +140,9 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
   std::sort(order.begin(), order.end());
 
   std::vector<std::pair<double, std::uint32_t>> hits;
+  std::vector<std::uint32_t> candidates;  // the pixels in a segment's box
+  using Wide = __int128;                  // products of steps (below 2^49 each)
+  std::vector<std::pair<Wide, std::uint32_t>> on_line;
   // Appends to `out` the hot pixels the segment p -> q of one sheet meets, but its ends', in order.
   auto route = [&](const SnapVertex& p, const SnapVertex& q, std::vector<SnapVertex>& out) {
     if (std::fabs(p.raw_lat) == 90 || std::fabs(q.raw_lat) == 90) return;
@@ -152,6 +156,7 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
     const int l = std::min(60, static_cast<int>(std::bit_width(extent)));
     const std::int64_t pix = steps(p.lon), piy = steps(p.lat), qix = steps(q.lon), qiy = steps(q.lat);
     hits.clear();
+    candidates.clear();
     const std::int64_t side = std::int64_t{1} << l;
     for (std::int64_t cx = (x_lo + kOffset) >> l; cx <= (x_hi + kOffset) >> l; ++cx)
       for (std::int64_t cy = (y_lo + kOffset) >> l; cy <= (y_hi + kOffset) >> l; ++cy) {
@@ -160,14 +165,41 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
         auto it = std::lower_bound(order.begin(), order.end(), std::pair<Key, std::uint32_t>{first, 0});
         for (; it != order.end() && it->first <= last; ++it) {
           const HotPixel& h = pixels[it->second];
-          if ((h.ix == pix && h.iy == piy) || (h.ix == qix && h.iy == qiy)) continue;
           if (h.ix < x_lo || h.ix > x_hi || h.iy < y_lo || h.iy > y_hi) continue;
+          candidates.push_back(it->second);
+          if ((h.ix == pix && h.iy == piy) || (h.ix == qix && h.iy == qiy)) continue;
           double enter = 0;
           if (meets_square(p, q, h.vertex.lon, h.vertex.lat, half, enter)) hits.push_back({enter, it->second});
         }
       }
     std::sort(hits.begin(), hits.end());
-    for (const auto& [enter, k] : hits) out.push_back(pixels[k].vertex);
+    // Each written segment also takes the hot pixels whose centres lie exactly on it, which its
+    // raw segment need not have met: where paths collapse onto one line, each then has every
+    // position of the line (the same line split differently on each side had been two different
+    // geodesic paths, and areas that did not sum to the ellipsoid's: fuzz_cells at 0 decimals).
+    std::int64_t ax = pix, ay = piy;
+    auto node = [&](std::int64_t bx, std::int64_t by) {
+      const std::int64_t dx = bx - ax, dy = by - ay;
+      if (std::gcd(dx, dy) >= 2) {  // else no grid point lies strictly between a and b
+        on_line.clear();
+        const Wide length2 = Wide{dx} * dx + Wide{dy} * dy;
+        for (const std::uint32_t k : candidates) {
+          const std::int64_t cx = pixels[k].ix - ax, cy = pixels[k].iy - ay;
+          if (Wide{dx} * cy != Wide{dy} * cx) continue;
+          const Wide t = Wide{dx} * cx + Wide{dy} * cy;
+          if (t > 0 && t < length2) on_line.push_back({t, k});
+        }
+        std::sort(on_line.begin(), on_line.end());
+        for (const auto& [t, k] : on_line) out.push_back(pixels[k].vertex);
+        inserted += on_line.size();
+      }
+      ax = bx, ay = by;
+    };
+    for (const auto& [enter, k] : hits) {
+      node(pixels[k].ix, pixels[k].iy);
+      out.push_back(pixels[k].vertex);
+    }
+    node(qix, qiy);
     inserted += hits.size();
   };
 

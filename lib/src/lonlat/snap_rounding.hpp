@@ -34,7 +34,9 @@ inline constexpr int kSnapRoundMaxPrecision = 12;
 /// segment of each path (between the raw positions of consecutive vertices) is rerouted through
 /// the centres of the hot pixels it meets, other than those of its own ends, in the order in
 /// which it meets them: a copy of a vertex written there (the one with the smallest raw
-/// position, so the result does not depend on the order of the input) is inserted. If no two raw
+/// position, so the result does not depend on the order of the input) is inserted; then so is a
+/// copy of every hot pixel whose centre lies exactly inside a written segment (in order along it),
+/// so paths that coincide along a line have the same vertices there. If no two raw
 /// segments cross, no two written segments of the rerouted paths cross: they meet only at
 /// common written vertices, or coincide (which leaves spikes for remove_spikes, and rings that
 /// touch themselves at a vertex). The antimeridian is a segment of the arrangement too: where a
