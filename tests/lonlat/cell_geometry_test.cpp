@@ -1144,5 +1144,32 @@ TEST(CellGeometryAsWritten, LunesOfAColumnAmongFarSitesOnItsMeridian) {
   }
 }
 
+// Boundaries drawn at one pole more than once. Rounded onto the pole line (a decimal step wider
+// than their distance to the pole), a cell's runs along it overlapped: one turn each way for a
+// band passing the pole on one side, a second turn for the pole's owner whose boundary passes
+// it within a step on several sides; such cells were reported unwritable, and the others left a
+// gap. The pole is one point of the sphere, so the cell is pinched there: each part between two
+// runs is now a ring of its own, closed along the pole line.
+TEST(CellGeometryAsWritten, BoundariesDrawnAtAPoleMoreThanOnceArePinchedThere) {
+  // Three sites on a circle 1 degree around a fourth at the north pole (fuzz_cells): the pole
+  // site's cell is a triangle whose sides pass 0.5 degree from the pole, and whose corners are a
+  // degree from it. At 0 decimals each side is drawn at the pole (three runs), and the cell is
+  // three parts touching the pole line; at 1 decimal and finer, one ring around the pole.
+  const std::vector<std::pair<double, double>> circle = {
+      {89.006693034206563, 90}, {89.006693034206563, -150}, {89.006693034206563, -30.000000000000028}, {90, 0}};
+  for (const int p : {0, 1, 2, 5}) written::expect_tiling(circle, p);
+  {
+    const written::Outcome o = written::check(from_lat_lon(circle), 0);
+    EXPECT_EQ(o.written, 4u);
+  }
+  // A 21 x 21 grid of sites 23 to 350 m from the north pole, its columns 6.65e-7 degree apart
+  // (oracle_check seed 3 case 29): the bands across the column pass the pole on one side. 16 to
+  // 19 cells were unwritable at 1 and 2 decimals, 1 at 3.
+  std::vector<std::pair<double, double>> grid;
+  for (int i = 0; i < 21; ++i)
+    for (int j = 0; j < 21; ++j) grid.push_back({89.99979403149473 - i * 0.000148, 11.743548380880867 + j * 6.65e-7});
+  for (const int p : {1, 2, 3, 5}) written::expect_tiling(grid, p);
+}
+
 }  // namespace
 }  // namespace geovor

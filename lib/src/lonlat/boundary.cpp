@@ -339,6 +339,57 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
     return;
   }
 
+  // A boundary drawn at one pole more than once (a region passing within a step of the pole on
+  // several sides, or holding it with its boundary there on several sides): its runs along the
+  // pole line would overlap (one turn each way, or a second turn for the owner). The pole is one
+  // point of the sphere, so the region is pinched there: the parts between consecutive runs are
+  // rings of their own, each closed by one run along the pole line (by the rules below).
+  if (pole_owner.north >= 0 || pole_owner.south >= 0) {
+    std::size_t runs[2] = {0, 0};  // north, south
+    for (const Pt& p : loop)
+      if (is_pole(p.lat)) ++runs[p.lat > 0 ? 0 : 1];
+    const double split_lat = runs[0] >= 2 ? 90 : runs[1] >= 2 ? -90 : 0;
+    if (split_lat != 0) {
+      const std::size_t n = loop.size();
+      std::size_t first = 0;
+      while (loop[first].lat != split_lat) ++first;
+      const bool near_pole = info && info->near_pole;
+      LoopInfo whole;
+      whole.near_pole = near_pole;
+      MultiPolygon parts_out;
+      std::vector<Pt> part;
+      out.clear();
+      for (std::size_t a = first;;) {
+        std::size_t b = (a + 1) % n;
+        while (loop[b].lat != split_lat) b = (b + 1) % n;
+        part.clear();
+        for (std::size_t i = (a + 1) % n; i != b; i = (i + 1) % n) part.push_back(loop[i]);
+        part.push_back(loop[b]);
+        LoopInfo part_info;
+        loop_to_polygons(part, parts_out, nullptr, precision, &part_info, pole_owner);
+        whole.winding += part_info.winding;
+        whole.tangled |= part_info.tangled;
+        for (Polygon& poly : parts_out) out.push_back(std::move(poly));
+        a = b;
+        if (a == first) break;
+      }
+      if (whole.winding < -1 || whole.winding > 1) whole.tangled = true;
+      if (info) *info = whole;
+      if (whole.tangled) out.clear();
+      if (bbox && !out.empty()) {
+        BBox box{180, 90, -180, -90};
+        for (const Polygon& poly : out)
+          for (const LonLat& p : poly.exterior) {
+            box.south = std::min(box.south, p.lat_deg), box.north = std::max(box.north, p.lat_deg);
+            box.west = std::min(box.west, p.lon_deg), box.east = std::max(box.east, p.lon_deg);
+          }
+        if (out.size() > 1 || whole.winding != 0) box.west = -180, box.east = 180;  // parts may wrap
+        *bbox = box;
+      }
+      return;
+    }
+  }
+
   // A vertex at a pole becomes two pole positions with the incoming and outgoing longitudes.
   std::vector<RP>& ring = sc.ring;
   ring.clear();

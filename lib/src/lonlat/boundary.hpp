@@ -96,7 +96,9 @@ class Densifier {
 /// `pole_owner` says, when known, whether the region holds each pole in its interior (1), not
 /// (0), or unknown (-1): a region that does not hold the pole and spans more than 180 degrees
 /// of longitude at a point of the loop drawn at it runs the short way back along the pole line
-/// there (a spike on the line, cancelled by its other run, or removed when cleaning).
+/// there (a spike on the line, cancelled by its other run, or removed when cleaning). When it is
+/// known, a loop drawn at one pole more than once is pinched there: the parts between its runs
+/// at that pole become rings of their own, each closed by one run along the pole line.
 struct PoleOwner {
   int north = -1, south = -1;
 };
