@@ -65,8 +65,8 @@ TEST(Densifier, PoleRuleSplitsPastMaxDepth) {
   }
 }
 
-// But past max_depth no point is added within four steps of the thin cells' grid (7 decimals,
-// 4.4 cm) of a pole: written on the pole line, it loses the side of the pole the arc passed on
+// But past max_depth no point is added within two steps of the thin cells' grid (7 decimals,
+// 2.2 cm) of a pole: written on the pole line, it loses the side of the pole the arc passed on
 // (a lune passing a pole 5 mm off on both sides wound the wrong way round it: oracle seed 8).
 TEST(Densifier, NoPointNearAPolePastMaxDepth) {
   const double metre = 1 / SiteEncoder::kEarthRadiusM;
@@ -77,7 +77,7 @@ TEST(Densifier, NoPointNearAPolePastMaxDepth) {
     Densifier dens(100, 1, 2, out);
     dens.edge(make_pt(a), make_pt(b), a, b, kInf);
     EXPECT_LT(out.size(), 200u);
-    for (const Pt& p : out) EXPECT_GT(std::hypot(p.v.x, p.v.y), 4e-7 * kDeg) << p.lon << " " << p.lat;
+    for (const Pt& p : out) EXPECT_GT(std::hypot(p.v.x, p.v.y), 2e-7 * kDeg) << p.lon << " " << p.lat;
   }
 }
 

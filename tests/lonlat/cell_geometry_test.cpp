@@ -1171,5 +1171,15 @@ TEST(CellGeometryAsWritten, BoundariesDrawnAtAPoleMoreThanOnceArePinchedThere) {
   for (const int p : {1, 2, 3, 5}) written::expect_tiling(grid, p);
 }
 
+// A column of 29 sites 0.38 m apart from the north pole down the meridian 179.99 (oracle_check
+// seed 9 case 26): the band across the column passes the pole 3.8 m off, and past max_depth its
+// sides were not densified within four steps of the pole (4.4 m at 5 decimals): their chords
+// there, spanning 50 degrees of longitude, crossed, and the cell was unwritable. Now two steps.
+TEST(CellGeometryAsWritten, BandPassingAPoleAFewStepsOff) {
+  std::vector<std::pair<double, double>> column;
+  for (int i = 0; i < 29; ++i) column.push_back({90 - i * 3.44213116e-6, 179.99});
+  for (const int p : {3, 4, 5, 6, 7}) written::expect_tiling(column, p);
+}
+
 }  // namespace
 }  // namespace geovor

@@ -206,7 +206,7 @@ Densifier::Densifier(double densify_m, double max_step_deg, int max_depth, std::
   // a Densifier is made per cell).
   static constexpr double kStepDeg[8] = {1, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
   const double step_rad = kStepDeg[precision < 0 ? 7 : std::min(precision, 7)] * kDeg;
-  pole_clear2_ = 16 * step_rad * step_rad;
+  pole_clear2_ = 4 * step_rad * step_rad;
 }
 
 void Densifier::edge(const Pt& a, const Pt& b, const Vec3& left, const Vec3& right, double site_chord2) {
@@ -264,8 +264,8 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
   // reaches max_depth at pieces of 19 m, and a vertex centimetres from the pole is then joined
   // by a straight lon/lat segment spanning 20 degrees of longitude (a ring of sites 1.5 m around
   // the other pole: two cells unwritable). It ends by itself once a piece is within an eighth of
-  // its distance to the pole, and adds no point within four grid steps of the pole: a point
-  // there is written on the pole line, and the side of the pole it passed on is lost (a lune
+  // its distance to the pole, and adds no point within two grid steps of the pole: a point
+  // there can be written on the pole line, and the side of the pole it passed on is lost (a lune
   // passing a pole 5 mm off on both sides then wound the wrong way round it); kMaxPoleDepth only
   // guards against a bug.
   const bool past = depth >= max_depth_;

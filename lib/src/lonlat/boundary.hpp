@@ -46,7 +46,7 @@ class Densifier {
   /// straight lon/lat segment's midpoint and the arc; arcs longer than max_step_deg are always
   /// split; at most max_depth levels, except within metres of a pole, where pieces are split on
   /// (up to kMaxPoleDepth levels) until each is within an eighth of its distance to the pole,
-  /// adding no point within four steps of the written grid of it.
+  /// adding no point within two steps of the written grid of it.
   /// Points are appended to `out`.
   /// Positions are written with `precision` decimals (make_pt).
   Densifier(double densify_m, double max_step_deg, int max_depth, std::vector<Pt>& out,
