@@ -426,26 +426,6 @@ def write_csv(path, pts):
 
 
 # ---------------------------------------------------------------- running geovor
-# Checks that still fail on known, open defects of issue 14 (docs/design.md, "Open"), each in the
-# cases it concerns. With --known-open their failures there are listed as OPEN and do not fail
-# the run; every other check must pass.
-def _near_pole(case, cmd):
-    """a site within a degree of a pole (docs/design.md, Open)."""
-    return any(90 - abs(la) <= 1.0 for la, _ in case.pts)
-
-
-_COVERAGE_OPEN = _near_pole
-KNOWN_OPEN = {
-    "relax -n 1 moves every site to its cell's spherical centroid": (_COVERAGE_OPEN, "its precision-17 cells are the coverage checks' cases"),
-    "every shared segment written once by each side": (_COVERAGE_OPEN, "near a pole"),
-    "the cut at +-180 and the pole lines are consistent": (_COVERAGE_OPEN, "same"),
-    "planar areas sum to 64800 deg2": (_COVERAGE_OPEN, "same"),
-    "neighbors consistent with the shared segments": (_COVERAGE_OPEN, "same"),
-    "cells cover the plate carree once": (_COVERAGE_OPEN, "same"),
-    "sum of area_m2 = ellipsoid area": (_COVERAGE_OPEN, "same"),
-    "written polygons' GeographicLib areas sum to the ellipsoid area": (_COVERAGE_OPEN, "same"),
-}
-KNOWN_OPEN_ENABLED = False
 
 
 class Case:
@@ -459,7 +439,6 @@ class Case:
         self.csv = os.path.join(self.dir, "sites.csv")
         write_csv(self.csv, self.pts)
         self.failures = []
-        self.open = []
         self.passed = 0
         self.notes = []
 
@@ -469,8 +448,6 @@ class Case:
     def check(self, ok, cmd, what, detail=""):
         if ok:
             self.passed += 1
-        elif KNOWN_OPEN_ENABLED and any(what.startswith(k) and when(self, cmd) for k, (when, _) in KNOWN_OPEN.items()):
-            self.open.append((cmd, what, detail))
         else:
             self.failures.append((cmd, what, detail))
         return ok
@@ -1294,7 +1271,7 @@ def run_case(args_tuple):
     keep = bool(case.failures)
     if not keep:
         shutil.rmtree(case.dir, ignore_errors=True)
-    return dict(label=case.label(), failures=case.failures, open=case.open, passed=case.passed, notes=case.notes,
+    return dict(label=case.label(), failures=case.failures, passed=case.passed, notes=case.notes,
                 seconds=time.time() - t0, index=index)
 
 
@@ -1427,11 +1404,7 @@ def main():
     ap.add_argument("--tmp", default=None, help="work folder (kept for failing cases)")
     ap.add_argument("--quick", action="store_true", help="smaller sites sets and fewer cases")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--known-open", action="store_true",
-                    help="list failures of the KNOWN_OPEN checks as OPEN instead of failing")
     args = ap.parse_args()
-    global KNOWN_OPEN_ENABLED
-    KNOWN_OPEN_ENABLED = args.known_open
     geovor = os.path.abspath(args.geovor)
     if not os.access(geovor, os.X_OK):
         print(f"oracle: {geovor} is not an executable", file=sys.stderr)
@@ -1454,8 +1427,6 @@ def main():
         for cmd, what, detail in r["failures"]:
             failed += 1
             print(f"FAIL {r['label']}\n  command: {cmd}\n  check:   {what}\n  detail:  {detail}\n")
-        for cmd, what, detail in r.get("open", []):
-            print(f"OPEN {r['label']}\n  command: {cmd}\n  check:   {what} (known open: {KNOWN_OPEN[next(k for k in KNOWN_OPEN if what.startswith(k))][1]})\n  detail:  {detail[:300]}\n")
         for note in r["notes"]:
             print(f"note {r['label']}: {note}")
     slow = max(results, key=lambda r: r["seconds"]) if results else None
@@ -1463,9 +1434,6 @@ def main():
           if slow else "oracle: no cases")
     if failed == 0 and args.tmp is None:
         shutil.rmtree(tmp, ignore_errors=True)
-    n_open = sum(len(r.get("open", [])) for r in results)
-    if n_open:
-        print(f"oracle: {n_open} failure(s) of known open checks (see OPEN above)")
     print(f"oracle: {passed} passed, {failed} failed")
     return 0 if failed == 0 else 1
 

@@ -318,6 +318,7 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
   std::size_t used = 0;
   if (bbox) *bbox = BBox{};
   Scratch& sc = scratch();
+  bool near_pole = false;  // a point within 0.01 degree of a pole
   // Drop consecutive duplicates in lon/lat (cyclically), and consecutive points at one pole,
   // whatever their longitudes (one point of the sphere: rounding puts runs of points there).
   {
@@ -325,7 +326,6 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
       return a.lat == b.lat && (a.lon == b.lon || is_pole(a.lat));
     };
     std::size_t w = 0;
-    bool near_pole = false;
     for (std::size_t i = 0; i < loop.size(); ++i) {
       near_pole |= std::fabs(loop[i].lat) > 89.99;
       if (w == 0 || !same(loop[i], loop[w - 1])) loop[w++] = loop[i];
@@ -344,7 +344,7 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
   // pole line would overlap (one turn each way, or a second turn for the owner). The pole is one
   // point of the sphere, so the region is pinched there: the parts between consecutive runs are
   // rings of their own, each closed by one run along the pole line (by the rules below).
-  if (pole_owner.north >= 0 || pole_owner.south >= 0) {
+  if (near_pole && (pole_owner.north >= 0 || pole_owner.south >= 0)) {
     std::size_t runs[2] = {0, 0};  // north, south
     for (const Pt& p : loop)
       if (is_pole(p.lat)) ++runs[p.lat > 0 ? 0 : 1];
@@ -353,7 +353,6 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
       const std::size_t n = loop.size();
       std::size_t first = 0;
       while (loop[first].lat != split_lat) ++first;
-      const bool near_pole = info && info->near_pole;
       LoopInfo whole;
       whole.near_pole = near_pole;
       MultiPolygon parts_out;
