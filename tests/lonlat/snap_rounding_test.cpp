@@ -119,6 +119,22 @@ TEST(SnapRound, WrittenSegmentsTakeTheHotPixelCentresOnThem) {
   EXPECT_EQ(vertices_inside_segments(paths, 0), 0u);
 }
 
+// An end written on the antimeridian but computed off it is taken in its own sheet, not the
+// other end's: a segment from lon 0.3 to -179.7 (written 0 and -180, less than 180 degrees apart,
+// so no crossing) had its end moved to +180, which left its own pixel at -180 as a hot pixel it
+// met, and the noding then went from -180 to +180 through the pixels of the row between.
+TEST(SnapRound, AnEndWrittenOnTheAntimeridianStaysInItsSheet) {
+  std::vector<std::vector<SnapVertex>> paths = {{at(0.3, 10.2, 0, 0), at(-179.7, 10.3, 0, 1)}};
+  const std::vector<SnapVertex> extra = {at(-90.2, 10.1, 0, 2)};
+  snap_round(paths, extra, 0);
+  ASSERT_EQ(paths[0].size(), 3u);
+  const double lons[] = {0, -90, -180};
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(paths[0][i].lon, lons[i]) << i;
+    EXPECT_EQ(paths[0][i].lat, 10) << i;
+  }
+}
+
 // A segment across the antimeridian goes through the hot pixel where it crosses it (a new vertex)
 // and meets the hot pixels on both sides, in order; one ending at a pole is left as it is.
 TEST(SnapRound, AntimeridianAndPoleSegments) {

@@ -202,8 +202,8 @@ Densifier::Densifier(double densify_m, double max_step_deg, int max_depth, std::
       cos_step_(std::cos(max_step_deg * kDeg)),
       max_depth_(max_depth),
       precision_(precision) {
-  // Four steps of the grid thin cells are written on (at most 7 decimals), in radians (a table:
-  // a Densifier is made per cell).
+  // One step of the grid thin cells are written on (at most 7 decimals), in radians (a table:
+  // a Densifier is made per cell); no point is added within two of a pole past max_depth.
   static constexpr double kStepDeg[8] = {1, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
   const double step_rad = kStepDeg[precision < 0 ? 7 : std::min(precision, 7)] * kDeg;
   pole_clear2_ = 4 * step_rad * step_rad;
@@ -355,6 +355,7 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
       while (loop[first].lat != split_lat) ++first;
       LoopInfo whole;
       whole.near_pole = near_pole;
+      int enclosing = 0;  // parts around a pole: one at most (the other pole's), else rounding
       MultiPolygon parts_out;
       std::vector<Pt> part;
       out.clear();
@@ -368,11 +369,12 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
         loop_to_polygons(part, parts_out, nullptr, precision, &part_info, pole_owner);
         whole.winding += part_info.winding;
         whole.tangled |= part_info.tangled;
+        enclosing += part_info.winding != 0;
         for (Polygon& poly : parts_out) out.push_back(std::move(poly));
         a = b;
         if (a == first) break;
       }
-      if (whole.winding < -1 || whole.winding > 1) whole.tangled = true;
+      if (enclosing > 1) whole.tangled = true;
       if (info) *info = whole;
       if (whole.tangled) out.clear();
       if (bbox && !out.empty()) {

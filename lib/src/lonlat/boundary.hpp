@@ -91,7 +91,8 @@ class Densifier {
 /// (consecutive duplicates dropped). An empty result means a degenerate loop. The points' lon/lat
 /// must already be written with `precision` decimals; the antimeridian crossings are too.
 /// `info`, if given, gets the ring's winding: +1 when it encloses the north pole, -1 the south
-/// pole, 0 when it encloses neither (a pole on the ring is not enclosed); and whether a point of
+/// pole, 0 when it encloses neither (a pole on the ring is not enclosed; for a loop pinched at a
+/// pole, below, the sum over its parts, of which one at most may enclose a pole); and whether a point of
 /// the loop lies within 0.01 degree of a pole, where longitudes are ill-conditioned.
 /// `pole_owner` says, when known, whether the region holds each pole in its interior (1), not
 /// (0), or unknown (-1): a region that does not hold the pole and spans more than 180 degrees

@@ -68,11 +68,13 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
 
   // A segment's ends in one sheet of the plane: an end on the antimeridian (raw -180) is taken
   // on the side of the other end, and a segment whose ends are more than 180 degrees apart
-  // crosses the antimeridian, at the latitude of its straight lon/lat line.
+  // crosses the antimeridian, at the latitude of its straight lon/lat line. An end only written
+  // on it stays in the sheet of its raw longitude (moved to the other end's, from 0.3 to -179.7,
+  // its own pixel became one the segment met, and the noding ran through the whole row).
   auto on_side = [](SnapVertex v, double side) {
     if (std::fabs(v.raw_lon) == 180) v.raw_lon = side > 0 ? 180 : -180;
-    if (v.lon == -180 && side > 0) v.lon = 180;
-    if (v.lon == 180 && side < 0) v.lon = -180;
+    if (v.lon == -180 && side > 0 && v.raw_lon > 0) v.lon = 180;
+    if (v.lon == 180 && side < 0 && v.raw_lon < 0) v.lon = -180;
     return v;
   };
   struct Crossing {
