@@ -145,6 +145,40 @@ Scratch& scratch() {
   return s;
 }
 
+// The box of polygons: latitudes from their positions; longitudes all (a polar ring), of the
+// one polygon, or of pieces cut at the antimeridian, which come west to east by sheet (the first
+// ends at 180, the last starts at -180).
+enum class Lons { All, One, Cut };
+BBox box_of(const MultiPolygon& out, Lons lons) {
+  BBox b{180, 90, -180, -90};
+  for (const Polygon& poly : out)
+    for (const LonLat& p : poly.exterior) {
+      b.south = std::min(b.south, p.lat_deg);
+      b.north = std::max(b.north, p.lat_deg);
+    }
+  auto lon_range = [](const Polygon& poly, double& lo, double& hi) {
+    lo = 180, hi = -180;
+    for (const LonLat& p : poly.exterior) {
+      lo = std::min(lo, p.lon_deg);
+      hi = std::max(hi, p.lon_deg);
+    }
+  };
+  double lo, hi;
+  switch (lons) {
+    case Lons::All:
+      b.west = -180, b.east = 180;
+      break;
+    case Lons::One:
+      lon_range(out[0], b.west, b.east);
+      break;
+    case Lons::Cut:
+      lon_range(out.front(), b.west, hi);
+      lon_range(out.back(), lo, b.east);
+      break;
+  }
+  return b;
+}
+
 // Closes `pts` (lon/lat, already in [-180, 180]) into a ring: no consecutive duplicates, exact
 // copy of the first position at the end, counter-clockwise. Returns false if degenerate.
 bool finish_ring(Ring& ring) {
@@ -377,16 +411,8 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
       if (enclosing > 1) whole.tangled = true;
       if (info) *info = whole;
       if (whole.tangled) out.clear();
-      if (bbox && !out.empty()) {
-        BBox box{180, 90, -180, -90};
-        for (const Polygon& poly : out)
-          for (const LonLat& p : poly.exterior) {
-            box.south = std::min(box.south, p.lat_deg), box.north = std::max(box.north, p.lat_deg);
-            box.west = std::min(box.west, p.lon_deg), box.east = std::max(box.east, p.lon_deg);
-          }
-        if (out.size() > 1 || whole.winding != 0) box.west = -180, box.east = 180;  // parts may wrap
-        *bbox = box;
-      }
+      // Parts may wrap around the antimeridian each: all longitudes unless there is one.
+      if (bbox && !out.empty()) *bbox = box_of(out, out.size() > 1 || whole.winding != 0 ? Lons::All : Lons::One);
       return;
     }
   }
@@ -492,32 +518,7 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
   }
   out.resize(used);
 
-  if (bbox && used > 0) {
-    BBox b{180, 90, -180, -90};
-    for (const Polygon& poly : out)
-      for (const LonLat& p : poly.exterior) {
-        b.south = std::min(b.south, p.lat_deg);
-        b.north = std::max(b.north, p.lat_deg);
-      }
-    auto lon_range = [](const Polygon& poly, double& lo, double& hi) {
-      lo = 180, hi = -180;
-      for (const LonLat& p : poly.exterior) {
-        lo = std::min(lo, p.lon_deg);
-        hi = std::max(hi, p.lon_deg);
-      }
-    };
-    if (polar) {
-      b.west = -180, b.east = 180;
-    } else if (used == 1) {
-      lon_range(out[0], b.west, b.east);
-    } else {
-      // Pieces come west to east by sheet: the first ends at 180, the last starts at -180.
-      double lo, hi;
-      lon_range(out.front(), b.west, hi);
-      lon_range(out.back(), lo, b.east);
-    }
-    *bbox = b;
-  }
+  if (bbox && used > 0) *bbox = box_of(out, polar ? Lons::All : used == 1 ? Lons::One : Lons::Cut);
 }
 
 void path_to_lines(const std::vector<Pt>& path, MultiLineString& out, int precision) {
