@@ -24,7 +24,6 @@
 #include "numeric_options.hpp"
 #include "output_model.hpp"
 #include "output_file.hpp"
-#include "output_model.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
