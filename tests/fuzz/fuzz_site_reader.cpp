@@ -25,10 +25,11 @@ namespace {
 
 using namespace geovor;
 
-// Records of the text after the header, as CsvReader counts them (the independent count).
-std::uint64_t csv_records(const std::string& text) {
+// Records of the text after the header, as CsvReader counts them with the table's delimiter (the
+// independent count; a quote is special only at a field's start, which the delimiter decides).
+std::uint64_t csv_records(const std::string& text, char delimiter) {
   std::istringstream in(text);
-  CsvReader reader(in);
+  CsvReader reader(in, delimiter);
   std::vector<std::string> fields;
   std::uint64_t n = 0;
   while (reader.next(fields)) ++n;
@@ -38,7 +39,7 @@ std::uint64_t csv_records(const std::string& text) {
 void check_table(const SiteTable& t, const std::string& text) {
   FUZZ_CHECK(t.rows_read == t.sites.size() + t.rejected.size(), "rows %llu, sites %zu, rejected %zu",
              static_cast<unsigned long long>(t.rows_read), t.sites.size(), t.rejected.size());
-  const std::uint64_t records = csv_records(text);
+  const std::uint64_t records = csv_records(text, t.delimiter);
   FUZZ_CHECK(t.rows_read == records, "rows %llu, CsvReader records %llu", static_cast<unsigned long long>(t.rows_read),
              static_cast<unsigned long long>(records));
   // Rows 1..rows_read, each exactly once, in order within each list.
@@ -79,7 +80,7 @@ void check_table(const SiteTable& t, const std::string& text) {
 
 // The first difference between two tables, or "" if every member is equal.
 std::string difference(const SiteTable& a, const SiteTable& b) {
-  if (a.source != b.source || a.columns != b.columns || a.lat_column != b.lat_column ||
+  if (a.source != b.source || a.columns != b.columns || a.delimiter != b.delimiter || a.lat_column != b.lat_column ||
       a.lon_column != b.lon_column || a.id_column != b.id_column || a.ecef_columns != b.ecef_columns ||
       a.rows_read != b.rows_read) {
     return "header or rows_read";

@@ -23,9 +23,9 @@ struct Read {
   std::vector<std::string> errors;
 };
 
-Read read_all(const std::string& text) {
+Read read_all(const std::string& text, char delimiter = ',') {
   std::istringstream in(text);
-  CsvReader reader(in);
+  CsvReader reader(in, delimiter);
   Read out;
   Record fields;
   while (reader.next(fields)) {
@@ -109,6 +109,19 @@ TEST(CsvReader, LenientAboutStrayQuotes) {
   ASSERT_EQ(r.records.size(), 1u);
   EXPECT_EQ(r.records[0], (Record{"ab\"c", "def", " g "}));
   EXPECT_EQ(r.errors[0], "");
+}
+
+TEST(CsvReader, OtherDelimiters) {
+  for (const char d : {';', '\t', '|'}) {
+    const std::string s(1, d);
+    // Commas are text; a quote opens a field only right after the delimiter or a line end.
+    const Read r = read_all("a" + s + "b,c\n1,\"2" + s + "\"3" + s + "x\n\"\n4" + s + "\"\"" + s + "\n", d);
+    ASSERT_EQ(r.records.size(), 3u) << d;
+    EXPECT_EQ(r.records[0], (Record{"a", "b,c"}));
+    EXPECT_EQ(r.records[1], (Record{"1,\"2", "3" + s + "x\n"}));
+    EXPECT_EQ(r.records[2], (Record{"4", "", ""}));
+    EXPECT_EQ(r.lines, (std::vector<std::uint64_t>{1, 2, 4}));
+  }
 }
 
 TEST(CsvReader, EmptyLinesAreSkippedButCounted) {

@@ -146,6 +146,7 @@ TEST(SiteReader, DelimitersAreSniffedFromTheHeader) {
     ASSERT_EQ(t.sites.size(), 1u) << d;
     EXPECT_EQ(t.columns, (std::vector<std::string>{"id", "lat", "lon", "name"})) << d;
     EXPECT_EQ(t.sites[0].fields, (std::vector<std::string>{"A", "10", "20", "x" + d + "y"})) << d;
+    EXPECT_EQ(t.delimiter, d[0]);
   }
   // A quoted delimiter in the header does not count: two ';' beat one quoted ',' and none outside.
   const SiteTable q = read("\"a,b\";lat;lon\nx;1;2\n");
@@ -154,6 +155,14 @@ TEST(SiteReader, DelimitersAreSniffedFromTheHeader) {
   SiteReaderOptions o;
   o.delimiter = ',';
   EXPECT_EQ(read("lat,lon,a;b;c;d\n1,2,x\n", o).columns.size(), 3u);
+  EXPECT_EQ(read("lat,lon,a;b;c;d\n1,2,x\n", o).delimiter, ',');
+  // A quote is special only at a field's start, which the delimiter decides: with ';' the quotes
+  // in 1,"2 are text and the row ends at its line end (fuzz_site_reader, regression
+  // semicolon_header_quotes_after_commas).
+  const SiteTable s = read("lat;lon\n1,\"2;3\n4;5\n\"x\n");
+  EXPECT_EQ(s.rows_read, 3u);
+  ASSERT_EQ(s.sites.size(), 1u);
+  EXPECT_EQ(s.sites[0].lat_deg, 4.0);
 }
 
 TEST(SiteReader, DecimalCommaWhereTheDelimiterIsNotAComma) {

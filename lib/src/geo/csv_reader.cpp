@@ -1,5 +1,6 @@
 #include "geovor/geo/csv_reader.hpp"
 
+#include <cassert>
 #include <cstring>
 
 #include "geovor/core/error.hpp"
@@ -12,7 +13,9 @@ constexpr std::size_t kBlockSize = 1 << 16;
 
 }  // namespace
 
-CsvReader::CsvReader(std::istream& in) : in_(in), buf_(kBlockSize) {}
+CsvReader::CsvReader(std::istream& in, char delimiter) : in_(in), delim_(delimiter), buf_(kBlockSize) {
+  assert(delimiter != '"' && delimiter != '\n' && delimiter != '\r');
+}
 
 bool CsvReader::fill() {
   if (pos_ < end_) return true;
@@ -94,11 +97,11 @@ bool CsvReader::next(std::vector<std::string>& fields) {
         const char* const first = buf_.data() + pos_;
         const char* const last = buf_.data() + end_;
         const char* p = first;
-        while (p != last && *p != ',' && *p != '\n' && *p != '\r') ++p;
+        while (p != last && *p != delim_ && *p != '\n' && *p != '\r') ++p;
         field->append(first, p);
         pos_ += static_cast<std::size_t>(p - first);
         if (p == last) break;
-        if (*p == ',') {
+        if (*p == delim_) {
           ++pos_;
           field = &start_field();
           state = State::Start;
@@ -138,7 +141,7 @@ bool CsvReader::next(std::vector<std::string>& fields) {
           field->push_back('"');
           ++pos_;
           state = State::Quoted;
-        } else if (c == ',') {
+        } else if (c == delim_) {
           ++pos_;
           field = &start_field();
           state = State::Start;

@@ -886,6 +886,7 @@ void CsvSiteScan::scan(const SiteReaderOptions& options, const CsvScanTuning& tu
   rules.delimiter = options.delimiter != 0 ? options.delimiter : sniff_delimiter(buf, start, size);
   if (std::string_view(",;\t|").find(rules.delimiter) == std::string_view::npos)
     throw Error(ErrorCode::InvalidArgument, "the delimiter must be ',', ';', TAB or '|'");
+  table.delimiter = rules.delimiter;
   rules.decimal_comma = rules.delimiter != ',';
   rules.projected = !options.s_srs.empty();
   // A read error: CsvReader would have met it when it needed the first byte after the good ones,

@@ -6,7 +6,8 @@
 /// - CRLF, LF or lone CR line ends, mixed freely;
 /// - quoted fields holding commas, line breaks (kept as written) and doubled quotes ("" -> ");
 /// - empty fields, and a last record without a line end;
-/// - text after a closing quote ("ab"c -> abc) and quotes inside an unquoted field (kept).
+/// - text after a closing quote ("ab"c -> abc) and quotes inside an unquoted field (kept);
+/// - a delimiter other than ',' (';', TAB, '|': what the site reader sniffs), given to the constructor.
 ///
 /// Empty lines (no character at all before the line end) are not records: editors leave them,
 /// most often at the end of a file, and reading them as a record of one empty field would only
@@ -27,7 +28,8 @@ namespace geovor {
 class CsvReader {
  public:
   /// \param[in] in the stream to read; it must outlive the reader, which reads it in blocks.
-  explicit CsvReader(std::istream& in);
+  /// \param[in] delimiter the field delimiter; not '"', CR or LF (an assertion).
+  explicit CsvReader(std::istream& in, char delimiter = ',');
 
   /// Read the next record.
   /// \param[out] fields the fields of the record (their storage is reused between calls).
@@ -51,6 +53,7 @@ class CsvReader {
   void consume_line_end();
 
   std::istream& in_;
+  char delim_;
   std::vector<char> buf_;
   std::size_t pos_ = 0, end_ = 0;
   bool started_ = false;

@@ -101,6 +101,7 @@ struct RejectedRow {
 struct SiteTable {
   std::string source;                ///< file name, or "<stdin>"
   std::vector<std::string> columns;  ///< header names, as read
+  char delimiter = ',';              ///< the field delimiter, as given or sniffed
   /// The type of each column (column_types.hpp): empty, or one per column; an empty value of a
   /// column that is not String is null. Empty means every column is String.
   std::vector<FieldType> column_types;
