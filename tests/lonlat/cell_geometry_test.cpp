@@ -14,6 +14,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <random>
 #include <set>
 #include <string>
 #include <tuple>
@@ -1179,6 +1180,75 @@ TEST(CellGeometryAsWritten, BandPassingAPoleAFewStepsOff) {
   std::vector<std::pair<double, double>> column;
   for (int i = 0; i < 29; ++i) column.push_back({90 - i * 3.44213116e-6, 179.99});
   for (const int p : {3, 4, 5, 6, 7}) written::expect_tiling(column, p);
+}
+
+// Two sites of equal z (one latitude) on opposite meridians: the pole lies on their bisector, so
+// nobody owns it, and each of their cells has a 180-degree wedge there, one of them just over 180
+// as written (the longitudes of its vertices rounded). That one had been taken for rounding and
+// run back along the pole line, the way of a boundary passing a step off the pole: the ring wound
+// around the pole, and the cell was reported unwritable at every precision finer than 7 decimals
+// (fuzz_cells: clusters 0.2 m from the north pole).
+TEST(CellGeometryAsWritten, PoleOnTheBisectorOfTwoSitesOfOneLatitude) {
+  std::mt19937_64 rng(14);
+  std::uniform_real_distribution<double> lon(-180, 180), colat(1e-7, 3), far_lat(-80, 60);
+  for (int trial = 0; trial < 20; ++trial) {
+    const double l = lon(rng), lat = 90 - colat(rng);
+    std::vector<std::pair<double, double>> sites = {{lat, l}, {lat, l > 0 ? l - 180 : l + 180}};
+    for (int k = 0; k < 4; ++k) sites.push_back({far_lat(rng), lon(rng)});
+    const VoronoiDiagram vd = diagram_of(from_lat_lon(sites));
+    ASSERT_EQ(vd.site(0).z, vd.site(1).z);
+    for (const int p : {9, kFullPrecision}) written::expect_tiling(sites, p);
+  }
+  // The fuzz_cells input: 14 sites, two of them merged, two of equal z 0.19 m from the pole.
+  const std::vector<std::pair<double, double>> clusters = {
+      {90, 0}, {89.999998283929372, -129.43102174587438}, {89.999998303883672, 53.935402783374975},
+      {89.999995749732037, 65.893751094654945}, {89.999993215534715, 7.895277753731393},
+      {89.999994313021745, -102.82213661736405}, {89.999998263975058, -21.508253532603661},
+      {-89.299610894941637, -0.0027466239413911353}, {-89.29961204630807, -0.0026447355418290838},
+      {-89.299610044301005, -0.0026265803857879358}, {-89.299609903436135, -0.0026340459777947807},
+      {-89.299608589125441, -0.0025066193222232362}, {31.597509902446227, 104.1244415032437},
+      {-0.4269769137506183, -3.2965662116888552}};
+  for (const int p : {5, 7, 9, 12, 17, kFullPrecision}) written::expect_tiling(clusters, p);
+}
+
+// Lune sides passing a pole within a few steps, thinner there than the pole line is long. Past
+// max_depth the Densifier had added no point within two steps of the pole, and the sides'
+// straight lon/lat chords there, spanning tens of degrees of longitude, crossed: the cell was
+// reported unwritable and its neighbours left a gap (fuzz_cells, with no unwritable cell allowed).
+// It now splits on to the pole line, whose runs the pole rules and the pinch close.
+TEST(CellGeometryAsWritten, LuneSidesPassingAPoleAFewStepsOff) {
+  // 32 sites on a circle 7 degrees around a site at the south pole: a lune's tip passes the north
+  // pole 1 cm off, its sides' chords spanning 31 degrees of longitude 1 to 3 steps (7 decimals,
+  // the thin cells' grid) from it.
+  const std::vector<std::pair<double, double>> ring = {
+      {-82.829997364023455, -179.99999998545974}, {-82.829997367105889, 168.75000006247959},
+      {-82.829997342556894, 157.49999997322843}, {-82.829997362893323, 146.24999996495089},
+      {-82.82999735109226, 134.99999998811992}, {-82.829997351996468, 123.7499999980445},
+      {-82.829997339849015, 112.50000002996802}, {-82.829997342678269, 101.24999994883778},
+      {-82.829997350666389, 89.999999922454251}, {-82.829997348676898, 78.750000057053143},
+      {-82.829997356292253, 67.499999890068054}, {-82.829997352628453, 56.250000122538118},
+      {-82.829997362061391, 44.999999996914397}, {-82.82999735762796, 33.750000025668243},
+      {-82.829997367073531, 22.499999954411621}, {-82.829997343002105, 11.249999929098935},
+      {-82.829997351963399, -7.7392368982625102e-08}, {-82.829997342483153, -11.250000062218307},
+      {-82.829997347511622, -22.499999955956518}, {-82.829997351421952, -33.749999883017658},
+      {-82.829997342217823, -44.999999960459093}, {-82.829997340198958, -56.249999971588529},
+      {-82.829997356986951, -67.500000043368175}, {-82.829997361710255, -78.74999995739897},
+      {-82.82999736260544, -90.000000029194979}, {-82.82999734463381, -101.24999990824266},
+      {-82.829997353472478, -112.49999992534131}, {-82.829997344207229, -123.75000000904473},
+      {-82.829997348135862, -135.00000002146751}, {-82.829997348192478, -146.24999992194211},
+      {-82.829997346724966, -157.50000009877715}, {-82.829997350526796, -168.74999990181516}, {-90, 0}};
+  // 9 sites on a ring 7 degrees around the south pole with millimetres of noise: the lunes' tips
+  // meet 10 m from the north pole, and one side passes it 0.8 m off (0.75 steps at 5 decimals).
+  const std::vector<std::pair<double, double>> noisy = {
+      {-83.02490771957963, 179.99979431859282}, {-83.024912828561469, 140.00032033907991},
+      {-83.024958114219672, 100.00069645973643}, {-83.025022387708063, 60.000746717941922},
+      {-83.02507557909577, 20.00044755442563}, {-83.025092793431369, -20.00006102285872},
+      {-83.025065979647607, -60.000541047683733}, {-83.02500768521989, -100.00076789679689},
+      {-83.024945182004529, -140.00063543604676}};
+  for (const int p : {3, 5, 7, kFullPrecision}) {
+    written::expect_tiling(ring, p);
+    written::expect_tiling(noisy, p);
+  }
 }
 
 }  // namespace

@@ -235,13 +235,7 @@ Densifier::Densifier(double densify_m, double max_step_deg, int max_depth, std::
       tol2_(std::pow(densify_m / SiteEncoder::kEarthRadiusM, 2)),
       cos_step_(std::cos(max_step_deg * kDeg)),
       max_depth_(max_depth),
-      precision_(precision) {
-  // One step of the grid thin cells are written on (at most 7 decimals), in radians (a table:
-  // a Densifier is made per cell); no point is added within two of a pole past max_depth.
-  static constexpr double kStepDeg[8] = {1, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
-  const double step_rad = kStepDeg[precision < 0 ? 7 : std::min(precision, 7)] * kDeg;
-  pole_clear2_ = 4 * step_rad * step_rad;
-}
+      precision_(precision) {}
 
 void Densifier::edge(const Pt& a, const Pt& b, const Vec3& left, const Vec3& right, double site_chord2) {
   left_ = &left;
@@ -298,9 +292,10 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
   // reaches max_depth at pieces of 19 m, and a vertex centimetres from the pole is then joined
   // by a straight lon/lat segment spanning 20 degrees of longitude (a ring of sites 1.5 m around
   // the other pole: two cells unwritable). It ends by itself once a piece is within an eighth of
-  // its distance to the pole, and adds no point within two grid steps of the pole: a point
-  // there can be written on the pole line, and the side of the pole it passed on is lost (a lune
-  // passing a pole 5 mm off on both sides then wound the wrong way round it); kMaxPoleDepth only
+  // its distance to the pole, however close (an arc within kSnapRad gets the pole as a vertex):
+  // points written on the pole line are runs there, which the pole rules and the pinch of
+  // loop_to_polygons close. Stopping two steps short of the pole left chords spanning tens of
+  // degrees of longitude there, which crossed (docs/design.md, the poles); kMaxPoleDepth only
   // guards against a bug.
   const bool past = depth >= max_depth_;
   if (past && depth >= kMaxPoleDepth) return;
@@ -311,8 +306,7 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
   if (past) {
     if (pa || pb) return;
     m = midpoint(a.v, b.v);
-    const double to_pole2 = m.x * m.x + m.y * m.y;
-    if (to_pole2 <= pole_clear2_ || 64 * norm2(m - lonlat_midpoint(a, b)) <= to_pole2) return;
+    if (64 * norm2(m - lonlat_midpoint(a, b)) <= m.x * m.x + m.y * m.y) return;
   } else if (pa || pb) {
     // From a pole the arc is a meridian, straight in lon/lat. Pole to pole (N to S) needs a
     // midpoint, which gives the meridian its longitude; so does an arc from a pole to a point
@@ -355,16 +349,24 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
   bool near_pole = false;  // a point within 0.01 degree of a pole
   // Drop consecutive duplicates in lon/lat (cyclically), and consecutive points at one pole,
   // whatever their longitudes (one point of the sphere: rounding puts runs of points there).
+  // A run at a pole keeps the sphere point of one merely rounded there, if it has one: at_pole(v)
+  // then says that the pole itself is a vertex of the boundary, with its true angle there.
   {
     auto same = [](const Pt& a, const Pt& b) {
       return a.lat == b.lat && (a.lon == b.lon || is_pole(a.lat));
     };
+    auto merge = [](Pt& kept, const Pt& dropped) {
+      if (is_pole(kept.lat) && !at_pole(dropped.v)) kept.v = dropped.v;
+    };
     std::size_t w = 0;
     for (std::size_t i = 0; i < loop.size(); ++i) {
       near_pole |= std::fabs(loop[i].lat) > 89.99;
-      if (w == 0 || !same(loop[i], loop[w - 1])) loop[w++] = loop[i];
+      if (w == 0 || !same(loop[i], loop[w - 1]))
+        loop[w++] = loop[i];
+      else
+        merge(loop[w - 1], loop[i]);
     }
-    while (w > 1 && same(loop[w - 1], loop[0])) --w;
+    while (w > 1 && same(loop[w - 1], loop[0])) merge(loop[0], loop[w - 1]), --w;
     loop.resize(w);
     if (info) info->near_pole = near_pole;
   }
@@ -440,10 +442,13 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
     // where the neighbour ran along the pole line. The owner keeps any span: its cell may hold
     // the pole by an ulp, with a vertex of its neighbours at the pole within rounding, each
     // taking its own wedge (sites on one latitude, one of them an ulp higher: dropping its wedge
-    // left a gap).
+    // left a gap). So does a cell whose boundary has the pole itself as a vertex: its angle there
+    // is at most 180 degrees, one over it is the rounding of its neighbours' longitudes (two
+    // sites of equal z, the pole on their bisector: each cell's wedge is 180 degrees, one of them
+    // just over it as written), and taken back it had wound around the pole (fuzz_cells).
     const double span = std::fmod((p.lat > 0 ? in - outl : outl - in) + 720.0, 360.0);
     const int owns = p.lat > 0 ? pole_owner.north : pole_owner.south;
-    const bool back = owns == 0 && span > 180;
+    const bool back = owns == 0 && span > 180 && !at_pole(p.v);
     if (outl != in) ring.push_back({p.v, outl, p.lat, 0, back});
   }
 

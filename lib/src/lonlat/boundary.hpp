@@ -45,8 +45,7 @@ class Densifier {
   /// densify_m: largest distance (metres on the sphere of radius kEarthRadiusM) between a
   /// straight lon/lat segment's midpoint and the arc; arcs longer than max_step_deg are always
   /// split; at most max_depth levels, except within metres of a pole, where pieces are split on
-  /// (up to kMaxPoleDepth levels) until each is within an eighth of its distance to the pole,
-  /// adding no point within two steps of the written grid of it.
+  /// (up to kMaxPoleDepth levels) until each is within an eighth of its distance to the pole.
   /// Points are appended to `out`.
   /// Positions are written with `precision` decimals (make_pt).
   Densifier(double densify_m, double max_step_deg, int max_depth, std::vector<Pt>& out,
@@ -75,7 +74,6 @@ class Densifier {
   double tol2_, cos_step_;
   int max_depth_;
   int precision_;
-  double pole_clear2_;  // past max_depth, no point is added this close to a pole (squared chord)
   const Vec3* left_ = nullptr;
   const Vec3* right_ = nullptr;
   bool have_axis_ = false;
