@@ -78,21 +78,25 @@ class CellFeatures {
   CellFeatures(const SiteTable& table, const SiteTexts& texts, const CellGeometry& cells, bool encoded)
       : table_(table), texts_(texts), cells_(cells), diagram_(cells.diagram()), encoded_(encoded) {}
 
-  // The cell of s at the output's precision and its area; a cell not written valid goes to
+  // The cell's two areas: of the rings written (0 when none), of the exact cell on the sphere.
+  struct Areas {
+    double m2, sr;
+  };
+
+  // The cell of s at the output's precision and its areas; a cell not written valid goes to
   // `unwritten`.
-  double geometry(SiteId s, MultiPolygon& polygon, std::vector<UnwrittenCell>& unwritten) const {
-    double area_m2 = 0;
-    const CellStatus status = cells_.polygon(s, polygon, area_m2);
+  Areas geometry(SiteId s, MultiPolygon& polygon, std::vector<UnwrittenCell>& unwritten) const {
+    Areas areas{0, diagram_.cell_area_sr(s)};
+    const CellStatus status = cells_.polygon(s, polygon, areas.m2);
     if (status != CellStatus::Written)
       unwritten.push_back({s, status});
     else
-      GEOVOR_ASSERT(cell_areas_agree(area_m2, diagram_.cell_area_sr(s), polygon, cells_.options().densify_m,
-                                     cells_.options().precision));
-    return area_m2;
+      GEOVOR_ASSERT(cell_areas_agree(areas.m2, areas.sr, polygon, cells_.options().densify_m, cells_.options().precision));
+    return areas;
   }
 
   // The cell's properties as values, for writers without an encoder.
-  void values(SiteId s, double area_m2, std::vector<FieldValue>& values, std::string& buffer) const {
+  void values(SiteId s, Areas areas, std::vector<FieldValue>& values, std::string& buffer) const {
     const std::span<const std::uint32_t> site_rows = texts_.rows.of(s);
     const InputSite& first = table_.sites[site_rows.front()];
     const auto neighbours = diagram_.cell_neighbors(s);
@@ -108,8 +112,8 @@ class CellFeatures {
     buffer += ']';
     values[2] = buffer;
     values[3] = static_cast<std::int64_t>(site_rows.size());
-    values[4] = area_m2;
-    values[5] = diagram_.cell_area_sr(s);
+    values[4] = areas.m2;
+    values[5] = areas.sr;
     values[6] = static_cast<std::int64_t>(diagram_.cell_vertices(s).size());
     buffer.assign(1, '[');
     for (std::size_t k = 0; k < neighbours.size(); ++k) {
@@ -123,7 +127,7 @@ class CellFeatures {
 
   // The same properties as the JSON text of each value, in one string (value i ends at
   // ends[i]), for the encoder.
-  void json(SiteId s, double area_m2, std::string& text, std::vector<std::size_t>& ends) const {
+  void json(SiteId s, Areas areas, std::string& text, std::vector<std::size_t>& ends) const {
     const std::span<const std::uint32_t> site_rows = texts_.rows.of(s);
     const InputSite& first = table_.sites[site_rows.front()];
     const auto neighbours = diagram_.cell_neighbors(s);
@@ -144,9 +148,9 @@ class CellFeatures {
     done();
     append_json_value(text, static_cast<std::int64_t>(site_rows.size()));
     done();
-    append_json_value(text, area_m2);
+    append_json_value(text, areas.m2);
     done();
-    append_json_value(text, diagram_.cell_area_sr(s));
+    append_json_value(text, areas.sr);
     done();
     append_json_value(text, static_cast<std::int64_t>(diagram_.cell_vertices(s).size()));
     done();
@@ -226,8 +230,8 @@ void compute_block(const CellFeatures& features, const std::vector<SiteId>& orde
     block.text.clear();
     for (std::size_t i = block.begin; i < block.end; ++i) {
       features.prefetch_ahead(i);
-      const double area_m2 = features.geometry(order[i], scratch.polygon, block.unwritten);
-      features.json(order[i], area_m2, scratch.buffer, scratch.ends);
+      const CellFeatures::Areas areas = features.geometry(order[i], scratch.polygon, block.unwritten);
+      features.json(order[i], areas, scratch.buffer, scratch.ends);
       scratch.json_values.clear();
       for (std::size_t k = 0, from = 0; k < scratch.ends.size(); from = scratch.ends[k++])
         scratch.json_values.push_back(std::string_view(scratch.buffer).substr(from, scratch.ends[k] - from));
@@ -239,8 +243,8 @@ void compute_block(const CellFeatures& features, const std::vector<SiteId>& orde
   block.values.resize(block.end - block.begin);
   for (std::size_t i = block.begin; i < block.end; ++i) {
     features.prefetch_ahead(i);
-    const double area_m2 = features.geometry(order[i], block.polygons[i - block.begin], block.unwritten);
-    features.values(order[i], area_m2, block.values[i - block.begin], scratch.buffer);
+    const CellFeatures::Areas areas = features.geometry(order[i], block.polygons[i - block.begin], block.unwritten);
+    features.values(order[i], areas, block.values[i - block.begin], scratch.buffer);
   }
 }
 
