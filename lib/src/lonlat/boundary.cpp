@@ -283,6 +283,17 @@ Vec3 Densifier::midpoint(const Vec3& a, const Vec3& b) {
   return dot(a, b) > -0.5 ? normalized(a + b) : VoronoiDiagram::arc_midpoint(a, b, axis());
 }
 
+namespace {
+
+// The squared distance to the pole axis of the nearest of a piece's ends and midpoint: the chord
+// turns fastest in lon/lat at the end nearer the pole, so the midpoint alone can pass a piece whose
+// chord there spans tens of degrees of longitude a few centimetres from the pole.
+double to_pole2(const Vec3& a, const Vec3& b, const Vec3& m) {
+  return std::min({a.x * a.x + a.y * a.y, b.x * b.x + b.y * b.y, m.x * m.x + m.y * m.y});
+}
+
+}  // namespace
+
 void Densifier::split(const Pt& a, const Pt& b, int depth) {
   // Not below kMinPieceRad: the copies of one Voronoi vertex (co-circular sites) are joined by
   // edges nanometres long, which the guards below would split to max_depth (2^20 points each:
@@ -306,7 +317,7 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
   if (past) {
     if (pa || pb) return;
     m = midpoint(a.v, b.v);
-    if (64 * norm2(m - lonlat_midpoint(a, b)) <= m.x * m.x + m.y * m.y) return;
+    if (64 * norm2(m - lonlat_midpoint(a, b)) <= to_pole2(a.v, b.v, m)) return;
   } else if (pa || pb) {
     // From a pole the arc is a meridian, straight in lon/lat. Pole to pole (N to S) needs a
     // midpoint, which gives the meridian its longitude; so does an arc from a pole to a point
@@ -325,7 +336,7 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
         // there a straight lon/lat segment is a circle of latitude, and one spanning 90 degrees
         // of longitude 100 m from the pole crossed its neighbours (lunes of sites near the
         // equator, their tips metres from the pole).
-        bool clear = 64 * dev2 <= m.x * m.x + m.y * m.y;
+        bool clear = 64 * dev2 <= to_pole2(a.v, b.v, m);
         for (const Vec3& g : guards_) {
           const double h = dot(m, g);
           clear &= 64 * dev2 <= h * h;

@@ -45,7 +45,8 @@ class Densifier {
   /// densify_m: largest distance (metres on the sphere of radius kEarthRadiusM) between a
   /// straight lon/lat segment's midpoint and the arc; arcs longer than max_step_deg are always
   /// split; at most max_depth levels, except within metres of a pole, where pieces are split on
-  /// (up to kMaxPoleDepth levels) until each is within an eighth of its distance to the pole.
+  /// (up to kMaxPoleDepth levels) until each is within an eighth of the distance to the pole of
+  /// the nearest of its ends and midpoint.
   /// Points are appended to `out`.
   /// Positions are written with `precision` decimals (make_pt).
   Densifier(double densify_m, double max_step_deg, int max_depth, std::vector<Pt>& out,
