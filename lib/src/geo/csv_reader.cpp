@@ -1,8 +1,8 @@
 #include "geovor/geo/csv_reader.hpp"
 
-#include <cassert>
 #include <cstring>
 
+#include "geovor/core/assert.hpp"
 #include "geovor/core/error.hpp"
 
 namespace geovor {
@@ -14,7 +14,7 @@ constexpr std::size_t kBlockSize = 1 << 16;
 }  // namespace
 
 CsvReader::CsvReader(std::istream& in, char delimiter) : in_(in), delim_(delimiter), buf_(kBlockSize) {
-  assert(delimiter != '"' && delimiter != '\n' && delimiter != '\r');
+  GEOVOR_ASSERT(delimiter != '"' && delimiter != '\n' && delimiter != '\r');
 }
 
 bool CsvReader::fill() {
