@@ -48,6 +48,32 @@ TEST(CoordinateGrid, IsWhatAReaderGetsBackAndIdempotent) {
   }
 }
 
+// The fast path gives scaled_decimal's integer whenever it answers, near ties too (values a few
+// ulps either side of a half step), and answers for ordinary coordinates up to 9 decimals.
+TEST(CoordinateGrid, FastPathIsScaledDecimalWhereItAnswers) {
+  std::mt19937_64 rng(15);
+  std::uniform_real_distribution<double> unit(-180, 180);
+  std::uniform_int_distribution<int> ulps(-64, 64);
+  int answered = 0, total = 0;
+  for (int i = 0; i < 300000; ++i) {
+    const int p = i % 12;
+    double x = unit(rng);
+    if (i % 3 == 0) {  // near a tie of the grid
+      x = (std::round(x * std::pow(10.0, p)) + 0.5) / std::pow(10.0, p);
+      for (int k = ulps(rng); k != 0; k += k > 0 ? -1 : 1) x = std::nextafter(x, k > 0 ? 1e300 : -1e300);
+    }
+    std::uint64_t q = 0;
+    const bool fast = scaled_decimal_away_from_tie(x, p, q);
+    if (p <= 9 && i % 3 != 0) ++total, answered += fast;
+    if (!fast) continue;
+    ASSERT_EQ(static_cast<unsigned __int128>(q), scaled_decimal(x, p)) << x << " at " << p;
+  }
+  std::uint64_t unused = 0;
+  EXPECT_FALSE(scaled_decimal_away_from_tie(0.5, 0, unused));  // a tie
+  EXPECT_FALSE(scaled_decimal_away_from_tie(170.0000005001, 6, unused));  // within 2^-12 of one
+  EXPECT_GT(answered, total - total / 1000);  // all but about 5e-4 of ordinary coordinates
+}
+
 TEST(CoordinateGrid, EdgesAndFullPrecision) {
   EXPECT_EQ(snap_to_decimals(180, 7), 180);
   EXPECT_EQ(snap_to_decimals(-90, 3), -90);

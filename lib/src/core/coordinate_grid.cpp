@@ -52,7 +52,8 @@ unsigned __int128 scaled_decimal(double value, int precision) {
 
 double snap_to_decimals(double value, int precision) {
   if (precision < 0 || precision > 17 || !std::isfinite(value) || std::fabs(value) >= 0x1p52) return value;
-  const unsigned __int128 q = scaled_decimal(value, precision);
+  std::uint64_t fast;
+  const unsigned __int128 q = scaled_decimal_away_from_tie(value, precision, fast) ? fast : scaled_decimal(value, precision);
   // Past 2^53 the decimals are finer than the doubles around `value`: it reads back as itself.
   if (q >= (static_cast<unsigned __int128>(1) << 53)) return value;
   // q and 10^p are exact doubles: the division is the correctly rounded decimal.

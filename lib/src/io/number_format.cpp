@@ -13,8 +13,6 @@
 namespace geovor {
 namespace {
 
-constexpr double kPow10d[10] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
-
 char* write_scaled(char* out, bool negative, std::uint64_t digits_value, int precision);
 
 constexpr std::uint64_t pow10u(int p) {
@@ -43,20 +41,8 @@ char* format_coordinate(char* out, double value, int precision) {
     // |value| >= 2^52 (an integer), not finite, or a bad precision: shortest round trip.
     return std::to_chars(out, out + kMaxCoordinateChars, value).ptr;
   }
-  // Fast path: t = fl(value * 10^p) is within half an ulp of the exact product X; with
-  // |t| < 2^31 that is at most 2^-22. Unless t lies within 1e-6 of a half-integer, X rounds to
-  // the same integer as t, so rounding t (to nearest, with the 1.5 * 2^52 trick) is exact.
-  if (precision <= 9) {
-    const double t = std::abs(value) * kPow10d[precision];
-    if (t < 2147483648.0) {
-      volatile double big = 6755399441055744.0;  // 1.5 * 2^52; volatile: never folded away
-      const double r = (t + big) - big;
-      const double dist = std::abs(t - r);
-      if (std::abs(dist - 0.5) > 1e-6) {
-        return write_scaled(out, negative, static_cast<std::uint64_t>(r), precision);
-      }
-    }
-  }
+  std::uint64_t fast;
+  if (scaled_decimal_away_from_tie(value, precision, fast)) return write_scaled(out, negative, fast, precision);
   const unsigned __int128 one = 1;
   const unsigned __int128 q = scaled_decimal(value, precision);
   if (q >= (one << 63)) {

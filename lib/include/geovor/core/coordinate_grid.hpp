@@ -9,6 +9,9 @@
 /// written polygons (cell_geometry.hpp). Binary formats store doubles: kFullPrecision.
 #pragma once
 
+#include <cmath>
+#include <cstdint>
+
 namespace geovor {
 
 /// The precision of binary formats, which store doubles as they are: no rounding.
@@ -25,5 +28,22 @@ double snap_to_decimals(double value, int precision);
 /// product), as printf rounds it: the digits snap_to_decimals and format_coordinate start from.
 /// REQUIRES: value finite with |value| < 2^52, 0 <= precision <= 17 (the result is < 2^110).
 unsigned __int128 scaled_decimal(double value, int precision);
+
+/// scaled_decimal's common case without 128-bit arithmetic: true, with `q` set to the same
+/// integer, when precision <= 9, |value| * 10^precision < 2^40 and that product is not within
+/// 2^-12 of a tie; false otherwise (then call scaled_decimal). t = fl(|value| * 10^p) is within
+/// half an ulp, at most 2^-14, of the exact product, so away from a tie both round alike.
+/// REQUIRES: value finite, 0 <= precision.
+inline bool scaled_decimal_away_from_tie(double value, int precision, std::uint64_t& q) {
+  constexpr double kPow10[10] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+  if (precision > 9) return false;
+  const double t = std::fabs(value) * kPow10[precision];
+  if (!(t < 0x1p40)) return false;
+  volatile double big = 6755399441055744.0;  // 1.5 * 2^52: (t + big) - big rounds t to an integer, ties to even; volatile: never folded away
+  const double r = (t + big) - big;
+  if (!(std::fabs(std::fabs(t - r) - 0.5) > 0x1p-12)) return false;
+  q = static_cast<std::uint64_t>(r);
+  return true;
+}
 
 }  // namespace geovor
