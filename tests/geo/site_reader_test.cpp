@@ -11,7 +11,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <numbers>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -259,6 +261,44 @@ TEST(SiteReader, DuplicateIdsAreFound) {
   EXPECT_EQ(d.examples[0].rows, (std::vector<std::uint64_t>{1, 3, 6}));
   EXPECT_EQ(d.examples[1].id, "A");
   EXPECT_EQ(d.examples[1].rows, (std::vector<std::uint64_t>{2, 5}));
+}
+
+// Against a std::map: the count of rows repeating an earlier id, and each example's first rows,
+// with ids from small alphabets (many repeats, long probe chains) and tables up to 20,000 rows.
+TEST(SiteReader, DuplicateIdsAsAMapCountsThem) {
+  std::mt19937 rng(7);
+  for (const std::size_t n : {1u, 2u, 17u, 1000u, 20000u}) {
+    for (const int letters : {1, 2, 3}) {
+      SiteTable t;
+      t.id_column = 0;
+      std::uniform_int_distribution<int> letter(0, 4), length(0, letters);
+      for (std::size_t i = 0; i < n; ++i) {
+        InputSite site;
+        for (int k = length(rng); k > 0; --k) site.id += static_cast<char>('a' + letter(rng));
+        site.row = i + 1;
+        t.sites.push_back(site);
+      }
+      std::map<std::string, std::vector<std::uint64_t>> rows;
+      std::uint64_t repeats = 0;
+      std::vector<std::string> repeated;  // in order of their first repeat
+      for (const InputSite& site : t.sites) {
+        std::vector<std::uint64_t>& r = rows[site.id];
+        if (!r.empty()) {
+          ++repeats;
+          if (r.size() == 1) repeated.push_back(site.id);
+        }
+        r.push_back(site.row);
+      }
+      const DuplicateIds d = find_duplicate_ids(t);
+      EXPECT_EQ(d.rows, repeats) << n << " rows, " << letters;
+      ASSERT_EQ(d.examples.size(), std::min<std::size_t>(3, repeated.size()));
+      for (std::size_t k = 0; k < d.examples.size(); ++k) {
+        EXPECT_EQ(d.examples[k].id, repeated[k]);
+        const std::vector<std::uint64_t>& r = rows[repeated[k]];
+        EXPECT_EQ(d.examples[k].rows, std::vector<std::uint64_t>(r.begin(), r.begin() + std::min<std::size_t>(3, r.size())));
+      }
+    }
+  }
 }
 
 TEST(SiteReader, RequireSites) {

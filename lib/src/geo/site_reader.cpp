@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 
 #include "geovor/core/ascii.hpp"
+#include "geovor/core/assert.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/geo/csv_site_scan.hpp"
 #include "geo/trim.hpp"
@@ -46,25 +48,42 @@ void require_sites(const SiteTable& table) {
 DuplicateIds find_duplicate_ids(const SiteTable& table) {
   DuplicateIds out;
   if (table.id_column < 0) return out;
-  // Open addressing over the sites' indices (no allocation per id): slot -> the id's first site.
+  // Open addressing, no allocation per id: a slot holds the id's first site and the high half of
+  // its hash, so that a probe reads another site's id (a cache miss) only when the halves match.
   const std::size_t n = table.sites.size();
+  GEOVOR_ASSERT(n < 0xffffffffull);  // sites are indexed by 32 bits (SiteId); the all-ones slot is empty
   std::size_t capacity = 16;
   while (capacity < 2 * n) capacity <<= 1;
-  constexpr std::size_t kEmpty = static_cast<std::size_t>(-1);
-  std::vector<std::size_t> slots(capacity, kEmpty);
+  constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+  std::vector<std::uint64_t> slots(capacity, kEmpty);
   const std::hash<std::string_view> hash;
+  // The slots are scattered over megabytes: each is requested a few ids ahead of its probe.
+  constexpr std::size_t kAhead = 8;
+  std::uint64_t ahead[kAhead];
+  for (std::size_t i = 0; i < std::min(n, kAhead); ++i) {
+    ahead[i] = hash(table.sites[i].id);
+    __builtin_prefetch(&slots[ahead[i] & (capacity - 1)]);
+  }
   for (std::size_t i = 0; i < n; ++i) {
     const std::string& id = table.sites[i].id;
-    std::size_t h = hash(id) & (capacity - 1);
-    while (slots[h] != kEmpty && table.sites[slots[h]].id != id) h = (h + 1) & (capacity - 1);
+    const std::uint64_t full = ahead[i % kAhead];
+    if (i + kAhead < n) {
+      ahead[i % kAhead] = hash(table.sites[i + kAhead].id);
+      __builtin_prefetch(&slots[ahead[i % kAhead] & (capacity - 1)]);
+    }
+    const std::uint64_t tag = full & 0xffffffff00000000ull;
+    std::size_t h = full & (capacity - 1);
+    while (slots[h] != kEmpty &&
+           ((slots[h] & 0xffffffff00000000ull) != tag || table.sites[slots[h] & 0xffffffffull].id != id))
+      h = (h + 1) & (capacity - 1);
     if (slots[h] == kEmpty) {
-      slots[h] = i;
+      slots[h] = tag | i;
       continue;
     }
     ++out.rows;
     auto e = std::find_if(out.examples.begin(), out.examples.end(), [&](const auto& x) { return x.id == id; });
     if (e == out.examples.end() && out.examples.size() < 3) {
-      out.examples.push_back({id, {table.sites[slots[h]].row}});
+      out.examples.push_back({id, {table.sites[slots[h] & 0xffffffffull].row}});
       e = out.examples.end() - 1;
     }
     if (e != out.examples.end() && e->rows.size() < 3) e->rows.push_back(table.sites[i].row);
