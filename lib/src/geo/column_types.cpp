@@ -150,35 +150,42 @@ FieldType wider_type(FieldType a, FieldType b) {
   return FieldType::String;
 }
 
-std::vector<FieldType> detect_column_types(const SiteTable& table) {
-  const std::size_t columns = table.columns.size();
-  std::vector<FieldType> types(columns, FieldType::String);
-  std::vector<bool> seen(columns, false);  // a non-empty value was met
-  std::vector<std::size_t> open;           // columns not yet String
+ColumnTypeDetector::ColumnTypeDetector(std::size_t columns, int id_column)
+    : types_(columns, FieldType::String), seen_(columns, false) {
   for (std::size_t c = 0; c < columns; ++c)
-    if (static_cast<int>(c) != table.id_column) open.push_back(c);
-  for (const InputSite& site : table.sites) {
-    if (open.empty()) break;
-    for (std::size_t k = 0; k < open.size();) {
-      const std::size_t c = open[k];
-      if (c >= site.fields.size() || site.fields[c].empty()) {
-        ++k;
-        continue;
-      }
-      const FieldType t = value_type(site.fields[c]);
-      types[c] = seen[c] ? wider_type(types[c], t) : t;
-      seen[c] = true;
-      if (types[c] == FieldType::String) {
-        open[k] = open.back();
-        open.pop_back();
-      } else {
-        ++k;
-      }
+    if (static_cast<int>(c) != id_column) open_.push_back(c);
+}
+
+void ColumnTypeDetector::add(const std::vector<std::string>& fields) {
+  for (std::size_t k = 0; k < open_.size();) {
+    const std::size_t c = open_[k];
+    if (c >= fields.size() || fields[c].empty()) {
+      ++k;
+      continue;
+    }
+    const FieldType t = value_type(fields[c]);
+    types_[c] = seen_[c] ? wider_type(types_[c], t) : t;
+    seen_[c] = true;
+    if (types_[c] == FieldType::String) {
+      open_[k] = open_.back();
+      open_.pop_back();
+    } else {
+      ++k;
     }
   }
-  for (std::size_t c = 0; c < columns; ++c)
-    if (!seen[c]) types[c] = FieldType::String;
+}
+
+std::vector<FieldType> ColumnTypeDetector::types() const {
+  std::vector<FieldType> types = types_;
+  for (std::size_t c = 0; c < types.size(); ++c)
+    if (!seen_[c]) types[c] = FieldType::String;
   return types;
+}
+
+std::vector<FieldType> detect_column_types(const SiteTable& table) {
+  ColumnTypeDetector detector(table.columns.size(), table.id_column);
+  for (const InputSite& site : table.sites) detector.add(site.fields);
+  return detector.types();
 }
 
 std::optional<FieldType> field_type_named(std::string_view name) {

@@ -1008,6 +1008,9 @@ SiteTable CsvSiteScan::finish() && {
   const int id_column = table.id_column;
   const char delimiter = s.rules.delimiter;
   table.sites.reserve(s.sites);
+  // Typed row by row, while each row's fields are in cache.
+  const bool detect = state_->detect_types;
+  ColumnTypeDetector detector(columns, id_column);
   std::size_t i = 0;  // index into positions_
   for (std::size_t k = 0; k < s.chunks.size(); ++k) {
     const Chunk& c = s.chunks[k];
@@ -1044,12 +1047,12 @@ SiteTable CsvSiteScan::finish() && {
       }
       site.id = id_column >= 0 ? site.fields[static_cast<std::size_t>(id_column)]
                                : std::to_string(site.row);
+      if (detect) detector.add(site.fields);
     }
   }
-  const bool detect = state_->detect_types;
   const std::vector<FieldTypeOverride> declared = std::move(state_->field_types);
   state_.reset();  // the buffer and the per-row data; positions_ stay
-  table.column_types = detect ? detect_column_types(table) : std::vector<FieldType>(table.columns.size(), FieldType::String);
+  table.column_types = detect ? detector.types() : std::vector<FieldType>(table.columns.size(), FieldType::String);
   apply_field_types(table, declared);
   return table;
 }

@@ -53,6 +53,20 @@ FieldType wider_type(FieldType a, FieldType b);
 /// dropped once it is String.
 std::vector<FieldType> detect_column_types(const SiteTable& table);
 
+/// detect_column_types one row at a time, for a reader that types the rows as it makes them
+/// (while their text is in cache): add() every accepted row's fields in order, then types().
+class ColumnTypeDetector {
+ public:
+  ColumnTypeDetector(std::size_t columns, int id_column);
+  void add(const std::vector<std::string>& fields);
+  std::vector<FieldType> types() const;
+
+ private:
+  std::vector<FieldType> types_;
+  std::vector<bool> seen_;         // a non-empty value was met
+  std::vector<std::size_t> open_;  // columns not yet String
+};
+
 /// The type named `name` (String, Integer, Integer64, Real, Date, DateTime; ASCII
 /// case-insensitive), or nullopt.
 std::optional<FieldType> field_type_named(std::string_view name);
