@@ -6,6 +6,7 @@
 #include <bit>
 #include <cstdlib>
 #include <new>
+#include <numeric>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -93,17 +94,20 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   // In the same pass, the shortest side of each triangle, rounded down to float (the same for
   // both cells of an edge): triangle t_i of cell s has the sites s, neighbour i - 1 and
   // neighbour i, and is measured by the cell of its smallest site.
-  std::vector<float> min_side2(nv);
+  // (Each triangle is written once, by the cell of its smallest site: these arrays are left
+  // uninitialised here, their pages first touched by the threads that fill them.)
+  std::unique_ptr<float[]> min_side2(new float[nv]);
   // And whether it is a cap, its circumradius over 8 times its longest side (an angle within 3.6
   // degrees of 180: its three cells have an angle below 3.6 degrees there, thin near it).
-  cap_.assign(nv, 0);
+  cap_.reset(new std::uint8_t[nv]);
   // And whether it lies where the plate carree can turn a chord by a degree at its ends: one
   // within densify_m of its arc turns by about sqrt(2 densify_m tan(lat) / R) radians, a degree
   // from tan(lat) = 1.5e-4 R / densify_m (84 degrees for 100 m). Cells there are guarded
   // like caps' (cap angles are below 3.6 degrees; lunes 1 km from a pole crossed).
   const double pole_guard2 = std::pow(1.5e-4 * SiteEncoder::kEarthRadiusM / options.densify_m, 2);
   // And each triangle's sites, sorted (its smallest site s, then the other two).
-  std::vector<std::array<SiteId, 3>> tri_sites(nv);
+  std::unique_ptr<std::array<SiteId, 3>[]> tri_sites(new std::array<SiteId, 3>[nv]);
+  std::vector<std::size_t> filled(threads, 0);
   // Whether the triangle's angle at p (on the sphere, between the great circles to q and r) is
   // within 3.6 degrees of 180: the test above, for triangles too large for it to hold (sites on
   // one great circle, two of them close: their lunes are as thin, but the circumradius of a
@@ -122,6 +126,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     return f;
   };
   split(order.size(), [&](unsigned thread, std::size_t begin, std::size_t end) {
+    std::size_t count = 0;
     for (std::size_t j = begin; j < end; ++j) {
       if (j + 8 < end)  // the vertices are scattered: requested some cells ahead
         for (const TriId t : diagram.cell_vertices(order[j + 8])) __builtin_prefetch(&diagram.vertex(t));
@@ -149,10 +154,13 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
           cap_[a] = (cap ? kCap : 0) |
                     (va.z * va.z > pole_guard2 * (va.x * va.x + va.y * va.y) ? kNearPole : 0);
           tri_sites[a] = {s, std::min(u, w), std::max(u, w)};
+          ++count;
         }
       }
     }
+    filled[thread] = count;
   });
+  GEOVOR_ASSERT(std::accumulate(filled.begin(), filled.end(), std::size_t{0}) == nv);  // every triangle once
   // The sites of the caps' triangles (their cells are thin near those vertices) and of the
   // small ones above: where a decimal step can be wider than a cell (snap_round_thin_cells).
   // At kSnapAllDecimals or fewer, every cell: a step of a kilometre or more reaches beyond the
@@ -283,7 +291,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     }
     flush();
   });
-  if (!thin_sites.empty()) snap_round_thin_cells(thin_sites, tri_sites);
+  if (!thin_sites.empty()) snap_round_thin_cells(thin_sites, {tri_sites.get(), nv});
 }
 
 void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,

@@ -173,7 +173,7 @@ class CellGeometry {
   std::unique_ptr<Vertex[], Free> vertices_;
   // Per Voronoi vertex: its triangle is a cap (kCap), it lies near a pole (kNearPole); the
   // edges at such a vertex are guarded (edge_guards). See the constructor.
-  std::vector<std::uint8_t> cap_;
+  std::unique_ptr<std::uint8_t[]> cap_;
   static constexpr std::uint8_t kCap = 1, kNearPole = 2;
   // Per Voronoi edge and each of its two cells, in that cell's slot (slot = index in the
   // diagram's neighbour lists), computed at construction in the direction of the canonical cell
