@@ -98,25 +98,38 @@ std::size_t vertices_inside_segments(const std::vector<std::vector<SnapVertex>>&
 }
 
 // A segment that touches a hot pixel only at its end (a raw end on the pixels' common side,
-// rounded half to even onto the other) is routed past its own end and back, 3 -> 1 -> 2; the
-// written segment 3 -> 1 passes through the centre of 2, which becomes a vertex of it too. The
-// neighbour along that line has 2 as a vertex: without it the two sides were the same line split
-// differently, two different geodesic paths (fuzz_cells: cells at 0 decimals summing to 3e-9
-// more than the ellipsoid).
-TEST(SnapRound, WrittenSegmentsTakeTheHotPixelCentresOnThem) {
-  std::vector<std::vector<SnapVertex>> paths = {{at(3.04, 0.1, 0, 0), at(1.5, 0.2, 0, 1)}};
-  const std::vector<SnapVertex> extra = {at(1.2, 0.1, 0, 2)};
-  ASSERT_EQ(paths[0][1].lon, 2);  // 1.5 rounds half to even
-  snap_round(paths, extra, 0);
-  ASSERT_EQ(paths[0].size(), 4u);
-  const double lons[] = {3, 2, 1, 2};
-  for (std::size_t i = 0; i < 4; ++i) {
-    EXPECT_EQ(paths[0][i].lon, lons[i]) << i;
-    EXPECT_EQ(paths[0][i].lat, 0) << i;
+// rounded half to even onto the other) leaves from that end: it is not routed past its own end
+// and back (3 -> 1 -> 2, as it once was, which needed the centre of 2 as a vertex of 3 -> 1 too).
+// The same at 7 decimals, from fuzz_cells: a side of a cell from a Voronoi vertex at lon
+// 121.66015625 (written 121.6601562) touched the pixel of 121.6601563, went there and back,
+// and crossed the meridian from the pole to that vertex (segments to a pole are not rerouted):
+// a cell of a grid unwritable. Both sides of the pixels, and both directions of the segments.
+TEST(SnapRound, AnEndOnThePixelsCommonSideLeavesFromItsOwnPixel) {
+  for (const bool reversed : {false, true}) {
+    std::vector<std::vector<SnapVertex>> paths = {{at(3.04, 0.1, 0, 0), at(1.5, 0.2, 0, 1)}};
+    const std::vector<SnapVertex> extra = {at(1.2, 0.1, 0, 2)};
+    ASSERT_EQ(paths[0][1].lon, 2);  // 1.5 rounds half to even
+    if (reversed) std::swap(paths[0][0], paths[0][1]);
+    EXPECT_EQ(snap_round(paths, extra, 0), 0u);
+    ASSERT_EQ(paths[0].size(), 2u);
+    EXPECT_EQ(paths[0][reversed ? 1 : 0].lon, 3);
+    EXPECT_EQ(paths[0][reversed ? 0 : 1].lon, 2);
+    // 2.5 rounds to 2 as well: a segment from it going east meets the pixel of 3 past its end.
+    std::vector<std::vector<SnapVertex>> east = {{at(2.5, 0.1, 0, 0), at(4.1, 0.2, 0, 1)}};
+    const std::vector<SnapVertex> three = {at(3.3, 0.1, 0, 2)};
+    if (reversed) std::swap(east[0][0], east[0][1]);
+    EXPECT_EQ(snap_round(east, three, 0), 1u);
+    ASSERT_EQ(east[0].size(), 3u);
+    EXPECT_EQ(east[0][1].lon, 3);
   }
-  EXPECT_EQ(paths[0][1].tag, 1u);
-  EXPECT_EQ(paths[0][2].tag, 2u);
-  EXPECT_EQ(vertices_inside_segments(paths, 0), 0u);
+  const double vertex_lon = 121.66015625, vertex_lat = -49.993786098844403;
+  std::vector<std::vector<SnapVertex>> side = {{at(vertex_lon, vertex_lat, 7, 0), at(121.10768, -50.0020289, 7, 1)}};
+  const std::vector<SnapVertex> copy = {at(121.66015625000006, -49.993786098844382, 7, 2)};  // the vertex, computed again
+  ASSERT_EQ(side[0][0].lon, 121.6601562);
+  ASSERT_EQ(copy[0].lon, 121.6601563);
+  EXPECT_EQ(snap_round(side, copy, 7), 0u);
+  EXPECT_EQ(side[0].size(), 2u);
+  EXPECT_EQ(vertices_inside_segments(side, 7), 0u);
 }
 
 // An end written on the antimeridian but computed off it is taken in its own sheet, not the

@@ -34,8 +34,9 @@ Key spread(std::uint64_t v) { return (static_cast<Key>(spread32(v >> 32)) << 64)
 Key morton(std::uint64_t x, std::uint64_t y) { return spread(x) | (spread(y) << 1); }
 
 // Whether the segment p -> q (raw positions) meets the closed square of half side r centred at
-// (gx, gy), and the parameter at which it enters it (Liang-Barsky clipping).
-bool meets_square(const SnapVertex& p, const SnapVertex& q, double gx, double gy, double r, double& enter) {
+// (gx, gy), and the parameters at which it enters and leaves it (Liang-Barsky clipping).
+bool meets_square(const SnapVertex& p, const SnapVertex& q, double gx, double gy, double r, double& enter,
+                  double& leave) {
   const double x0 = p.raw_lon - gx, y0 = p.raw_lat - gy;
   const double dx = q.raw_lon - p.raw_lon, dy = q.raw_lat - p.raw_lat;
   double t0 = 0, t1 = 1;
@@ -53,6 +54,7 @@ bool meets_square(const SnapVertex& p, const SnapVertex& q, double gx, double gy
   };
   if (!(clip(-dx, x0 + r) && clip(dx, r - x0) && clip(-dy, y0 + r) && clip(dy, r - y0))) return false;
   enter = t0;
+  leave = t1;
   return true;
 }
 
@@ -64,6 +66,7 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
   GEOVOR_ASSERT(precision >= 0 && precision <= kSnapRoundMaxPrecision);
   const double scale = std::pow(10.0, precision);  // steps per degree
   const double half = 0.5 / scale;                 // half a step, degrees
+  const double touch = 1 / (1024 * scale);         // a contact at an end, degrees (see route)
   auto steps = [scale](double written) { return static_cast<std::int64_t>(std::llround(written * scale)); };
 
   // A segment's ends in one sheet of the plane: an end on the antimeridian (raw -180) is taken
@@ -157,6 +160,7 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
     const std::uint64_t extent = static_cast<std::uint64_t>(std::max(x_hi - x_lo, y_hi - y_lo));
     const int l = std::min(60, static_cast<int>(std::bit_width(extent)));
     const std::int64_t pix = steps(p.lon), piy = steps(p.lat), qix = steps(q.lon), qiy = steps(q.lat);
+    const double length = std::hypot(q.raw_lon - p.raw_lon, q.raw_lat - p.raw_lat);
     hits.clear();
     candidates.clear();
     const std::int64_t side = std::int64_t{1} << l;
@@ -170,8 +174,15 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
           if (h.ix < x_lo || h.ix > x_hi || h.iy < y_lo || h.iy > y_hi) continue;
           candidates.push_back(it->second);
           if ((h.ix == pix && h.iy == piy) || (h.ix == qix && h.iy == qiy)) continue;
-          double enter = 0;
-          if (meets_square(p, q, h.vertex.lon, h.vertex.lat, half, enter)) hits.push_back({enter, it->second});
+          double enter = 0, leave = 0;
+          if (!meets_square(p, q, h.vertex.lon, h.vertex.lat, half, enter, leave)) continue;
+          // Met only at an end (within a 1024th of a step of it): that end lies on the pixel's
+          // boundary, where rounding wrote it in the pixel beside (a tie, half to even); the
+          // segment leaves from there, it does not pass through this one. Routed through it, a
+          // side from a Voronoi vertex at 121.66015625 (7 decimals) went 1e-7 east and back, across
+          // the meridian from the pole to that vertex (not snap rounded): fuzz_cells.
+          if (leave * length <= touch || (1 - enter) * length <= touch) continue;
+          hits.push_back({enter, it->second});
         }
       }
     std::sort(hits.begin(), hits.end());
