@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "geovor/geo/site_encoder.hpp"
+#include "geovor/lonlat/ellipsoid_area.hpp"
+#include "geovor/lonlat/polygon_validity.hpp"
 
 namespace geovor::lonlat {
 namespace {
@@ -84,6 +86,31 @@ TEST(Densifier, PoleRuleSplitsAnArcPassingAPoleMillimetresOff) {
     double closest = 1;
     for (const Pt& p : chain) closest = std::min(closest, std::hypot(p.v.x, p.v.y));
     EXPECT_LT(closest, 2 * std::sin(off_deg * kDeg) * 20 * metre);  // a point near the closest approach
+  }
+}
+
+// A boundary passing within a step of a pole it does not own, drawn at the pole line once and
+// back up the same meridian, is a spike there, not a second run along the pole line: the ring
+// is one polygon, valid (the pinch cut it at that point into two parts sharing the meridian
+// -128 from -89 to -90, an invalid MultiPolygon: a cluster 1 m from the south pole, 0 decimals,
+// fuzz_cells). At 0 decimals: the pole run from -150 to -37, a block north of it to -80, and
+// the side back along -89 that dips to the pole line at -128 (computed at -89.5004).
+TEST(LoopToPolygons, ASpikeToAPoleLineIsNotASecondRun) {
+  auto pt = [](double lat, double lon) { return make_pt(SiteEncoder::from_lat_lon(lat, lon), 0); };
+  for (int start = 0; start < 9; ++start) {
+    std::vector<Pt> loop = {pt(-89.9999, -150), pt(-89.9999, -37), pt(-80, -37),  pt(-80, -57), pt(-89, -57),
+                            pt(-89, -128),      pt(-89.5004, -128), pt(-89, -128), pt(-89, -150)};
+    ASSERT_EQ(loop[6].lat, -90);
+    ASSERT_FALSE(at_pole(loop[6].v));
+    std::rotate(loop.begin(), loop.begin() + start, loop.end());  // the spike at every place, across the start too
+    MultiPolygon out;
+    LoopInfo info;
+    loop_to_polygons(loop, out, nullptr, 0, &info, PoleOwner{0, 0});
+    ASSERT_EQ(out.size(), 1u) << "start " << start;
+    EXPECT_EQ(polygon_problem(out), "") << "start " << start;
+    EXPECT_EQ(info.winding, 0);
+    // The strip from -150 to -37 between the pole line and -89, and the block: 113 + 20 * 9.
+    EXPECT_EQ(std::fabs(planar_area_deg2(out[0].exterior)), 113.0 + 180.0) << "start " << start;
   }
 }
 

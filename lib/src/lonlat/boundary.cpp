@@ -381,6 +381,42 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
     loop.resize(w);
     if (info) info->near_pole = near_pole;
   }
+  // A point at a pole the site does not own, between two points off the poles on one meridian,
+  // is a spike to the pole line and back up that meridian (a boundary passing within a step of
+  // the pole, drawn at it): no area and no run along the pole line, so it is dropped, as
+  // remove_spikes would drop it. Left in, it was a second visit to the pole, and the pinch below
+  // cut the ring there into two parts sharing that meridian (0 decimals, fuzz_cells).
+  if (near_pole && loop.size() > 3) {
+    auto spike = [&](const Pt& a, const Pt& p, const Pt& b) {
+      return is_pole(p.lat) && (p.lat > 0 ? pole_owner.north : pole_owner.south) == 0 && !is_pole(a.lat) &&
+             !is_pole(b.lat) && a.lon == b.lon;
+    };
+    std::size_t w = 0;
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      loop[w++] = loop[i];
+      // Ends of a dropped spike at one position merge, which can expose another spike.
+      while (w >= 3 && spike(loop[w - 3], loop[w - 2], loop[w - 1])) {
+        loop[w - 2] = loop[w - 1];
+        --w;
+        if (loop[w - 1].lon == loop[w - 2].lon && loop[w - 1].lat == loop[w - 2].lat) --w;
+      }
+    }
+    loop.resize(w);
+    // And across the loop's start (at most a few: each pass drops a point).
+    for (bool dropped = true; dropped && loop.size() > 3;) {
+      dropped = false;
+      const std::size_t n = loop.size();
+      for (const std::size_t i : {std::size_t{0}, n - 1}) {
+        if (!spike(loop[(i + n - 1) % n], loop[i], loop[(i + 1) % n])) continue;
+        loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(i));
+        const std::size_t m = loop.size(), j = i % m;  // the spike's ends: j - 1 and j, cyclically
+        const Pt &a = loop[(j + m - 1) % m], &b = loop[j];
+        if (a.lon == b.lon && a.lat == b.lat) loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(j));
+        dropped = true;
+        break;
+      }
+    }
+  }
   if (loop.size() < 3) {
     out.clear();
     return;
