@@ -1305,5 +1305,48 @@ TEST(CellGeometryAsWritten, LuneSidesPassingAPoleAFewStepsOff) {
   }
 }
 
+// Grids whose steps are dyadic (exact in binary) put Voronoi vertices on ties of the decimal
+// grid: at lon 121.66015625, 7 decimals, written 121.6601562, while the same vertex computed
+// from another triangle is at 121.66015625000006 (121.6601563). Snap rounding routed a side
+// leaving the first through the pixel of the second, 1e-7 east and back, across the meridian
+// from the pole to that vertex (a grid's bottom row makes a Voronoi vertex at the pole): one cell
+// unwritable at 7 decimals (fuzz_cells, with no unwritable cell allowed). Such grids at both
+// poles, on either side of the antimeridian, and the fuzz input itself (16 x 16, 4.0234375
+// degrees), at precisions whose ties they hit.
+TEST(CellGeometryAsWritten, DyadicGridsWithAVoronoiVertexAtAPole) {
+  auto grid = [](double lat0, double lon0, double lat_step, double lon_step, int rows, int cols) {
+    std::vector<std::pair<double, double>> ll;
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < cols; ++j) ll.push_back({lat0 + i * lat_step, lon0 + j * lon_step});
+    return ll;
+  };
+  written::expect_tiling(grid(-52.022430762188144, -180, 4.0234375, -4.0234375, 16, 16), 7);
+  for (const int p : {2, 5, 7})
+    for (const auto& [lat0, lat_step] : {std::pair{-52.0224, 4.0234375}, std::pair{60.5, -4.0234375}}) {
+      written::expect_tiling(grid(lat0, -180, lat_step, -4.0234375, 9, 9), p);
+      written::expect_tiling(grid(lat0, 119.6484375, lat_step, 0.0078125, 9, 9), p);
+    }
+}
+
+// A cluster a metre from the south pole and one near -89 degrees, at 0 decimals: a side passing
+// within a step of the pole was drawn down to the pole line at -128 and back up its meridian, a
+// second visit to the pole, and the pinch cut the cell there into two rings sharing that
+// meridian, invalid: unwritable (fuzz_cells, with no unwritable cell allowed). The spike is
+// dropped before the runs along the pole line are counted.
+TEST(CellGeometryAsWritten, SpikeToAPoleLineIsNoSecondVisit) {
+  const std::vector<std::pair<double, double>> sites = {
+      {-90, 0}, {-89.999993215534715, -10.484316579511635}, {-89.999993215534715, -63.457759163553916},
+      {-89.999996268544095, 125.85402520158445}, {-89.999998124294891, -43.077359046288997},
+      {-89.999998303883672, -61.46941944501593}, {-89.999998303883672, 41.661019312570687},
+      {-89.999998303883672, 106.8398232084799}, {-89.999995250874292, -82.823253384994175},
+      {-89, -127.83062485694666}, {-89.000003198336913, -127.83046620749442},
+      {-88.999999493157063, -127.83052137935761}, {-89.000000348664557, -127.83072230228348},
+      {-88.999996164482937, -127.83042637776833}, {-89.000002018071015, -127.83059258102486},
+      {-88.999999137365123, -127.83070853431431}, {-89.000002574415433, -127.83047008416446},
+      {-89.000005056733684, -127.83088402704163}, {-40.383177186322506, 102.2264429151578},
+      {55.6678841542928, 33.904819259748479}};
+  for (const int p : {0, 1, 2, 7, kFullPrecision}) written::expect_tiling(sites, p);
+}
+
 }  // namespace
 }  // namespace geovor
