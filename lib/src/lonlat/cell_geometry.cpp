@@ -90,23 +90,21 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   const int snap_decimals = options.precision < 0 ? kThinCellDecimals : std::min(options.precision, kThinCellDecimals);
   const double step_rad = std::pow(10.0, -snap_decimals) * std::numbers::pi / 180;
   const double fold2 = 4 * step_rad * step_rad, small2 = 16 * step_rad * step_rad;
-  std::vector<std::vector<TriId>> small(threads);
-  // In the same pass, the shortest side of each triangle, rounded down to float (the same for
-  // both cells of an edge): triangle t_i of cell s has the sites s, neighbour i - 1 and
-  // neighbour i, and is measured by the cell of its smallest site.
-  // (Each triangle is written once, by the cell of its smallest site: these arrays are left
-  // uninitialised here, their pages first touched by the threads that fill them.)
-  std::unique_ptr<float[]> min_side2(new float[nv]);
+  // In the same pass, into the vertices (calloc: fresh pages, first touched by the threads that
+  // fill them; each triangle once, by the cell of its smallest site), the shortest side of each
+  // triangle, rounded down to float (the same for both cells of an edge): triangle t_i of cell s
+  // has the sites s, neighbour i - 1 and neighbour i.
+  vertices_.reset(static_cast<Vertex*>(std::calloc(std::max<std::size_t>(nv, 1), sizeof(Vertex))));
+  if (!vertices_) throw std::bad_alloc();
   // And whether it is a cap, its circumradius over 8 times its longest side (an angle within 3.6
-  // degrees of 180: its three cells have an angle below 3.6 degrees there, thin near it).
-  cap_.reset(new std::uint8_t[nv]);
+  // degrees of 180: its three cells have an angle below 3.6 degrees there, thin near it): its
+  // sites are thin cells.
   // And whether it lies where the plate carree can turn a chord by a degree at its ends: one
   // within densify_m of its arc turns by about sqrt(2 densify_m tan(lat) / R) radians, a degree
   // from tan(lat) = 1.5e-4 R / densify_m (84 degrees for 100 m). Cells there are guarded
   // like caps' (cap angles are below 3.6 degrees; lunes 1 km from a pole crossed).
   const double pole_guard2 = std::pow(1.5e-4 * SiteEncoder::kEarthRadiusM / options.densify_m, 2);
-  // And each triangle's sites, sorted (its smallest site s, then the other two).
-  std::unique_ptr<std::array<SiteId, 3>[]> tri_sites(new std::array<SiteId, 3>[nv]);
+  std::vector<std::vector<SiteId>> thin(threads);
   std::vector<std::size_t> filled(threads, 0);
   // Whether the triangle's angle at p (on the sphere, between the great circles to q and r) is
   // within 3.6 degrees of 180: the test above, for triangles too large for it to hold (sites on
@@ -136,24 +134,21 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
       const std::size_t d = tris.size();
       for (std::size_t i = 0; i < d; ++i) {
         const TriId a = tris[i], b = tris[i + 1 == d ? 0 : i + 1];
-        if (a < b) {
-          const double ab2 = norm2(diagram.vertex(a) - diagram.vertex(b));
-          if (ab2 < fold2) small[thread].insert(small[thread].end(), {a, b});
-        }
         const SiteId u = nbrs[i == 0 ? d - 1 : i - 1], w = nbrs[i];
+        if (a < b && norm2(diagram.vertex(a) - diagram.vertex(b)) < fold2)  // the sites of both vertices
+          thin[thread].insert(thin[thread].end(), {s, u, w, nbrs[i + 1 == d ? 0 : i + 1]});
         if (s < u && s < w) {
           const Vec3 &ps = diagram.site(s), &pu = diagram.site(u), &pw = diagram.site(w);
           const double su = norm2(ps - pu), sw = norm2(ps - pw), uw = norm2(pu - pw);
-          min_side2[a] = round_down(std::min({su, sw, uw}));
-          if (min_side2[a] < small2) small[thread].push_back(a);
+          Vertex& vertex = vertices_[a];
+          vertex.min_side2 = round_down(std::min({su, sw, uw}));
           const Vec3& va = diagram.vertex(a);
           const double longest2 = std::max({su, sw, uw});
           const bool cap = norm2(va - ps) > 64 * longest2 ||
                            (longest2 > kLargeSide2 && (near_straight(ps, pu, pw) || near_straight(pu, pw, ps) ||
                                                        near_straight(pw, ps, pu)));
-          cap_[a] = (cap ? kCap : 0) |
-                    (va.z * va.z > pole_guard2 * (va.x * va.x + va.y * va.y) ? kNearPole : 0);
-          tri_sites[a] = {s, std::min(u, w), std::max(u, w)};
+          vertex.flags = (cap ? kCap : 0) | (va.z * va.z > pole_guard2 * (va.x * va.x + va.y * va.y) ? kNearPole : 0);
+          if (cap || vertex.min_side2 < small2) thin[thread].insert(thin[thread].end(), {s, u, w});
           ++count;
         }
       }
@@ -169,21 +164,17 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   if (options.precision >= 0 && options.precision <= kSnapAllDecimals) {
     for (const SiteId s : order) thin_sites.push_back(s);
   } else {
-    for (TriId t = 0; t < nv; ++t)
-      if (cap_[t] & kCap)
-        for (const SiteId s : tri_sites[t]) thin_sites.push_back(s);
-    for (const std::vector<TriId>& list : small)
-      for (const TriId t : list)
-        for (const SiteId s : tri_sites[t]) thin_sites.push_back(s);
+    for (const std::vector<SiteId>& list : thin) thin_sites.insert(thin_sites.end(), list.begin(), list.end());
+    std::sort(thin_sites.begin(), thin_sites.end());  // whatever the threads
+    thin_sites.erase(std::unique(thin_sites.begin(), thin_sites.end()), thin_sites.end());
   }
 
   // The vertices' lon/lat (the costly part).
-  vertices_.reset(static_cast<Vertex*>(std::calloc(std::max<std::size_t>(nv, 1), sizeof(Vertex))));
-  if (!vertices_) throw std::bad_alloc();
   split(nv, [&](unsigned, std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
       const Pt p = make_pt(diagram.vertex(static_cast<TriId>(t)), options_.precision);
-      vertices_[t] = {p.v, p.lon, p.lat, min_side2[t]};
+      Vertex& vertex = vertices_[t];
+      vertex.v = p.v, vertex.lon = p.lon, vertex.lat = p.lat;
     }
   });
 
@@ -264,7 +255,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
           // sides bounds their distance.
           edge.clear();
           guards.clear();
-          if (cap_[ta] | cap_[tb]) edge_guards(s, w, va, vb, guards);
+          if (va.flags | vb.flags) edge_guards(s, w, va, vb, guards);
           dens.set_guards(guards);
           dens.edge(a, b, diagram.site(s), diagram.site(w), std::min(va.min_side2, vb.min_side2));
           const std::size_t slot = static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
@@ -291,11 +282,10 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     }
     flush();
   });
-  if (!thin_sites.empty()) snap_round_thin_cells(thin_sites, {tri_sites.get(), nv});
+  if (!thin_sites.empty()) snap_round_thin_cells(thin_sites);
 }
 
-void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
-                                         std::span<const std::array<SiteId, 3>> tri_sites) {
+void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites) {
   const VoronoiDiagram& vd = *vd_;
   // The thin cells (ring 1) have their edges snap rounded; their neighbours (ring 2) give hot
   // pixels (every position of their edges) and take the rerouted edges they share.
@@ -311,6 +301,8 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
   struct Edge {
     std::size_t slot, other;  // the canonical cell's slot, the other cell's
     TriId a, b;               // its end vertices, in the canonical direction
+    SiteId lo;                // the canonical cell; the edge is its j-th
+    std::uint32_t j;
     bool rerouted;
   };
   std::vector<Edge> edges;
@@ -329,7 +321,8 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
     const std::size_t slot = static_cast<std::size_t>(lo_nbrs.data() - nbr_base_) + j;
     const TriId a = lo_tris[j], b = lo_tris[j + 1 == lo_tris.size() ? 0 : j + 1];
     if (edge_slots_[slot].part == 0) return;
-    edges.push_back({slot, static_cast<std::size_t>(hi_nbrs.data() - nbr_base_) + k, a, b, rerouted});
+    edges.push_back({slot, static_cast<std::size_t>(hi_nbrs.data() - nbr_base_) + k, a, b, lo,
+                     static_cast<std::uint32_t>(j), rerouted});
   };
   for (int r = 0; r < 2; ++r)
     for (const SiteId s : cells[r]) {
@@ -413,17 +406,24 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites,
   // edges' points in a part of their own; then the area terms of every edge of the region.
   auto written = [](const lonlat::SnapVertex& q) { return std::pair{q.lon == 180 ? -180.0 : q.lon, q.lat}; };
   std::vector<std::pair<double, double>> moved_to(moved_ids.size());
+  std::vector<std::array<SiteId, 3>> moved_sites(moved_ids.size());  // each one's triangle's sites
   for (std::size_t k = 0; k < paths.size() && moves; ++k) {
     const Edge& edge = edges[path_edge[k]];
     moved_to[moved_index(edge.a)] = written(paths[k].front());
     moved_to[moved_index(edge.b)] = written(paths[k].back());
+    // Vertex j of cell lo (the edge's start) has the sites lo, neighbours j - 1 and j; vertex
+    // j + 1 (its end) lo, neighbours j and j + 1.
+    const std::span<const SiteId> nbrs = vd.cell_neighbors(edge.lo);
+    const std::size_t d = nbrs.size(), j = edge.j;
+    moved_sites[moved_index(edge.a)] = {edge.lo, nbrs[(j + d - 1) % d], nbrs[j]};
+    moved_sites[moved_index(edge.b)] = {edge.lo, nbrs[j], nbrs[(j + 1) % d]};
   }
   // The cells around a moved vertex beyond the region need their edges' area terms again.
   std::vector<SiteId> touched;
   for (std::size_t k = 0; k < moved_ids.size(); ++k) {
     const TriId t = moved_ids[k];
     std::tie(vertices_[t].lon, vertices_[t].lat) = moved_to[k];
-    for (const SiteId s : tri_sites[t])
+    for (const SiteId s : moved_sites[k])
       if (ring[s] == 0) ring[s] = 3, touched.push_back(s);
   }
   std::vector<BoundaryPoint>& part = points_.emplace_back();
@@ -708,7 +708,7 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
         edge.clear();
         std::vector<Vec3>& guards = scratch<Vec3>();
         guards.clear();
-        if (cap_[ta] | cap_[tb])
+        if (va.flags | vb.flags)
           edge_guards(std::min(s, w), std::max(s, w), forward ? va : vb, forward ? vb : va, guards);
         dens.set_guards(guards);
         dens.edge(from, to, vd.site(std::min(s, w)), vd.site(std::max(s, w)), std::min(va.min_side2, vb.min_side2));

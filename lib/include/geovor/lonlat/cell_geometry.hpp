@@ -162,18 +162,18 @@ class CellGeometry {
   struct Free {
     void operator()(void* p) const { std::free(p); }
   };
-  // Per Voronoi vertex, in 48 bytes: its snapped position and longitude/latitude (degrees), and
-  // the squared chord of the shortest side of its triangle (a lower bound of the distance between
-  // the sites of an edge).
+  // Per Voronoi vertex, in 48 bytes: its snapped position and longitude/latitude (degrees), the
+  // squared chord of the shortest side of its triangle (a lower bound of the distance between
+  // the sites of an edge), and flags: its triangle is a cap (kCap), it lies near a pole
+  // (kNearPole); the edges at such a vertex are guarded (edge_guards). See the constructor.
   struct Vertex {
     Vec3 v;
     double lon, lat;
     float min_side2;
+    std::uint8_t flags;
   };
+  static_assert(sizeof(Vertex) == 48);
   std::unique_ptr<Vertex[], Free> vertices_;
-  // Per Voronoi vertex: its triangle is a cap (kCap), it lies near a pole (kNearPole); the
-  // edges at such a vertex are guarded (edge_guards). See the constructor.
-  std::unique_ptr<std::uint8_t[]> cap_;
   static constexpr std::uint8_t kCap = 1, kNearPole = 2;
   // Per Voronoi edge and each of its two cells, in that cell's slot (slot = index in the
   // diagram's neighbour lists), computed at construction in the direction of the canonical cell
@@ -199,14 +199,13 @@ class CellGeometry {
   // The great circles the edge between sites lo < hi, from vertex a to vertex b (entries of
   // vertices_, told apart by address), must keep clear of when one of its cells is thin
   // (Densifier::set_guards), into `guards`. Called only
-  // for an edge at a cap's vertex or one near a pole (cap_): cells are thin only at caps, and
+  // for an edge at a cap's vertex or one near a pole (Vertex::flags): cells are thin only at caps, and
   // only near a pole can the plate carree turn chords by more than a cap's angle.
   void edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vertex& b, std::vector<Vec3>& guards) const;
   // Snap rounds (lonlat/snap_rounding.hpp) the edges of the cells of `thin_sites` and of their
   // neighbours, at a decimal precision: near a cap's vertex a cell can be narrower than a step
   // over kilometres, and its rounded sides crossed. Called at the end of construction.
-  // tri_sites: each Voronoi vertex's three sites.
-  void snap_round_thin_cells(std::span<const SiteId> thin_sites, std::span<const std::array<SiteId, 3>> tri_sites);
+  void snap_round_thin_cells(std::span<const SiteId> thin_sites);
   // Cleans and checks `out` as built for site s, whose ring encloses the pole info.winding says
   // (loop_to_polygons, lonlat/boundary.hpp); empties it unless valid.
   CellStatus finish(SiteId s, const lonlat::LoopInfo& info, MultiPolygon& out, BBox* bbox) const;
