@@ -150,11 +150,19 @@ StagedSiteInput::StagedSiteInput(SiteInputArgs& args, bool in_background, std::f
     points_ = site_points(table_);
     positions_ = points_;
   }
-  // The rest: a CSV table's strings, the duplicate ids, then `then`.
-  auto rest = [this, then = std::move(then)] {
+  // The rest: a CSV table's strings, then the duplicate ids beside `then` (both only read the
+  // table; in the background, the caller's thread waits for them once its own work is done, and
+  // they then share the cores).
+  auto rest = [this, in_background, then = std::move(then)] {
     SiteTable table = scan_ ? std::move(*scan_).finish() : std::move(table_);
-    duplicates_ = find_duplicate_ids(table);
+    TaskGroup duplicates;
+    auto find = [&] { duplicates_ = find_duplicate_ids(table); };
+    if (in_background && then)
+      duplicates.run(find);
+    else
+      find();
     if (then) then(table);
+    duplicates.wait();
     table_ = std::move(table);
   };
   // No site: the rows are listed, and the command stops before it creates any output.
