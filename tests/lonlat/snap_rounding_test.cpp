@@ -132,6 +132,19 @@ TEST(SnapRound, AnEndOnThePixelsCommonSideLeavesFromItsOwnPixel) {
   EXPECT_EQ(vertices_inside_segments(side, 7), 0u);
 }
 
+// A segment that passes through a pixel for a short stretch near its end (here 2.8e-4 of a step,
+// not the noise of a tie on the pixel's side) is routed through it: skipped, the written s ran
+// (0, 0) -> (1, 1) and crossed r, (1, 0) -> (0, 2), which the raw segments do not (a review of
+// the end rule above, near the corner of four pixels).
+TEST(SnapRound, AShortPassageNearAnEndIsRouted) {
+  std::vector<std::vector<SnapVertex>> paths = {{at(0.49999, 0.49997, 0, 0), at(0.50003, 0.50001, 0, 1)},
+                                                {at(0.50005, 0.49995, 0, 2), at(0.10005, 1.89995, 0, 3)}};
+  ASSERT_EQ(raw_crossings(paths), 0u);
+  snap_round(paths, {}, 0);
+  EXPECT_EQ(crossings(paths, 0), 0u);
+  EXPECT_EQ(paths[0].size(), 3u);  // through the pixel of (1, 0)
+}
+
 // An end written on the antimeridian but computed off it is taken in its own sheet, not the
 // other end's: a segment from lon 0.3 to -179.7 (written 0 and -180, less than 180 degrees apart,
 // so no crossing) had its end moved to +180, which left its own pixel at -180 as a hot pixel it

@@ -66,7 +66,11 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
   GEOVOR_ASSERT(precision >= 0 && precision <= kSnapRoundMaxPrecision);
   const double scale = std::pow(10.0, precision);  // steps per degree
   const double half = 0.5 / scale;                 // half a step, degrees
-  const double touch = 1 / (1024 * scale);         // a contact at an end, degrees (see route)
+  // A contact at an end (see route), degrees: the noise of a clip of coordinates up to 180
+  // (2^-40: 32 ulps of a longitude over 128), less at 10 decimals and more. A segment that passes through a pixel
+  // for a 1024th of a step near its end is routed through it (skipped, a segment crossed another
+  // that went through that pixel near the corner of four: review).
+  const double touch = std::min(0x1p-40, 1 / (1024 * scale));
   auto steps = [scale](double written) { return static_cast<std::int64_t>(std::llround(written * scale)); };
 
   // A segment's ends in one sheet of the plane: an end on the antimeridian (raw -180) is taken
@@ -176,7 +180,7 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
           if ((h.ix == pix && h.iy == piy) || (h.ix == qix && h.iy == qiy)) continue;
           double enter = 0, leave = 0;
           if (!meets_square(p, q, h.vertex.lon, h.vertex.lat, half, enter, leave)) continue;
-          // Met only at an end (within a 1024th of a step of it): that end lies on the pixel's
+          // Met only at an end (within the noise of the clip): that end lies on the pixel's
           // boundary, where rounding wrote it in the pixel beside (a tie, half to even); the
           // segment leaves from there, it does not pass through this one. Routed through it, a
           // side from a Voronoi vertex at 121.66015625 (7 decimals) went 1e-7 east and back, across
