@@ -51,10 +51,10 @@ DuplicateIds find_duplicate_ids(const SiteTable& table) {
   // Open addressing, no allocation per id: a slot holds the id's first site and the high half of
   // its hash, so that a probe reads another site's id (a cache miss) only when the halves match.
   const std::size_t n = table.sites.size();
-  GEOVOR_ASSERT(n < 0xffffffffull);  // sites are indexed by 32 bits (SiteId); the all-ones slot is empty
+  GEOVOR_ASSERT(n < 0xffffffffull);  // indices fit the low half, and no slot is all ones (kEmpty)
   std::size_t capacity = 16;
   while (capacity < 2 * n) capacity <<= 1;
-  constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+  constexpr std::uint64_t kEmpty = ~std::uint64_t{0}, kTag = 0xffffffff00000000ull, kIndex = 0xffffffffull;
   std::vector<std::uint64_t> slots(capacity, kEmpty);
   const std::hash<std::string_view> hash;
   // The slots are scattered over megabytes: each is requested a few ids ahead of its probe.
@@ -71,10 +71,10 @@ DuplicateIds find_duplicate_ids(const SiteTable& table) {
       ahead[i % kAhead] = hash(table.sites[i + kAhead].id);
       __builtin_prefetch(&slots[ahead[i % kAhead] & (capacity - 1)]);
     }
-    const std::uint64_t tag = full & 0xffffffff00000000ull;
+    const std::uint64_t tag = full & kTag;
     std::size_t h = full & (capacity - 1);
     while (slots[h] != kEmpty &&
-           ((slots[h] & 0xffffffff00000000ull) != tag || table.sites[slots[h] & 0xffffffffull].id != id))
+           ((slots[h] & kTag) != tag || table.sites[slots[h] & kIndex].id != id))
       h = (h + 1) & (capacity - 1);
     if (slots[h] == kEmpty) {
       slots[h] = tag | i;
@@ -83,7 +83,7 @@ DuplicateIds find_duplicate_ids(const SiteTable& table) {
     ++out.rows;
     auto e = std::find_if(out.examples.begin(), out.examples.end(), [&](const auto& x) { return x.id == id; });
     if (e == out.examples.end() && out.examples.size() < 3) {
-      out.examples.push_back({id, {table.sites[slots[h] & 0xffffffffull].row}});
+      out.examples.push_back({id, {table.sites[slots[h] & kIndex].row}});
       e = out.examples.end() - 1;
     }
     if (e != out.examples.end() && e->rows.size() < 3) e->rows.push_back(table.sites[i].row);

@@ -66,10 +66,8 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
   GEOVOR_ASSERT(precision >= 0 && precision <= kSnapRoundMaxPrecision);
   const double scale = std::pow(10.0, precision);  // steps per degree
   const double half = 0.5 / scale;                 // half a step, degrees
-  // A contact at an end (see route), degrees: the noise of a clip of coordinates up to 180
-  // (2^-40: 32 ulps of a longitude over 128), less at 10 decimals and more. A segment that passes through a pixel
-  // for a 1024th of a step near its end is routed through it (skipped, a segment crossed another
-  // that went through that pixel near the corner of four: review).
+  // A contact at an end (see route), degrees: the noise of a clip of coordinates up to 180 (2^-40,
+  // 32 ulps of a longitude over 128), a 1024th of a step at 10 decimals and more.
   const double touch = std::min(0x1p-40, 1 / (1024 * scale));
   auto steps = [scale](double written) { return static_cast<std::int64_t>(std::llround(written * scale)); };
 
@@ -164,7 +162,6 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
     const std::uint64_t extent = static_cast<std::uint64_t>(std::max(x_hi - x_lo, y_hi - y_lo));
     const int l = std::min(60, static_cast<int>(std::bit_width(extent)));
     const std::int64_t pix = steps(p.lon), piy = steps(p.lat), qix = steps(q.lon), qiy = steps(q.lat);
-    const double length = std::hypot(q.raw_lon - p.raw_lon, q.raw_lat - p.raw_lat);
     hits.clear();
     candidates.clear();
     const std::int64_t side = std::int64_t{1} << l;
@@ -185,6 +182,7 @@ std::size_t snap_round(std::vector<std::vector<SnapVertex>>& paths, std::span<co
           // segment leaves from there, it does not pass through this one. Routed through it, a
           // side from a Voronoi vertex at 121.66015625 (7 decimals) went 1e-7 east and back, across
           // the meridian from the pole to that vertex (not snap rounded): fuzz_cells.
+          const double length = std::hypot(q.raw_lon - p.raw_lon, q.raw_lat - p.raw_lat);
           if (leave * length <= touch || (1 - enter) * length <= touch) continue;
           hits.push_back({enter, it->second});
         }

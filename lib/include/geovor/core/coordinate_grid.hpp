@@ -39,7 +39,8 @@ inline bool scaled_decimal_away_from_tie(double value, int precision, std::uint6
   if (precision > 9) return false;
   const double t = std::fabs(value) * kPow10[precision];
   if (!(t < 0x1p40)) return false;
-  volatile double big = 6755399441055744.0;  // 1.5 * 2^52: (t + big) - big rounds t to an integer, ties to even; volatile: never folded away
+  // (t + 1.5 * 2^52) - 1.5 * 2^52 rounds t to an integer, ties to even; volatile: never folded.
+  volatile double big = 6755399441055744.0;
   const double r = (t + big) - big;
   if (!(std::fabs(std::fabs(t - r) - 0.5) > 0x1p-12)) return false;
   q = static_cast<std::uint64_t>(r);
