@@ -24,7 +24,7 @@ WriterOptions cell_writer_options(const CellOutputArgs& args) {
 
 CellLayerReport write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
                             const SphericalDelaunay& dt, const std::function<void(const CellLayerReport&)>& before_finish,
-                            const CellIdTexts* id_texts) {
+                            const CellIdTexts* id_texts, const VoronoiDiagram* diagram) {
   const auto writer = open_cell_layer_writer(args.output, table, cell_writer_options(args));
   Progress progress(dt.num_sites(), args.quiet);
   CellLayerOptions options;
@@ -32,6 +32,7 @@ CellLayerReport write_cells(const CellOutputArgs& args, const SiteTable& table, 
   options.precision = args.precision;
   options.threads = static_cast<unsigned>(args.threads);
   options.id_texts = id_texts;
+  options.diagram = diagram;
   options.progress = [&](std::size_t written) { progress.advance(written); };
   const CellLayerReport cells = write_cell_layer(*writer, table, report, dt, options);
   // Listed even with --quiet, as rejected rows are: a cell without geometry must not pass unseen.

@@ -35,11 +35,12 @@ bool writes_geojson(const CellOutputArgs& args);
 /// Writes the cell layer of `dt` to args.output (progress on stderr unless quiet); lists the
 /// cells written with an empty geometry on stderr (even when quiet), then runs `before_finish`
 /// (so that a companion file that fails, such as the row report, leaves no cells file either)
-/// and moves the file into place. `id_texts`, if given, is make_cell_id_texts(table, ...).
+/// and moves the file into place. `id_texts`, if given, is make_cell_id_texts(table, ...);
+/// `diagram`, if given, is VoronoiDiagram(dt) (CellLayerOptions).
 /// @exception Error as open_feature_writer and the writer.
 CellLayerReport write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
                             const SphericalDelaunay& dt,
                             const std::function<void(const CellLayerReport&)>& before_finish = {},
-                            const CellIdTexts* id_texts = nullptr);
+                            const CellIdTexts* id_texts = nullptr, const VoronoiDiagram* diagram = nullptr);
 
 }  // namespace geovor::tools

@@ -88,6 +88,8 @@ int run(CellsArgs& args) {
   BuildReport report;
   const SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
   removal.wait();
+  // The diagram while the rows' strings and ids are finished on the other core.
+  const VoronoiDiagram diagram(dt, static_cast<unsigned>(args.out.threads));
   const SiteTable& table = input.table();
   args.out.ids_repeat = input.ids_repeat();
   if (!args.out.quiet) report_merges(table, report);  // merged rows stay in the cells' ids and the report
@@ -97,7 +99,7 @@ int run(CellsArgs& args) {
       [&](const CellLayerReport& cells) {
         if (report_file) write_report(*report_file, table, report, cells.unwritten, precision);
       },
-      &ids).cells_written;
+      &ids, &diagram).cells_written;
   if (report_file) report_file->commit();
   if (!args.out.quiet)
     std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s\n",

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <atomic>
 #include <fstream>
 #include <system_error>
@@ -44,6 +45,47 @@ TEST(ParallelFor, TheFirstSlicesExceptionReachesTheCaller) {
     EXPECT_STREQ(e.what(), "slice 1");
   }
   EXPECT_EQ(finished.load(), 2);  // the other slices ran to their end
+}
+
+TEST(ParallelChunks, ChunksCoverTheRangeOnceOnBoundedWorkers) {
+  for (const std::size_t n : {0u, 1u, 2u, 7u, 1000u, 1025u}) {
+    for (const std::size_t chunk : {0u, 1u, 3u, 64u, 5000u}) {
+      for (const unsigned threads : {1u, 2u, 3u, 8u}) {
+        std::vector<std::atomic<int>> hits(n);
+        std::atomic<int> calls{0};
+        parallel_chunks(n, chunk, threads, [&](unsigned worker, std::size_t begin, std::size_t end) {
+          ASSERT_LT(worker, threads);
+          const std::size_t c = std::max<std::size_t>(chunk, 1);
+          EXPECT_EQ(begin % c, 0u);                    // chunks start on multiples of the chunk
+          EXPECT_EQ(end, std::min(n, begin + c));      // and are whole but for the last
+          for (std::size_t i = begin; i < end; ++i) hits[i]++;
+          ++calls;
+        });
+        for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(hits[i].load(), 1) << n << " " << chunk << " " << threads << " " << i;
+        const std::size_t c = std::max<std::size_t>(chunk, 1);
+        EXPECT_EQ(static_cast<std::size_t>(calls.load()), n == 0 ? 0 : (n - 1) / c + 1);
+      }
+    }
+  }
+}
+
+TEST(ParallelChunks, AThrowingChunkStopsTheRestAndReachesTheCaller) {
+  for (const unsigned threads : {1u, 2u, 4u}) {
+    std::atomic<int> started{0};
+    try {
+      parallel_chunks(1000, 1, threads, [&](unsigned, std::size_t begin, std::size_t) {
+        ++started;
+        if (begin == 10) throw std::runtime_error("chunk 10");
+      });
+      FAIL() << "no exception";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "chunk 10");
+    }
+    // With one worker, chunks run in order and none after the throw; with more, the others
+    // finish the chunks they hold (how many is a race).
+    if (threads == 1) EXPECT_EQ(started.load(), 11);
+    EXPECT_GE(started.load(), 11);
+  }
 }
 
 // The address space capped just above what the process maps: a new thread's stack (8 MiB) cannot

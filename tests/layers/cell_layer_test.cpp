@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "geovor/core/error.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/geojson_writer.hpp"
 #include "support/recording_writer.hpp"
@@ -188,6 +189,35 @@ TEST(CellLayer, OctantsAsGeoJsonInSiteOrderWithTheValuesText) {
     at = next + 1;
   }
   EXPECT_NE(text.find(R"("ids":["a","dup"])"), std::string::npos);
+}
+
+TEST(CellLayer, ADiagramBuiltEarlierWritesTheSameBytesAndAnotherIsRefused) {
+  const Octants o;
+  TempDir dir("geovor_cell_layer");
+  const VoronoiDiagram diagram(o.dt, 2);
+  for (const bool given : {false, true}) {
+    const auto writer = open_cell_layer_writer(dir / (given ? "given.geojson" : "built.geojson"), o.table, {});
+    CellLayerOptions options;
+    if (given) options.diagram = &diagram;
+    EXPECT_EQ(write_cell_layer(*writer, o.table, o.report, o.dt, options).cells_written, 8u);
+    writer->finish();
+  }
+  EXPECT_EQ(read_file(dir / "given.geojson"), read_file(dir / "built.geojson"));
+  // A diagram of other sites (here of four of them) is refused before anything is written.
+  std::vector<Vec3> four;
+  for (int i = 0; i < 4; ++i) four.push_back(o.table.sites[static_cast<std::size_t>(i)].unit);
+  const SphericalDelaunay other_dt = SphericalDelaunay::build(four);
+  const VoronoiDiagram other(other_dt);
+  RecordingWriter values;
+  CellLayerOptions options;
+  options.diagram = &other;
+  try {
+    write_cell_layer(values, o.table, o.report, o.dt, options);
+    FAIL() << "no exception";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+  }
+  EXPECT_TRUE(values.features.empty());
 }
 
 TEST(CellLayer, CellsThatCollapseAtThePrecisionAreWrittenEmptyAndReported) {

@@ -10,6 +10,7 @@
 
 #include "geovor/core/ascii.hpp"
 #include "geovor/core/assert.hpp"
+#include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
 #include "geovor/delaunay/site_rows.hpp"
 #include "geovor/io/geojson_writer.hpp"
@@ -279,7 +280,12 @@ CellLayerReport write_cell_layer(FeatureWriter& writer, const SiteTable& table, 
     background.run(prepare);
   else
     prepare();
-  const VoronoiDiagram diagram(dt, threads);
+  if (options.diagram != nullptr &&
+      (options.diagram->site_capacity() != dt.site_capacity() || options.diagram->num_cells() != dt.num_sites()))
+    throw Error(ErrorCode::InvalidArgument, "write_cell_layer: the diagram given is not of the triangulation's sites");
+  VoronoiDiagram built;
+  if (options.diagram == nullptr) built.assign(dt, threads);
+  const VoronoiDiagram& diagram = options.diagram != nullptr ? *options.diagram : built;
   CellGeometryOptions geometry_options;
   geometry_options.densify_m = options.densify_m;
   geometry_options.threads = threads;

@@ -81,7 +81,6 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   const std::span<const SiteId> order = diagram.storage_order();
   const unsigned threads = static_cast<unsigned>(
       std::min<std::size_t>(thread_count(options.threads), std::max<std::size_t>(1, nv / 16384)));
-  auto split = [threads](std::size_t n, const auto& work) { parallel_for(n, threads, work); };
 
   // The edges shorter than two decimal steps (chord), which rounding alone can fold, and the
   // triangles with a side shorter than four: their cells are snap rounded (snap_round_thin_cells).
@@ -123,10 +122,13 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
     if (f > d2) f = std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) - 1);  // f > 0: the next float down
     return f;
   };
-  split(order.size(), [&](unsigned thread, std::size_t begin, std::size_t end) {
+  // In chunks taken in turn: the cell layer's texts share the cores meanwhile, so equal slices
+  // finished milliseconds apart.
+  constexpr std::size_t kCellChunk = 1024, kVertexChunk = 4096;
+  parallel_chunks(order.size(), kCellChunk, threads, [&](unsigned thread, std::size_t begin, std::size_t end) {
     std::size_t count = 0;
     for (std::size_t j = begin; j < end; ++j) {
-      if (j + 8 < end)  // the vertices are scattered: requested some cells ahead
+      if (j + 8 < order.size())  // the vertices are scattered: requested some cells ahead
         for (const TriId t : diagram.cell_vertices(order[j + 8])) __builtin_prefetch(&diagram.vertex(t));
       const SiteId s = order[j];
       const std::span<const TriId> tris = diagram.cell_vertices(s);
@@ -153,7 +155,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
         }
       }
     }
-    filled[thread] = count;
+    filled[thread] += count;
   });
   GEOVOR_ASSERT(std::accumulate(filled.begin(), filled.end(), std::size_t{0}) == nv);  // every triangle once
   // The sites of the caps' triangles (their cells are thin near those vertices) and of the
@@ -170,7 +172,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   }
 
   // The vertices' lon/lat (the costly part).
-  split(nv, [&](unsigned, std::size_t begin, std::size_t end) {
+  parallel_chunks(nv, kVertexChunk, threads, [&](unsigned, std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
       const Pt p = make_pt(diagram.vertex(static_cast<TriId>(t)), options_.precision);
       Vertex& vertex = vertices_[t];
@@ -190,7 +192,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   // by region (large ocean cells), so equal slices of the storage order finish far apart.
   constexpr std::size_t kChunk = 1024;
   std::atomic<std::size_t> next_chunk{0};
-  split(order.size(), [&](unsigned thread, std::size_t, std::size_t) {
+  parallel_for(order.size(), threads, [&](unsigned thread, std::size_t, std::size_t) {
     std::vector<Pt> edge;
     std::vector<Vec3> guards;
     Densifier dens(options_.densify_m, options_.max_step_deg, options_.max_depth, edge, options_.precision);

@@ -1,6 +1,7 @@
 #include "geovor/voronoi/voronoi_diagram.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <vector>
 #include <numbers>
@@ -107,15 +108,37 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
     }
   };
   vertices_.clear();
-  // With several threads, the others compute the vertices while this one does the sequential
-  // scans below; they only write vertices_, which nothing else reads before they are joined.
-  // With two, the other one also sizes vertices_, so that its pages are first touched there.
+  // With several threads, the others compute the vertices, in chunks taken in turn, while this
+  // one does the sequential scans below and then takes the chunks left; they only write
+  // vertices_, which nothing else reads before they are joined. With two, the other one also
+  // sizes vertices_ (so that its pages are first touched there) before any chunk is taken.
+  constexpr std::size_t kCentreChunk = 8192;
+  std::atomic<std::size_t> next_chunk{0};
+  std::atomic<bool> sized{threads > 2};
+  auto take_centres = [&] {
+    sized.wait(false);
+    if (vertices_.size() != nt) return;  // the sizing failed: its task rethrows on wait()
+    for (;;) {
+      const std::size_t begin = kCentreChunk * next_chunk.fetch_add(1, std::memory_order_relaxed);
+      if (begin >= nt) return;
+      centres(begin, std::min(nt, begin + kCentreChunk));
+    }
+  };
   TaskGroup centre_tasks;
   if (threads > 2) vertices_.resize(nt);
   for (unsigned i = 1; i < threads; ++i)
     centre_tasks.run([&, i] {
-      if (threads == 2) vertices_.resize(nt);
-      centres(nt * (i - 1) / (threads - 1), nt * i / (threads - 1));
+      if (i == 1 && threads == 2) {
+        struct Signal {
+          std::atomic<bool>& sized;
+          ~Signal() {
+            sized.store(true);
+            sized.notify_all();
+          }
+        } signal{sized};
+        vertices_.resize(nt);
+      }
+      take_centres();
     });
 
   sites_.assign(dt.sites().begin(), dt.sites().end());
@@ -169,8 +192,9 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
   GEOVOR_ASSERT(k == 3 * nt);
   cell_tris_.resize(3 * nt);
   cell_nbrs_.resize(3 * nt);
-  // The stars, in `threads` slices of the storage order (the centres joined first: they share
-  // the cores).
+  // The stars, in chunks of the storage order (the centres finished and joined first: they
+  // share the cores).
+  if (threads > 1) take_centres();
   centre_tasks.wait();
   auto stars = [&](unsigned, std::size_t begin, std::size_t end) {
     for (std::size_t j = begin; j < end; ++j) {
@@ -195,7 +219,7 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
       GEOVOR_ASSERT(i == cells_[s].end);  // the star is one cycle through every triangle of s
     }
   };
-  parallel_for(order_.size(), threads, stars);
+  parallel_chunks(order_.size(), 4096, threads, stars);
 }
 
 std::span<const TriId> VoronoiDiagram::cell_vertices(SiteId s) const {

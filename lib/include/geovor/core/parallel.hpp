@@ -1,8 +1,8 @@
 /// \file parallel.hpp
-/// \brief geovor's one way to run threads: a parallel loop over slices, a group of background
+/// \brief geovor's one way to run threads: a parallel loop over slices or chunks, a group of background
 /// tasks, and an ordered pipeline (read in order, work in parallel, write in order).
 ///
-/// Guarantees shared by all three:
+/// Guarantees shared by all of them:
 /// - A worker's exception reaches the caller: it is rethrown once every thread has stopped (the
 ///   first by slice, task or item order). Nothing calls std::terminate.
 /// - A thread that cannot be created (a memory or process limit) is not an error: its work runs
@@ -12,6 +12,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <exception>
 #include <functional>
@@ -45,6 +46,39 @@ void parallel_for(std::size_t n, unsigned threads, Work&& work) {
   detail::run_slices(static_cast<unsigned>(slices), [&](unsigned i) {
     work(i, n * i / slices, n * (i + 1) / slices);
   });
+}
+
+/// Runs work(worker, begin, end) over [0, n) in chunks of `chunk` indices (the last one
+/// shorter), which `threads` workers take in turn as each finishes its last: for work whose
+/// cost varies along the range, or that shares the cores with other tasks, where parallel_for's
+/// equal slices finish far apart. Worker 0 is the calling thread. Which worker runs which chunk
+/// varies from run to run: results must not depend on it (per-worker state is scratch, or
+/// merged in an order-independent way). threads == 0 means one per core. After a chunk throws,
+/// no new chunk starts; the exception reaches the caller as parallel_for's do.
+template <class Work>
+void parallel_chunks(std::size_t n, std::size_t chunk, unsigned threads, Work&& work) {
+  if (n == 0) return;
+  chunk = std::max<std::size_t>(chunk, 1);
+  const std::size_t chunks = (n - 1) / chunk + 1;
+  const std::size_t workers = std::min<std::size_t>(thread_count(threads), chunks);
+  std::atomic<std::size_t> next{0};
+  auto take = [&](unsigned worker) {
+    for (;;) {
+      const std::size_t c = next.fetch_add(1, std::memory_order_relaxed);
+      if (c >= chunks) return;
+      try {
+        work(worker, c * chunk, std::min(n, (c + 1) * chunk));
+      } catch (...) {
+        next.store(chunks, std::memory_order_relaxed);
+        throw;
+      }
+    }
+  };
+  if (workers == 1) {
+    take(0u);
+    return;
+  }
+  detail::run_slices(static_cast<unsigned>(workers), take);
 }
 
 /// Tasks that run beside the calling thread until wait() (or the destructor) joins them. A task

@@ -32,6 +32,7 @@
 #include "geovor/io/feature_writer.hpp"
 #include "geovor/layers/id_lists.hpp"
 #include "geovor/lonlat/cell_geometry.hpp"
+#include "geovor/voronoi/voronoi_diagram.hpp"
 
 namespace geovor {
 
@@ -68,6 +69,9 @@ struct CellLayerOptions {
   /// make_cell_id_texts(table) made earlier by the caller (e.g. while the triangulation is
   /// built); used only with an encoder. DEFAULT: null (made here when needed).
   const CellIdTexts* id_texts = nullptr;
+  /// VoronoiDiagram(dt) built earlier by the caller (e.g. while the table's last columns are
+  /// read); it must be dt's as dt is now. DEFAULT: null (built here).
+  const VoronoiDiagram* diagram = nullptr;
   /// Called on the calling thread after each block of cells is written, with the number of
   /// cells written so far (of dt.num_sites()). DEFAULT: none.
   std::function<void(std::size_t cells_written)> progress;
@@ -84,7 +88,8 @@ struct CellLayerReport {
 /// `writer` must have been opened with cell_layer_schema(table) (open_cell_layer_writer()
 /// does); it is not finished, so that the caller can write companion files first. With an
 /// encoder (GeoJSON) the workers encode the features as text and this thread only writes it.
-/// @exception Error as the writer; Error(InvalidArgument) for an option out of range.
+/// @exception Error as the writer; Error(InvalidArgument) for an option out of range or a
+/// diagram not of dt's sites.
 CellLayerReport write_cell_layer(FeatureWriter& writer, const SiteTable& table, const BuildReport& report,
                                  const SphericalDelaunay& dt, const CellLayerOptions& options = {});
 
