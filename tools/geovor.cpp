@@ -56,6 +56,23 @@ int hand_to_gdal_tool(char** argv) {
   return kInternal;
 }
 
+// glibc reads its malloc tunables only when a program starts: the tool runs itself again, once,
+// with transparent huge pages for malloc's memory (glibc.malloc.hugetlb=1), which halves the page
+// faults of a large job (docs/design.md, "Speed"). A hugetlb tunable already set is kept (=0 turns
+// this off); if the new run cannot start, this one goes on as it is.
+void rerun_with_huge_pages(char** argv) {
+  const char* old = std::getenv("GLIBC_TUNABLES");
+  if (old != nullptr && std::strstr(old, "glibc.malloc.hugetlb") != nullptr) return;
+  const std::string saved = old != nullptr ? old : "";
+  const std::string value = saved.empty() ? "glibc.malloc.hugetlb=1" : saved + ":glibc.malloc.hugetlb=1";
+  if (::setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
+  ::execv("/proc/self/exe", argv);
+  if (old != nullptr)
+    ::setenv("GLIBC_TUNABLES", saved.c_str(), 1);
+  else
+    ::unsetenv("GLIBC_TUNABLES");
+}
+
 // "unknown command 'cels'; did you mean 'cells'?" (exit 2), or the list of commands when none is close.
 int unknown_command(const std::string& name, const std::vector<std::string>& commands) {
   std::string best, all;
@@ -97,6 +114,7 @@ int finish_command(int code) {
 namespace geovor::tools {
 
 int run_geovor(int argc, char** argv, bool has_gdal) {
+  rerun_with_huge_pages(argv);
   // Named, so that usage lines say "geovor", not the path it was run by.
   CLI::App app{"geovor: Voronoi cells, Delaunay triangulations and nearest sites on the Earth", "geovor"};
   app.set_version_flag("--version", "geovor " GEOVOR_VERSION, "Print the version and exit");
