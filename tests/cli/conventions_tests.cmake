@@ -70,3 +70,9 @@ foreach(case ${numeric_cases})
   separate_arguments(args UNIX_COMMAND "${args}")
   geovor_cli_expect(cli.conventions.numeric.${name} 2 STDERR "^${option}: expected [^\n]*, got '" COMMAND ${args})
 endforeach()
+
+# geovor runs itself again with transparent huge pages for malloc (glibc.malloc.hugetlb=1 added to
+# GLIBC_TUNABLES), keeping a hugetlb tunable the user set.
+add_test(NAME cli.conventions.huge_pages
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/huge_pages.sh $<TARGET_FILE:geovor_cli> ${PROJECT_SOURCE_DIR}/${fixtures}/three_sites.csv
+          ${conv_out}/huge_pages)
