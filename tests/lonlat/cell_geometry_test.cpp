@@ -1305,6 +1305,44 @@ TEST(CellGeometryAsWritten, LuneSidesPassingAPoleAFewStepsOff) {
   }
 }
 
+// A near-co-circular ring of 39 sites 1.7 km around the south pole: the lunes' tips meet 1.8 m
+// from the south pole and 1.35 m from the north pole, where each lune's sides are a centimetre
+// apart at its tip vertices. Their sides run from pole to pole and reach max_depth at pieces of
+// 19 m; past it only the pole rule had split on, whose eighth of the distance to the pole left
+// a chord from 4 m to 1.8 m from the south pole, spanning 19 degrees of longitude, bulging 0.19 m
+// off its arc, across the lune's other side 1 cm away (the guards, which would have split it,
+// were not applied past max_depth). Two cells were unwritable at 9 decimals (fuzz_cells, with no
+// unwritable cell allowed). The same ring mirrored around the north pole.
+TEST(CellGeometryAsWritten, ThinCellsNearAPoleGuardedPastMaxDepth) {
+  const std::vector<std::pair<double, double>> ring = {
+      {-89.984947601571932, -179.97041356435645}, {-89.984949036849187, 170.80673388789526},
+      {-89.984950665907064, 161.58273705077812}, {-89.984952736015117, 152.35751973131914},
+      {-89.984954928415959, 143.13145805336629}, {-89.984957328287848, 133.90380640143775},
+      {-89.984959776817021, 124.67463078816112}, {-89.984962266514103, 115.44388315408604},
+      {-89.984964814174489, 106.21170381596195}, {-89.984967151057475, 96.977991886350651},
+      {-89.984969420827341, 87.742858673932815}, {-89.984971486937511, 78.506291400029511},
+      {-89.984973185947226, 69.268896688206979}, {-89.984974595742671, 60.029987341893587},
+      {-89.984975760306043, 50.790587153670053}, {-89.984976478779899, 41.550806676282789},
+      {-89.984976702331238, 32.310476570545418}, {-89.9849766690444, 23.070058298429888},
+      {-89.984976227989705, 13.829953749353646}, {-89.984975336441053, 4.5902280575148451},
+      {-89.984974023496335, -4.648768624534692}, {-89.984972514828655, -13.887105329460805},
+      {-89.984970665715835, -23.124216645231837}, {-89.984968453043621, -32.360368014770195},
+      {-89.984966210902769, -41.59485201923134}, {-89.98496369020998, -50.82789296518655},
+      {-89.984961262951032, -60.0594135896513}, {-89.984958704350504, -69.289785497014009},
+      {-89.984956262448634, -78.518027131092126}, {-89.984953926377216, -87.745352774625658},
+      {-89.984951864774274, -96.970722319377089}, {-89.984949899371657, -106.19525801004752},
+      {-89.984948417491452, -115.41861705555402}, {-89.984947084294959, -124.64126705694974},
+      {-89.984946146620459, -133.86301847528179}, {-89.984945713940448, -143.08445987167732},
+      {-89.984945530241859, -152.3054915070224}, {-89.984945850610686, -161.52701143927519},
+      {-89.984946513288406, -170.74836852392889}};
+  std::vector<std::pair<double, double>> mirrored = ring;
+  for (auto& [lat, lon] : mirrored) lat = -lat;
+  for (const int p : {5, 7, 9, 12, 17, kFullPrecision}) {
+    written::expect_tiling(ring, p);
+    written::expect_tiling(mirrored, p);
+  }
+}
+
 // Grids whose steps are dyadic (exact in binary) put Voronoi vertices on ties of the decimal
 // grid: at lon 121.66015625, 7 decimals, written 121.6601562, while the same vertex computed
 // from another triangle is at 121.66015625000006 (121.6601563). Snap rounding routed a side

@@ -294,20 +294,38 @@ double to_pole2(const Vec3& a, const Vec3& b, const Vec3& m) {
 
 }  // namespace
 
+bool Densifier::clear_of_pole_and_guards(const Vec3& a, const Vec3& b, const Vec3& m, double dev2) const {
+  // Within a few hundred metres of a pole, within an eighth of the distance to it: there a
+  // straight lon/lat segment is a circle of latitude, and one spanning 90 degrees of longitude
+  // 100 m from the pole crossed its neighbours (lunes of sites near the equator, their tips
+  // metres from the pole).
+  if (64 * dev2 > to_pole2(a, b, m)) return false;
+  for (const Vec3& g : guards_) {
+    const double h = dot(m, g);
+    if (64 * dev2 > h * h) return false;
+  }
+  return true;
+}
+
 void Densifier::split(const Pt& a, const Pt& b, int depth) {
   // Not below kMinPieceRad: the copies of one Voronoi vertex (co-circular sites) are joined by
   // edges nanometres long, which the guards below would split to max_depth (2^20 points each:
   // a 7 x 7 grid on a pole took 17 s and 1.3 GB).
   if (norm2(a.v - b.v) < kMinPieceRad * kMinPieceRad) return;
-  // Past max_depth only the pole rule below splits on: a side of a lune from pole to pole
-  // reaches max_depth at pieces of 19 m, and a vertex centimetres from the pole is then joined
-  // by a straight lon/lat segment spanning 20 degrees of longitude (a ring of sites 1.5 m around
-  // the other pole: two cells unwritable). It ends by itself once a piece is within an eighth of
-  // its distance to the pole, however close (an arc within kSnapRad gets the pole as a vertex):
-  // points written on the pole line are runs there, which the pole rules and the pinch of
-  // loop_to_polygons close. Stopping two steps short of the pole left chords spanning tens of
-  // degrees of longitude there, which crossed (docs/design.md, the poles); kMaxPoleDepth only
-  // guards against a bug.
+  // Past max_depth only the pole rule and the guards below split on: a side of a lune from pole
+  // to pole reaches max_depth at pieces of 19 m, and a vertex centimetres from the pole is then
+  // joined by a straight lon/lat segment spanning 20 degrees of longitude (a ring of sites 1.5 m
+  // around the other pole: two cells unwritable). It ends by itself once a piece is within an
+  // eighth of its distance to the pole, however close (an arc within kSnapRad gets the pole as a
+  // vertex): points written on the pole line are runs there, which the pole rules and the pinch
+  // of loop_to_polygons close. Stopping two steps short of the pole left chords spanning tens of
+  // degrees of longitude there, which crossed (docs/design.md, the poles). The guards keep
+  // splitting too: within the pole rule's eighth, a chord metres from the pole still bulges by
+  // decimetres, and a thin cell's other side there can be centimetres away (a lune's tip 1.8 m
+  // from the pole, its sides 1 cm apart at the tip: a chord past max_depth, 19 degrees of
+  // longitude, crossed the other side's; fuzz_cells). They end as well: a guard's distance grows
+  // linearly from a common vertex, a chord's deviation quadratically with its length.
+  // kMaxPoleDepth only guards against a bug.
   const bool past = depth >= max_depth_;
   if (past && depth >= kMaxPoleDepth) return;
   // On the sphere: a point merely written at a pole (within a decimal step of it) is not one,
@@ -317,7 +335,7 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
   if (past) {
     if (pa || pb) return;
     m = midpoint(a.v, b.v);
-    if (64 * norm2(m - lonlat_midpoint(a, b)) <= to_pole2(a.v, b.v, m)) return;
+    if (clear_of_pole_and_guards(a.v, b.v, m, norm2(m - lonlat_midpoint(a, b)))) return;
   } else if (pa || pb) {
     // From a pole the arc is a meridian, straight in lon/lat. Pole to pole (N to S) needs a
     // midpoint, which gives the meridian its longitude; so does an arc from a pole to a point
@@ -331,18 +349,7 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
     if (dot(a.v, b.v) >= cos_step_) {
       // Great-circle midpoint against the midpoint of the straight lon/lat segment.
       const double dev2 = norm2(m - lonlat_midpoint(a, b));
-      if (dev2 <= edge_tol2_) {
-        // Within a few hundred metres of a pole, also within an eighth of the distance to it:
-        // there a straight lon/lat segment is a circle of latitude, and one spanning 90 degrees
-        // of longitude 100 m from the pole crossed its neighbours (lunes of sites near the
-        // equator, their tips metres from the pole).
-        bool clear = 64 * dev2 <= to_pole2(a.v, b.v, m);
-        for (const Vec3& g : guards_) {
-          const double h = dot(m, g);
-          clear &= 64 * dev2 <= h * h;
-        }
-        if (clear) return;
-      }
+      if (dev2 <= edge_tol2_ && clear_of_pole_and_guards(a.v, b.v, m, dev2)) return;
     }
   }
   const Pt mp = make_pt(m, precision_);

@@ -46,7 +46,8 @@ class Densifier {
   /// straight lon/lat segment's midpoint and the arc; arcs longer than max_step_deg are always
   /// split; at most max_depth levels, except within metres of a pole, where pieces are split on
   /// (up to kMaxPoleDepth levels) until each is within an eighth of the distance to the pole of
-  /// the nearest of its ends and midpoint.
+  /// the nearest of its ends and midpoint, and near guards (set_guards), which bind at every
+  /// depth.
   /// Points are appended to `out`.
   /// Positions are written with `precision` decimals (make_pt).
   Densifier(double densify_m, double max_step_deg, int max_depth, std::vector<Pt>& out,
@@ -61,13 +62,18 @@ class Densifier {
   /// Unit normals of great circles that the next edges' written chords must keep clear of (the
   /// other sides of a thin cell): a piece is also split while its midpoint's deviation exceeds
   /// an eighth of the midpoint's distance to any of them, so that two chords, each within a
-  /// quarter of their distance, cannot cross. `normals` must outlive the calls; empty: none.
+  /// quarter of their distance, cannot cross; past max_depth too (up to kMaxPoleDepth levels).
+  /// `normals` must outlive the calls; empty: none.
   void set_guards(std::span<const Vec3> normals) { guards_ = normals; }
 
  private:
   const Vec3& axis();
   Vec3 midpoint(const Vec3& a, const Vec3& b);
   void split(const Pt& a, const Pt& b, int depth);
+  /// Whether a piece a -> b with great-circle midpoint m, whose straight lon/lat midpoint lies
+  /// sqrt(dev2) from m, is within an eighth of its distance to the pole (at the nearest of a, b
+  /// and m) and of the midpoint's distance to every guard.
+  bool clear_of_pole_and_guards(const Vec3& a, const Vec3& b, const Vec3& m, double dev2) const;
 
   static constexpr int kMaxPoleDepth = 64;
   static constexpr double kMinPieceRad = 0x1p-40;  // 6 micrometres: no piece is split below

@@ -79,7 +79,9 @@ struct CellGeometryOptions {
   double max_step_deg = 1;
   /// Recursion depth cap of the bisection of one edge, except within metres of a pole, where a
   /// piece is split on until it is within an eighth of its distance to the pole (a side from
-  /// pole to pole reaches 20 levels at pieces of 19 m). DEFAULT: 20. REQUIRES: in [1, 40].
+  /// pole to pole reaches 20 levels at pieces of 19 m), and near the other sides of a thin cell,
+  /// until it is within an eighth of its distance to them (lonlat::Densifier::set_guards).
+  /// DEFAULT: 20. REQUIRES: in [1, 40].
   int max_depth = 20;
   /// Threads computing the vertices' lon/lat and the edges at construction (0: one per core).
   /// DEFAULT: 1.
