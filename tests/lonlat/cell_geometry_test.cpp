@@ -1311,8 +1311,8 @@ TEST(CellGeometryAsWritten, LuneSidesPassingAPoleAFewStepsOff) {
 // 19 m; past it only the pole rule had split on, whose eighth of the distance to the pole left
 // a chord from 4 m to 1.8 m from the south pole, spanning 19 degrees of longitude, bulging 0.19 m
 // off its arc, across the lune's other side 1 cm away (the guards, which would have split it,
-// were not applied past max_depth). Two cells were unwritable at 9 decimals (fuzz_cells, with no
-// unwritable cell allowed). The same ring mirrored around the north pole.
+// were not applied past max_depth). Two cells were unwritable at 7 decimals and finer (fuzz_cells,
+// with no unwritable cell allowed, at 9). The same ring mirrored around the north pole.
 TEST(CellGeometryAsWritten, ThinCellsNearAPoleGuardedPastMaxDepth) {
   const std::vector<std::pair<double, double>> ring = {
       {-89.984947601571932, -179.97041356435645}, {-89.984949036849187, 170.80673388789526},
@@ -1338,6 +1338,34 @@ TEST(CellGeometryAsWritten, ThinCellsNearAPoleGuardedPastMaxDepth) {
   std::vector<std::pair<double, double>> mirrored = ring;
   for (auto& [lat, lon] : mirrored) lat = -lat;
   for (const int p : {5, 7, 9, 12, 17, kFullPrecision}) {
+    written::expect_tiling(ring, p);
+    written::expect_tiling(mirrored, p);
+  }
+}
+
+// The guards add no point within a step of a pole, past max_depth: it would be written on the
+// pole line or its first row, where the pole rules draw the path. A ring of 19 sites around the
+// south pole has a lune's tip 5 mm from the north pole, written on the pole line at 7 decimals;
+// guarded there, the first piece of the tip's other side (5 to 14 mm from the pole) gave a point
+// 6 mm out written on the first row 0.014 degrees east of the meridian on which the first side
+// reached the pole line, across it: unwritable at 7, 8, 9 decimals and full precision (fuzz_cells,
+// with no unwritable cell allowed, against the guards past max_depth without this rule; the code
+// before them wrote it). The same ring mirrored around the north pole.
+TEST(CellGeometryAsWritten, GuardsAddNoPointWithinAStepOfAPole) {
+  const std::vector<std::pair<double, double>> ring = {
+      {-61.513735700326592, -90.697642484127769}, {-61.513735712637441, -109.64501088689485},
+      {-61.513735696749713, -128.59237931707213}, {-61.513735681872973, -147.53974774140511},
+      {-61.513735686138673, -166.48711614935766}, {-61.513735701059204, 174.56551540831163},
+      {-61.513735704752577, 155.61814700983859}, {-61.51373569399847, 136.67077857576646},
+      {-61.513735688971764, 117.72341014678382}, {-61.513735688949652, 98.776041704352764},
+      {-61.51373569686767, 79.828673301089921}, {-61.513735694999063, 60.881304874605789},
+      {-61.513735693477827, 41.933936444353201}, {-61.513735687086132, 22.986568033501854},
+      {-61.513735685779849, 4.0391996074155356}, {-61.513735706355419, -14.908168823949612},
+      {-61.513735687853824, -33.855537216287999}, {-61.513735698141872, -52.802905659219093},
+      {-61.513735686789076, -71.750274090004964}};
+  std::vector<std::pair<double, double>> mirrored = ring;
+  for (auto& [lat, lon] : mirrored) lat = -lat;
+  for (const int p : {5, 7, 8, 9, kFullPrecision}) {
     written::expect_tiling(ring, p);
     written::expect_tiling(mirrored, p);
   }

@@ -235,7 +235,13 @@ Densifier::Densifier(double densify_m, double max_step_deg, int max_depth, std::
       tol2_(std::pow(densify_m / SiteEncoder::kEarthRadiusM, 2)),
       cos_step_(std::cos(max_step_deg * kDeg)),
       max_depth_(max_depth),
-      precision_(precision) {}
+      precision_(precision) {
+  // A step of the grid a thin cell is written on: the output's, at most kThinCellDecimals (the
+  // snap rounding of CellGeometry), as an angle.
+  const int decimals =
+      precision < 0 ? CellGeometry::kThinCellDecimals : std::min(precision, CellGeometry::kThinCellDecimals);
+  pole_row2_ = std::pow(std::pow(10.0, -decimals) * kDeg, 2);
+}
 
 void Densifier::edge(const Pt& a, const Pt& b, const Vec3& left, const Vec3& right, double site_chord2) {
   left_ = &left;
@@ -335,7 +341,17 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
   if (past) {
     if (pa || pb) return;
     m = midpoint(a.v, b.v);
-    if (clear_of_pole_and_guards(a.v, b.v, m, norm2(m - lonlat_midpoint(a, b)))) return;
+    const double dev2 = norm2(m - lonlat_midpoint(a, b));
+    // The guards add no point within a step of the pole (pole_row2_): it would be written on
+    // the pole line or its first row, where the written path is the pole rules' (meridians to
+    // the pole line, runs along it), whatever the chord. A ring of 19 sites around the south
+    // pole at 7 decimals has a lune's tip 5 mm from the north pole, written on the pole line;
+    // guarded, the first piece of its other side, 5 to 14 mm out, gave a point written on the
+    // first row 0.014 degrees east of the meridian on which its first side reached the pole
+    // line, across that side (unwritable at 7 decimals; fuzz_cells).
+    if (m.x * m.x + m.y * m.y <= pole_row2_ ? 64 * dev2 <= to_pole2(a.v, b.v, m)
+                                             : clear_of_pole_and_guards(a.v, b.v, m, dev2))
+      return;
   } else if (pa || pb) {
     // From a pole the arc is a meridian, straight in lon/lat. Pole to pole (N to S) needs a
     // midpoint, which gives the meridian its longitude; so does an arc from a pole to a point

@@ -62,7 +62,9 @@ class Densifier {
   /// Unit normals of great circles that the next edges' written chords must keep clear of (the
   /// other sides of a thin cell): a piece is also split while its midpoint's deviation exceeds
   /// an eighth of the midpoint's distance to any of them, so that two chords, each within a
-  /// quarter of their distance, cannot cross; past max_depth too (up to kMaxPoleDepth levels).
+  /// quarter of their distance, cannot cross; past max_depth too (up to kMaxPoleDepth levels),
+  /// but there they add no point within a step of a pole (of the output's decimals, at most
+  /// CellGeometry::kThinCellDecimals), which would be written on the pole line or its first row.
   /// `normals` must outlive the calls; empty: none.
   void set_guards(std::span<const Vec3> normals) { guards_ = normals; }
 
@@ -86,6 +88,7 @@ class Densifier {
   bool have_axis_ = false;
   Vec3 axis_;
   double edge_tol2_ = 0;
+  double pole_row2_;  // squared step of the thin cells' grid (radians): within it of a pole, its first row
   std::span<const Vec3> guards_;
 };
 
