@@ -236,11 +236,8 @@ Densifier::Densifier(double densify_m, double max_step_deg, int max_depth, std::
       cos_step_(std::cos(max_step_deg * kDeg)),
       max_depth_(max_depth),
       precision_(precision) {
-  // A step of the grid a thin cell is written on: the output's, at most kThinCellDecimals (the
-  // snap rounding of CellGeometry), as an angle.
-  const int decimals =
-      precision < 0 ? CellGeometry::kThinCellDecimals : std::min(precision, CellGeometry::kThinCellDecimals);
-  pole_row2_ = std::pow(std::pow(10.0, -decimals) * kDeg, 2);
+  // A step of the grid a thin cell is written on (CellGeometry's snap rounding), as an angle.
+  pole_row2_ = std::pow(std::pow(10.0, -CellGeometry::thin_cell_decimals(precision)) * kDeg, 2);
 }
 
 void Densifier::edge(const Pt& a, const Pt& b, const Vec3& left, const Vec3& right, double site_chord2) {

@@ -46,8 +46,8 @@ class Densifier {
   /// straight lon/lat segment's midpoint and the arc; arcs longer than max_step_deg are always
   /// split; at most max_depth levels, except within metres of a pole, where pieces are split on
   /// (up to kMaxPoleDepth levels) until each is within an eighth of the distance to the pole of
-  /// the nearest of its ends and midpoint, and near guards (set_guards), which bind at every
-  /// depth.
+  /// the nearest of its ends and midpoint, and near guards (set_guards), which bind past
+  /// max_depth too, except within a step of a pole.
   /// Points are appended to `out`.
   /// Positions are written with `precision` decimals (make_pt).
   Densifier(double densify_m, double max_step_deg, int max_depth, std::vector<Pt>& out,

@@ -86,7 +86,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   // triangles with a side shorter than four: their cells are snap rounded (snap_round_thin_cells).
   // (The step of the grid they are snapped to: the output's, at most kThinCellDecimals, so that
   // 17 decimals and full precision write the same.)
-  const int snap_decimals = options.precision < 0 ? kThinCellDecimals : std::min(options.precision, kThinCellDecimals);
+  const int snap_decimals = thin_cell_decimals(options.precision);
   const double step_rad = std::pow(10.0, -snap_decimals) * std::numbers::pi / 180;
   const double fold2 = 4 * step_rad * step_rad, small2 = 16 * step_rad * step_rad;
   // In the same pass, into the vertices (calloc: fresh pages, first touched by the threads that
@@ -338,7 +338,7 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites) {
 
   // The grid: the output's decimals, at most kThinCellDecimals (the sides of a thin cell cross
   // at that scale).
-  const int decimals = options_.precision < 0 ? kThinCellDecimals : std::min(options_.precision, kThinCellDecimals);
+  const int decimals = thin_cell_decimals(options_.precision);
   auto on_grid = [decimals](double x) { return snap_to_decimals(x, decimals); };
   // The ends of the rerouted edges are then written on the grid: they move
   // only when the grid is coarser than the output's decimals.

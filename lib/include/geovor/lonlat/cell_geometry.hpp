@@ -47,6 +47,8 @@
 /// 0.38 m apart), so no cell vanishes.
 #pragma once
 
+#include <algorithm>
+
 #include <array>
 #include <cstdint>
 #include <cstdlib>
@@ -117,6 +119,11 @@ class CellGeometry {
   /// (1.1 cm) at a finer or full precision: the sides of a lune whose angle is a microradian
   /// crossed at that scale even in doubles.
   static constexpr int kThinCellDecimals = 7;
+  /// The decimals of the grid thin cells are snap rounded to at output `precision` (kFullPrecision
+  /// or < 0: full): the output's, at most kThinCellDecimals.
+  static constexpr int thin_cell_decimals(int precision) {
+    return precision < 0 ? kThinCellDecimals : std::min(precision, kThinCellDecimals);
+  }
   /// At this many decimals or fewer (a step of a kilometre or more) every cell is snap rounded,
   /// not only the thin ones and their neighbours: a step can reach cells beyond those, whose
   /// positions would not be hot pixels (a band of cells fell onto one row of steps).
