@@ -1414,5 +1414,53 @@ TEST(CellGeometryAsWritten, SpikeToAPoleLineIsNoSecondVisit) {
   for (const int p : {0, 1, 2, 7, kFullPrecision}) written::expect_tiling(sites, p);
 }
 
+// Sites on one great circle, centimetres apart, 38 degrees from the nearest pole: sites 0.36 m
+// apart alternating between the meridians 29 and -151 at latitude -52.02. Their lunes run to the
+// circle's poles on the equator, where their tips, the sites being doubles a hair off the
+// circle, braid over a kilometre with sides 1e-10 radians apart. The Voronoi vertex of two sites
+// 0.7 m apart and one 76 degrees away, computed from the far one (the smallest id), was 4e-10
+// radians off their bisector, across that braid: the sides' chords crossed before any rounding,
+// and the lune of site 4 was unwritable at 7 to 17 decimals and at full precision (fuzz_cells
+// found 177 such sites; 9 and 25 failed alike, and 177 take two minutes here).
+TEST(CellGeometryAsWritten, SitesOnOneGreatCircleCentimetresApart) {
+  for (const int n : {9, 25}) {
+    std::vector<std::pair<double, double>> sites;
+    for (int k = 0; k < n; ++k)
+      sites.push_back({-52.022430762188144 + k * 3.25e-6, k % 2 == 0 ? 29.007095445181989 : -150.99290455481801});
+    for (const int p : {7, 12, 17, kFullPrecision})
+      if (n == 9 || p == 7) written::expect_tiling(sites, p);
+  }
+}
+
+// Clusters 0.24 m from the south pole with a background of sites (fuzz_cells, with no unwritable
+// cell allowed): at 15 decimals one cell's ring wound around the pole it does not own. Written
+// since the vertices are computed at the corner opposite their triangle's longest side (above).
+TEST(CellGeometryAsWritten, ClustersNearTheSouthPoleAtFifteenDecimals) {
+  const std::vector<std::pair<double, double>> sites = {
+      {-60.891279468986035, 179.99999999999901}, {-60.891281060487941, -179.99999876453268},
+      {-60.891278730449386, -179.99999685392891}, {-90, 0}, {-89.999997824980241, -66.950084265973217},
+      {-89.999997824980241, -29.49097619957973}, {-89.999997824980241, 59.747518238703705},
+      {-89.999997824980241, -133.11906702944074}, {-89.999997824980241, 80.788606405487059},
+      {-73.058823529411768, -146.11764705882354}, {-73.058821817213612, -146.1176298771598}, {-90, 0},
+      {-89.999998303883672, -54.2976934239353}, {-90, 0}, {-89.999998303883672, -19.87275970551595},
+      {-90, 0}, {-89.999998303883672, 2.0612334266759391}, {-90, 0},
+      {-89.999998303883672, 69.021673682107121}, {-90, 0}, {-89.999998303883672, -49.91749080929813},
+      {24.45521728132136, -110.60758394735822}, {51.058593606246838, -160.52166606115958},
+      {40.803668176348353, 74.344748114193834}, {-50.267336405595387, 47.652106939265309},
+      {76.687715327389284, -62.032823923834428}, {-46.731711062637011, -4.2514752267310314},
+      {56.618169993575442, 80.575620301516381}, {13.384207639056324, -173.7657175623122},
+      {-53.708688521748336, 57.476261993513646}, {31.402787748272022, -86.239283001836029},
+      {47.707865650975698, -77.554237620109589}, {-21.320998421526259, -20.37529297443163},
+      {38.864238799063983, 101.99372416504445}, {25.304994981333774, 122.90562000785474},
+      {71.790361590280824, -73.283631293693716}, {-54.260983822947232, -55.127551692309879},
+      {78.062998459281815, -30.363700517096049}, {39.306409186334363, -132.22902684631089},
+      {17.574400836347809, 35.081104251430048}, {-21.42405729410968, 99.85032049034379},
+      {1.0044956268926575, 160.94325586040935}, {42.447005012874293, 60.61657517418999},
+      {41.245129215254529, -135.59892118907737}, {22.607041744132811, 141.64100970063487},
+      {-19.790144876460623, -151.2867386148076}, {26.93609983974736, 170.00485421651899}
+  };
+  for (const int p : {9, 12, 15, 17, kFullPrecision}) written::expect_tiling(sites, p);
+}
+
 }  // namespace
 }  // namespace geovor

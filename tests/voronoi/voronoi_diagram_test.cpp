@@ -376,26 +376,65 @@ TEST(VoronoiDiagram, TriangleAreaOfTinyTrianglesAndSlivers) {
   EXPECT_NEAR(VoronoiDiagram::triangle_area_sr(b, apex, a), fan, 1e-13 * fan);
 }
 
+// The exact normal of the plane through three doubles, (b - a) x (c - a) in binary128: the
+// differences of doubles within a factor 2^60 of each other are exact there, and the products'
+// rounding (2^-113) is far below a double's ulp even after the cancellation of a sliver.
+Vec3 exact_circumcentre(const Vec3& a, const Vec3& b, const Vec3& c) {
+  using Q = __float128;
+  const Q ux = Q(b.x) - Q(a.x), uy = Q(b.y) - Q(a.y), uz = Q(b.z) - Q(a.z);
+  const Q wx = Q(c.x) - Q(a.x), wy = Q(c.y) - Q(a.y), wz = Q(c.z) - Q(a.z);
+  const Q nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
+  const long double len = std::sqrt(static_cast<long double>(nx * nx + ny * ny + nz * nz));
+  return {static_cast<double>(static_cast<long double>(nx) / len), static_cast<double>(static_cast<long double>(ny) / len),
+          static_cast<double>(static_cast<long double>(nz) / len)};
+}
+
 // The circumcentre of a cap (three sites 11 m apart on the meridian 37.7, nearly collinear)
-// against the exact plane normal: the products of doubles are exact in binary128 (106 < 113
-// bits), so (b - a) x (c - a) there is exact up to one rounding of each difference. The plain
-// cross product was up to 7e-11 radians (0.4 mm) off; within 1e-15 now.
+// against the plane's normal in binary128. The plain cross product was up to 7e-11 radians
+// (0.4 mm) off; within 1e-15 now.
 TEST(VoronoiDiagram, CircumcentreOfACapIsAccurate) {
   const Vec3 pts[3] = {SiteEncoder::from_lat_lon(45, 37.7), SiteEncoder::from_lat_lon(45.0001, 37.7),
                        SiteEncoder::from_lat_lon(45.0002, 37.7)};
   for (int k = 0; k < 3; ++k) {
     const Vec3 &a = pts[k], &b = pts[(k + 1) % 3], &c = pts[(k + 2) % 3];
-    using Q = __float128;
-    const Q ux = Q(b.x) - Q(a.x), uy = Q(b.y) - Q(a.y), uz = Q(b.z) - Q(a.z);
-    const Q wx = Q(c.x) - Q(a.x), wy = Q(c.y) - Q(a.y), wz = Q(c.z) - Q(a.z);
-    const Q nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
-    const long double len = std::sqrt(static_cast<long double>(nx * nx + ny * ny + nz * nz));
-    const Vec3 exact{static_cast<double>(static_cast<long double>(nx) / len),
-                     static_cast<double>(static_cast<long double>(ny) / len),
-                     static_cast<double>(static_cast<long double>(nz) / len)};
-    const Vec3 v = VoronoiDiagram::circumcenter(a, b, c);
-    EXPECT_LT(std::sqrt(norm2(v - exact)), 1e-15) << k;
+    EXPECT_LT(std::sqrt(norm2(VoronoiDiagram::circumcenter(a, b, c) - exact_circumcentre(a, b, c))), 1e-15) << k;
   }
+}
+
+// Sites on one great circle, two of them close and the third far: from the far corner the two
+// sides are long, rounded and nearly parallel. Three sites of a fuzz_cells input (0.7 m apart on
+// the meridian 29 at latitude -52.02, the third on the meridian -151, 76 degrees away) gave a
+// vertex 4e-10 radians (3 mm) off the bisector of the close two when the far one came first
+// (the smallest id); their lunes' sides, 1e-10 radians apart there, then crossed. And random
+// great circles, sites 1 cm to 10 km apart with a third 1 to 179 degrees away, in every order.
+TEST(VoronoiDiagram, CircumcentreOfTwoCloseSitesAndAFarOneIsAccurate) {
+  const Vec3 far = SiteEncoder::from_lat_lon(-52.022427512188145, -150.99290455481801);
+  const Vec3 p = SiteEncoder::from_lat_lon(-52.022424262188146, 29.007095445181989);
+  const Vec3 q = SiteEncoder::from_lat_lon(-52.022417762188141, 29.007095445181989);
+  const Vec3 exact = exact_circumcentre(far, p, q);
+  const Vec3 v = VoronoiDiagram::circumcenter(far, p, q);
+  EXPECT_LT(std::sqrt(norm2(v - exact)), 1e-15);
+  EXPECT_LT(std::fabs(dot(v, p - q)) / std::sqrt(norm2(p - q)), 1e-15);  // on their bisector
+  std::mt19937_64 rng(19);
+  std::uniform_real_distribution<double> unit(-1, 1), log_gap(-9, -3), far_deg(1, 179);
+  double worst = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    Vec3 axis{unit(rng), unit(rng), unit(rng)};
+    axis = (1 / std::sqrt(norm2(axis))) * axis;
+    Vec3 e1 = cross(axis, Vec3{unit(rng), unit(rng), unit(rng)});
+    e1 = (1 / std::sqrt(norm2(e1))) * e1;
+    const Vec3 e2 = cross(axis, e1);
+    auto on_circle = [&](double t) { return std::cos(t) * e1 + std::sin(t) * e2; };
+    const double t0 = unit(rng) * std::numbers::pi, gap = std::pow(10.0, log_gap(rng));
+    const Vec3 sites[3] = {on_circle(t0), on_circle(t0 + gap), on_circle(t0 - far_deg(rng) * std::numbers::pi / 180)};
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 &a = sites[k], &b = sites[(k + 1) % 3], &c = sites[(k + 2) % 3];
+      const double error = std::sqrt(norm2(VoronoiDiagram::circumcenter(a, b, c) - exact_circumcentre(a, b, c)));
+      worst = std::max(worst, error);
+      ASSERT_LT(error, 1e-14) << trial << " " << k << " gap " << gap;
+    }
+  }
+  std::printf("worst circumcentre error: %.3g radians\n", worst);
 }
 
 // Built on several threads, the same diagram: vertices, cell lists and neighbours, bit for bit.

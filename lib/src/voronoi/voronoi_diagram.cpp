@@ -37,7 +37,17 @@ inline double diff_of_products(double p, double q, double r, double s) {
 
 Vec3 VoronoiDiagram::circumcenter(const Vec3& a, const Vec3& b, const Vec3& c) {
   // Differences first: for nearby sites they are exact (Sterbenz), so the direction is accurate.
-  const Vec3 u = b - a, w = c - a;
+  // From the corner opposite the longest side ((b - a) x (c - a) is the same at every corner):
+  // there the two sides are the shortest. From a far corner they are long, rounded and, for
+  // sites on one great circle, nearly parallel: two sites 0.7 m apart and a third 76 degrees
+  // away gave a vertex 4e-10 radians (3 mm) off their bisector, across the braid of their
+  // lunes' tips (the sides' chords crossed there).
+  const Vec3 ab = b - a, bc = c - b, ca = a - c;
+  const double lab = norm2(ab), lbc = norm2(bc), lca = norm2(ca);
+  Vec3 u, w;
+  if (lbc >= lab && lbc >= lca) u = ab, w = -1.0 * ca;       // at a: b - a, c - a
+  else if (lca >= lab) u = bc, w = -1.0 * ab;                // at b: c - b, a - b
+  else u = ca, w = -1.0 * bc;                                // at c: a - c, b - c
   Vec3 n = cross(u, w);
   // A sliver (sides within 1e-4 radians of parallel): the products cancel, and the plain cross
   // product loses its digits (the vertices of thin lunes of sites on one meridian, centimetres
