@@ -409,8 +409,28 @@ def gen_repro5(rng, quick):
     return "repro5 a,0,10/b,10,10/c,5,3/d,5,-2/e,0,0", [(0.0, 10.0), (10.0, 10.0), (5.0, 3.0), (5.0, -2.0), (0.0, 0.0)]
 
 
+def gen_great_circle(rng, quick):
+    """A run of sites 1e-7 to 1e-2 degree apart on one great circle of the sphere, at any
+    inclination, every other one perhaps 10 to 170 degrees on along it, perhaps with random sites:
+    the lunes' tips braid at the circle's poles, and the vertex of two close sites and a far one
+    must be computed from the close pair (a far corner had put it 3 mm off, across the braid)."""
+    n = int(rng.integers(3, 25 if quick else 41))
+    sp = log_uniform(rng, 1e-7, 1e-2)
+    start = unit_vectors(*rand_point(rng))
+    v = rng.normal(size=3)
+    along = v - start * float(np.dot(start, v))
+    along /= np.linalg.norm(along)
+    far = float(rng.uniform(10.0, 170.0)) if rng.random() < 0.6 else 0.0
+    angles = np.radians([i * sp + (far if i % 2 else 0.0) for i in range(n)])
+    lat, lon = to_latlon(np.cos(angles)[:, None] * start + np.sin(angles)[:, None] * along)
+    pts = [(float(la), float(lo)) for la, lo in zip(lat, lon)]
+    extra = int(rng.integers(0, 4))
+    pts += [rand_point(rng) for _ in range(extra)]
+    return f"great circle n={n} spacing={sp:.3g} far={far:.4g} +{extra} random", pts
+
+
 RECIPES = [gen_row, gen_column, gen_grid, gen_circle, gen_ring, gen_cluster, gen_hemisphere,
-           gen_tiny, gen_grid, gen_random, gen_repro3, gen_repro5]
+           gen_tiny, gen_grid, gen_random, gen_repro3, gen_repro5, gen_great_circle]
 
 
 def fmt(x):
@@ -893,7 +913,11 @@ def check_delaunay(case, geovor, sites, collinear_all):
                 orient.append(f"{kind} {t} ({[props.get(k) for k in ('id_a', 'id_b', 'id_c')]}): exterior ring clockwise")
         a, b, c = U[list(t)]
         det = float(np.dot(a, np.cross(b - a, c - a)))
-        scale = 1e-13 * np.linalg.norm(b - a) * np.linalg.norm(c - a) + 1e-30
+        # Our unit vectors differ from geovor's by ulps: moving one corner by e moves det by
+        # e times a side, so a sliver of sites on a great circle (det 1e-20 for sides of 1e-4
+        # radians) cannot be judged below that.
+        sides = np.linalg.norm(b - a) + np.linalg.norm(c - a) + np.linalg.norm(c - b)
+        scale = max(1e-13 * np.linalg.norm(b - a) * np.linalg.norm(c - a), 2e-15 * sides) + 1e-30
         if kind == "proper" and det < -scale:
             bad.append(f"triangle {t} 'proper' but clockwise (det {det:.3g})")
         if kind == "great_circle" and abs(det) > 1e-12:
