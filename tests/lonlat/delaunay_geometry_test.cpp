@@ -24,6 +24,7 @@
 #include "geovor/geo/site_reader.hpp"
 #include "geovor/kernel/predicates.hpp"
 #include "geovor/lonlat/cell_geometry.hpp"
+#include "support/exact_geometry.hpp"
 #include "support/generators.hpp"
 #include "support/lonlat_checks.hpp"
 
@@ -486,6 +487,26 @@ TEST(DelaunayGeometry, CircumradiusIsTheDistanceToTheVoronoiVertex) {
     const double len = std::sqrt(norm2(n));
     for (const Vec3* p : {&a, &b, &c})
       EXPECT_NEAR(std::acos(std::clamp(dot(n, *p) / len, -1.0, 1.0)) * SiteEncoder::kEarthRadiusM, r, 1e-3);
+  }
+}
+
+// Sites 0.36 m apart alternating between the meridians 29 and -151 (on one great circle, but
+// doubles a hair off it): a triangle's plane, through two close sites and a far one, is tilted by
+// 1e-9 radians, and its circumradius is 90 degrees give or take millimetres. Its axis had been
+// computed from the triangle's first corner, for a far one two long, nearly parallel sides: 4e-10
+// radians off (3 mm), more than the Voronoi vertex it must match (VoronoiDiagram::circumcenter).
+TEST(DelaunayGeometry, CircumradiusOfSitesOnOneGreatCircleIsExact) {
+  std::vector<Vec3> pts;
+  for (int k = 0; k < 9; ++k)
+    pts.push_back(SiteEncoder::from_lat_lon(-52.022430762188144 + k * 3.25e-6,
+                                            k % 2 == 0 ? 29.007095445181989 : -150.99290455481801));
+  const SphericalDelaunay dt = SphericalDelaunay::build(pts);
+  const DelaunayGeometry g(dt);
+  for (TriId t = 0; t < dt.num_triangles(); ++t) {
+    const Vec3 &a = dt.site(dt.tri_site(t, 0)), &b = dt.site(dt.tri_site(t, 1)), &c = dt.site(dt.tri_site(t, 2));
+    const Vec3 n = testing::exact_circumcentre(a, b, c);
+    const double exact = SiteEncoder::kEarthRadiusM * std::atan2(std::sqrt(norm2(cross(n, a))), dot(n, a));
+    EXPECT_NEAR(g.circumradius_m(t), exact, 1e-6) << t;
   }
 }
 

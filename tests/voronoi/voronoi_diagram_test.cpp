@@ -18,6 +18,7 @@
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/geo/site_reader.hpp"
+#include "support/exact_geometry.hpp"
 #include "support/generators.hpp"
 
 namespace geovor {
@@ -376,19 +377,6 @@ TEST(VoronoiDiagram, TriangleAreaOfTinyTrianglesAndSlivers) {
   EXPECT_NEAR(VoronoiDiagram::triangle_area_sr(b, apex, a), fan, 1e-13 * fan);
 }
 
-// The exact normal of the plane through three doubles, (b - a) x (c - a) in binary128: the
-// differences of doubles within a factor 2^60 of each other are exact there, and the products'
-// rounding (2^-113) is far below a double's ulp even after the cancellation of a sliver.
-Vec3 exact_circumcentre(const Vec3& a, const Vec3& b, const Vec3& c) {
-  using Q = __float128;
-  const Q ux = Q(b.x) - Q(a.x), uy = Q(b.y) - Q(a.y), uz = Q(b.z) - Q(a.z);
-  const Q wx = Q(c.x) - Q(a.x), wy = Q(c.y) - Q(a.y), wz = Q(c.z) - Q(a.z);
-  const Q nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
-  const long double len = std::sqrt(static_cast<long double>(nx * nx + ny * ny + nz * nz));
-  return {static_cast<double>(static_cast<long double>(nx) / len), static_cast<double>(static_cast<long double>(ny) / len),
-          static_cast<double>(static_cast<long double>(nz) / len)};
-}
-
 // The circumcentre of a cap (three sites 11 m apart on the meridian 37.7, nearly collinear)
 // against the plane's normal in binary128. The plain cross product was up to 7e-11 radians
 // (0.4 mm) off; within 1e-15 now.
@@ -397,7 +385,7 @@ TEST(VoronoiDiagram, CircumcentreOfACapIsAccurate) {
                        SiteEncoder::from_lat_lon(45.0002, 37.7)};
   for (int k = 0; k < 3; ++k) {
     const Vec3 &a = pts[k], &b = pts[(k + 1) % 3], &c = pts[(k + 2) % 3];
-    EXPECT_LT(std::sqrt(norm2(VoronoiDiagram::circumcenter(a, b, c) - exact_circumcentre(a, b, c))), 1e-15) << k;
+    EXPECT_LT(std::sqrt(norm2(VoronoiDiagram::circumcenter(a, b, c) - testing::exact_circumcentre(a, b, c))), 1e-15) << k;
   }
 }
 
@@ -411,7 +399,7 @@ TEST(VoronoiDiagram, CircumcentreOfTwoCloseSitesAndAFarOneIsAccurate) {
   const Vec3 far = SiteEncoder::from_lat_lon(-52.022427512188145, -150.99290455481801);
   const Vec3 p = SiteEncoder::from_lat_lon(-52.022424262188146, 29.007095445181989);
   const Vec3 q = SiteEncoder::from_lat_lon(-52.022417762188141, 29.007095445181989);
-  const Vec3 exact = exact_circumcentre(far, p, q);
+  const Vec3 exact = testing::exact_circumcentre(far, p, q);
   const Vec3 v = VoronoiDiagram::circumcenter(far, p, q);
   EXPECT_LT(std::sqrt(norm2(v - exact)), 1e-15);
   EXPECT_LT(std::fabs(dot(v, p - q)) / std::sqrt(norm2(p - q)), 1e-15);  // on their bisector
@@ -429,7 +417,7 @@ TEST(VoronoiDiagram, CircumcentreOfTwoCloseSitesAndAFarOneIsAccurate) {
     const Vec3 sites[3] = {on_circle(t0), on_circle(t0 + gap), on_circle(t0 - far_deg(rng) * std::numbers::pi / 180)};
     for (int k = 0; k < 3; ++k) {
       const Vec3 &a = sites[k], &b = sites[(k + 1) % 3], &c = sites[(k + 2) % 3];
-      const double error = std::sqrt(norm2(VoronoiDiagram::circumcenter(a, b, c) - exact_circumcentre(a, b, c)));
+      const double error = std::sqrt(norm2(VoronoiDiagram::circumcenter(a, b, c) - testing::exact_circumcentre(a, b, c)));
       worst = std::max(worst, error);
       ASSERT_LT(error, 1e-14) << trial << " " << k << " gap " << gap;
     }

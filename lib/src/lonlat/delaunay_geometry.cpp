@@ -19,8 +19,9 @@ namespace {
 using lonlat::Pt;
 constexpr double kPi = std::numbers::pi;
 
-// Unit normal of the plane through a, b, c: the axis of their circle, counter-clockwise.
-Vec3 plane_axis(const Vec3& a, const Vec3& b, const Vec3& c) { return lonlat::normalized(cross(b - a, c - a)); }
+// Unit normal of the plane through a, b, c: the axis of their circle, counter-clockwise (the
+// Voronoi vertex's computation: from a far corner, a sliver's axis was millimetres off).
+Vec3 plane_axis(const Vec3& a, const Vec3& b, const Vec3& c) { return VoronoiDiagram::circumcenter(a, b, c); }
 
 // Scratch of one geometry, reused (the class is used from several threads).
 struct Scratch {
