@@ -1420,8 +1420,8 @@ TEST(CellGeometryAsWritten, SpikeToAPoleLineIsNoSecondVisit) {
 // circle, braid over a kilometre with sides 1e-10 radians apart. The Voronoi vertex of two sites
 // 0.7 m apart and one 76 degrees away, computed from the far one (the smallest id), was 4e-10
 // radians off their bisector, across that braid: the sides' chords crossed before any rounding,
-// and the lune of site 4 was unwritable at 7 to 17 decimals and at full precision (fuzz_cells
-// found 177 such sites; 9 and 25 failed alike, and 177 take two minutes here).
+// and the lune of site 4 was unwritable at 6 to 17 decimals (fuzz_cells found 177 such sites,
+// which take two minutes here; 9 and 25 failed at 7 to 17 and at full precision).
 TEST(CellGeometryAsWritten, SitesOnOneGreatCircleCentimetresApart) {
   for (const int n : {9, 25}) {
     std::vector<std::pair<double, double>> sites;

@@ -33,6 +33,15 @@ inline double diff_of_products(double p, double q, double r, double s) {
   return std::fma(p, q, -rs) + err;
 }
 
+// Of the triangle a, b, c with squared sides lab = |b - a|^2, lbc, lca: the corner opposite the
+// longest side (0: a, 1: b, 2: c; ties to the earlier corner), where the two shortest sides
+// meet. By index, not by branches: which side is longest is a coin toss per triangle, and the
+// mispredicted branches had cost a third of triangle_area_sr's time.
+inline int corner_opposite_longest(double lab, double lbc, double lca) {
+  const int not_a = (lbc < lab) | (lbc < lca), not_b = lca < lab;
+  return not_a * (1 + not_b);
+}
+
 }  // namespace
 
 Vec3 VoronoiDiagram::circumcenter(const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -43,11 +52,9 @@ Vec3 VoronoiDiagram::circumcenter(const Vec3& a, const Vec3& b, const Vec3& c) {
   // away gave a vertex 4e-10 radians (3 mm) off their bisector, across the braid of their
   // lunes' tips (the sides' chords crossed there).
   const Vec3 ab = b - a, bc = c - b, ca = a - c;
-  const double lab = norm2(ab), lbc = norm2(bc), lca = norm2(ca);
-  Vec3 u, w;
-  if (lbc >= lab && lbc >= lca) u = ab, w = -1.0 * ca;       // at a: b - a, c - a
-  else if (lca >= lab) u = bc, w = -1.0 * ab;                // at b: c - b, a - b
-  else u = ca, w = -1.0 * bc;                                // at c: a - c, b - c
+  const Vec3 from[3] = {ab, bc, ca}, to[3] = {ca, ab, bc};  // the corner's sides: from, -to
+  const int k = corner_opposite_longest(norm2(ab), norm2(bc), norm2(ca));
+  const Vec3 u = from[k], w = -1.0 * to[k];
   Vec3 n = cross(u, w);
   // A sliver (sides within 1e-4 radians of parallel): the products cancel, and the plain cross
   // product loses its digits (the vertices of thin lunes of sites on one meridian, centimetres
@@ -84,13 +91,9 @@ double VoronoiDiagram::triangle_area_sr(const Vec3& a, const Vec3& b, const Vec3
   // sides there are exact differences for a small triangle and not nearly parallel for a
   // sliver, so det keeps its digits (a . (b x c) lost them all below 1e-15 sr).
   const Vec3 ab = b - a, bc = c - b, ca = a - c;
-  const double lab = norm2(ab), lbc = norm2(bc), lca = norm2(ca);
-  // The corner picked by index, not by branches: which side is longest is a coin toss per
-  // triangle, and the mispredicted branches had cost a third of the time.
   const Vec3* const corner[3] = {&a, &b, &c};
   const Vec3 from[3] = {ab, bc, ca}, to[3] = {ca, ab, bc};  // the corner's sides: from, -to
-  const int not_a = (lbc < lab) | (lbc < lca), not_b = lca < lab;
-  const int k = not_a * (1 + not_b);
+  const int k = corner_opposite_longest(norm2(ab), norm2(bc), norm2(ca));
   const double det = dot(*corner[k], cross(from[k], -1.0 * to[k]));
   const double den = 1 + dot(a, b) + dot(b, c) + dot(c, a);
   if (den > 0 && std::fabs(det) <= kSmallAngleMax * den) return 2 * atan_small(det / den);

@@ -110,8 +110,10 @@ class VoronoiDiagram {
   ///@{
   /// normalize((b - a) x (c - a)): the centre of the cap through a, b, c on the side where
   /// a, b, c turn counter-clockwise. Computed at the corner opposite the longest side, whose
-  /// two sides are the shortest (exact differences for nearby sites): two close sites and a far
-  /// one on a great circle are within 1e-14 radians of the exact normal of the three doubles.
+  /// two sides are the shortest (exact differences for nearby sites): within about 2^-53
+  /// radians over the sine of the triangle's largest angle of the exact normal of the three
+  /// doubles (two close sites and one at an angle theta on their great circle: 1e-16 /
+  /// sin(theta / 2)). The same bits for every rotation of a, b, c but on ties of side lengths.
   static Vec3 circumcenter(const Vec3& a, const Vec3& b, const Vec3& c);
   /// Midpoint of the arc from a to b that turns positively (counter-clockwise seen from outside
   /// at the tip of `axis`) about the unit vector `axis`, of which a and b are (nearly)
