@@ -19,14 +19,6 @@ namespace {
 using lonlat::Pt;
 constexpr double kPi = std::numbers::pi;
 
-// Unit normal of the plane through the sites u, v, w: the axis of their circle, counter-clockwise.
-// The Voronoi vertex's computation, from the smallest id as there (the same bits, whatever the
-// order stored); from the first corner, a sliver's axis had been millimetres off.
-Vec3 plane_axis(const SphericalDelaunay& dt, SiteId u, SiteId v, SiteId w) {
-  const SiteId s[3] = {u, v, w};
-  const int k = u < v ? (u < w ? 0 : 2) : (v < w ? 1 : 2);
-  return VoronoiDiagram::circumcenter(dt.site(s[k]), dt.site(s[(k + 1) % 3]), dt.site(s[(k + 2) % 3]));
-}
 
 // Scratch of one geometry, reused (the class is used from several threads).
 struct Scratch {
@@ -155,7 +147,7 @@ WrittenStatus DelaunayGeometry::triangle_polygon(TriId t, MultiPolygon& out) con
   const FaceKind k = kind(t);
   SiteId s[3] = {dt.tri_site(t, 0), dt.tri_site(t, 1), dt.tri_site(t, 2)};
   if (k == FaceKind::Ghost) std::swap(s[1], s[2]);  // the small triangle, counter-clockwise
-  const Vec3 axis = plane_axis(dt, s[0], s[1], s[2]);
+  const Vec3 axis = VoronoiDiagram::circumcenter(dt, s[0], s[1], s[2]);
   for (int i = 0; i < 3; ++i) {
     const SiteId u = s[i], v = s[(i + 1) % 3];
     const Pt pu{sites_[u].v, sites_[u].lon, sites_[u].lat}, pv{sites_[v].v, sites_[v].lon, sites_[v].lat};
@@ -222,7 +214,7 @@ void DelaunayGeometry::edge_line(HalfedgeId e, MultiLineString& out) const {
   } else {
     const HalfedgeId f = std::min(e, dt.halfedges()[e]);
     const TriId tf = f / 3;
-    n = plane_axis(dt, dt.tri_site(tf, 0), dt.tri_site(tf, 1), dt.tri_site(tf, 2));
+    n = VoronoiDiagram::circumcenter(dt, dt.tri_site(tf, 0), dt.tri_site(tf, 1), dt.tri_site(tf, 2));
     if (dt.tri_site(tf, static_cast<int>(f % 3)) != lo) n = -1.0 * n;
   }
   sc.loop.push_back(u < v ? pu : pv);
@@ -256,7 +248,7 @@ double DelaunayGeometry::edge_length_m(HalfedgeId e) const {
 double DelaunayGeometry::circumradius_m(TriId t) const {
   const SphericalDelaunay& dt = *dt_;
   const Vec3& a = dt.site(dt.tri_site(t, 0));
-  const Vec3 n = plane_axis(dt, dt.tri_site(t, 0), dt.tri_site(t, 1), dt.tri_site(t, 2));
+  const Vec3 n = VoronoiDiagram::circumcenter(dt, dt.tri_site(t, 0), dt.tri_site(t, 1), dt.tri_site(t, 2));
   return SiteEncoder::kEarthRadiusM * std::atan2(std::sqrt(norm2(cross(n, a))), dot(n, a));
 }
 

@@ -71,6 +71,15 @@ Vec3 VoronoiDiagram::circumcenter(const Vec3& a, const Vec3& b, const Vec3& c) {
   return {n.x / len, n.y / len, n.z / len};
 }
 
+Vec3 VoronoiDiagram::circumcenter(const SphericalDelaunay& dt, SiteId u, SiteId v, SiteId w) {
+  // Rotated to start at the smallest id, so that a vertex's bits do not depend on how the
+  // triangulation stores its triangles (Lloyd's iterations give the same result whether the
+  // triangulation is rebuilt or updated).
+  const SiteId s[3] = {u, v, w};
+  const int k = u < v ? (u < w ? 0 : 2) : (v < w ? 1 : 2);
+  return circumcenter(dt.site(s[k]), dt.site(s[(k + 1) % 3]), dt.site(s[(k + 2) % 3]));
+}
+
 Vec3 VoronoiDiagram::arc_midpoint(const Vec3& a, const Vec3& b, const Vec3& axis) {
   const double c = dot(a, b);
   // |a + b| >= 1 below 120 degrees: the chord midpoint is accurate and on the arc.
@@ -112,12 +121,8 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
   // The circumcentres, of triangles [begin, end).
   auto centres = [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
-      // Rotated to start at the smallest id, so that a vertex's bits do not depend on how the
-      // triangulation stores its triangles (Lloyd's iterations give the same result whether
-      // the triangulation is rebuilt or updated).
       const SiteId* v = &tri_sites[3 * t];
-      const int k = v[0] < v[1] ? (v[0] < v[2] ? 0 : 2) : (v[1] < v[2] ? 1 : 2);
-      vertices_[t] = circumcenter(dt.site(v[k]), dt.site(v[(k + 1) % 3]), dt.site(v[(k + 2) % 3]));
+      vertices_[t] = circumcenter(dt, v[0], v[1], v[2]);
     }
   };
   vertices_.clear();

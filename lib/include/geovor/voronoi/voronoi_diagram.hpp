@@ -115,6 +115,9 @@ class VoronoiDiagram {
   /// doubles (two close sites and one at an angle theta on their great circle: 1e-16 /
   /// sin(theta / 2)). The same bits for every rotation of a, b, c but on ties of side lengths.
   static Vec3 circumcenter(const Vec3& a, const Vec3& b, const Vec3& c);
+  /// The same for the sites u, v, w of `dt`, in that cyclic order, started at the smallest id:
+  /// the same bits whichever way the triangle is stored (the diagram's vertices).
+  static Vec3 circumcenter(const SphericalDelaunay& dt, SiteId u, SiteId v, SiteId w);
   /// Midpoint of the arc from a to b that turns positively (counter-clockwise seen from outside
   /// at the tip of `axis`) about the unit vector `axis`, of which a and b are (nearly)
   /// perpendicular. Robust up to and including 180-degree arcs (b = -a), where the axis alone
