@@ -10,8 +10,9 @@
 // in range, cell_areas_agree with the cell's area on the sphere, and area_m2 equal to
 // ellipsoid_area_m2(mp) within 1e-9 relative or 0.25 m^2; otherwise Collapsed, with an empty mp
 // and area 0 (never Unwritable but within a degree or three decimal steps of a pole). With no
-// cell unwritable, the written areas sum to the ellipsoid's, at every precision. One input in 8
-// also builds the cells on 2 threads, which must give the same bits. The Delaunay triangles of
+// cell unwritable, the written areas sum to the ellipsoid's and tile the plate carree (64800 square
+// degrees), at every precision. One input in 8 also builds the cells on 2 threads, which must
+// give the same bits. The Delaunay triangles of
 // the same sites (DelaunayGeometry::triangle_polygon, same precision and densification), when
 // Written, must be valid, on the grid and in range, with an ellipsoidal area that
 // cell_areas_agree with their area on the sphere (a sliver at a pole had been written as the
@@ -307,7 +308,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const long dump_site = dump == nullptr ? -1 : std::string(dump) == "all" ? -2 : std::atol(dump);
   MultiPolygon mp;
   double area_m2 = -1;
-  double sum = 0;
+  double sum = 0, planar_sum = 0;
   std::size_t positions = 0;
   std::size_t counts[3] = {0, 0, 0};
   std::vector<CellStatus> statuses(vd.site_capacity(), CellStatus::Collapsed);
@@ -378,7 +379,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                "%s, precision %d, site %u: area %.17g m^2 but ellipsoid_area_m2 %.17g", name, precision, s, area_m2,
                measured);
     sum += area_m2;
-    for (const Polygon& poly : mp) positions += poly.exterior.size();
+    for (const Polygon& poly : mp) positions += poly.exterior.size(), planar_sum += planar_area_deg2(poly.exterior);
   }
   // The written cells tile the sphere (snap rounding keeps the tiling where rounding collapses
   // thin parts): with no cell unwritable, their areas sum to the ellipsoid's, collapsed cells
@@ -390,6 +391,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     FUZZ_CHECK(std::fabs(sum - total) <= 1e-9 * total,
                "%s, precision %d, %zu sites: the cells sum to %.17g m^2, the ellipsoid is %.17g", name, precision,
                dt.num_sites(), sum, total);
+    // And they tile the plate carree: a sliver there (two cells drawing one edge differently
+    // near a pole) has no area on the ellipsoid. Each term of the shoelace sums is within
+    // 4e-12 square degrees.
+    FUZZ_CHECK(std::fabs(planar_sum - 64800) <= 1e-6 + 4e-12 * static_cast<double>(positions),
+               "%s, precision %d, %zu sites: the cells' planar areas sum to %.17g square degrees, not 64800", name,
+               precision, dt.num_sites(), planar_sum);
   }
 
   // The Delaunay triangles, written at the same precision.

@@ -1462,5 +1462,63 @@ TEST(CellGeometryAsWritten, ClustersNearTheSouthPoleAtFifteenDecimals) {
   for (const int p : {9, 12, 15, 17, kFullPrecision}) written::expect_tiling(sites, p);
 }
 
+
+// A ring of 40 sites 35 m around the north pole: the tips of their lunes meet millimetres from
+// the south pole. One tip, 5 mm from the pole at longitude 75.45, is written on the pole line at 7
+// decimals and finer (its edges are snap rounded on the 7-decimal grid). Drawn by the rules of a
+// vertex at the pole, from its incoming side's meridian (72.22, one row up) back west along the
+// line to its outgoing side's (71.82), the rise crossed the incoming side's segment on the first
+// row: unwritable (fuzz_cells, with no unwritable cell allowed). Every cell through that point
+// now draws it at its own longitude. The mirror image around the south pole too.
+TEST(CellGeometryAsWritten, SnapRoundedPointsOnAPoleLineKeepTheirLongitudes) {
+  const std::vector<std::pair<double, double>> ring = {
+      {89.999685253484117, -178.24898806856774}, {89.99968525293572, -169.01639619143663},
+      {89.99968525291591, -159.77542444583116}, {89.99968526786752, -150.54926818398479},
+      {89.999685185085042, -141.31565463528949}, {89.999685172698634, -132.08656127884609},
+      {89.999685233484144, -122.84912970722222}, {89.999685176027626, -113.62152276899712},
+      {89.999685251315043, -104.40042177028637}, {89.999685184127216, -95.168050483771637},
+      {89.999685180965656, -85.925470634011631}, {89.999685209460139, -76.698919351650773},
+      {89.999685271399372, -67.473448260893662}, {89.999685205311337, -58.242605213334542},
+      {89.999685230300841, -49.011044114732961}, {89.999685205241349, -39.772470601582349},
+      {89.999685192833965, -30.543302886863721}, {89.999685211204707, -21.31604727656325},
+      {89.999685191688371, -12.09373057044359}, {89.999685216906215, -2.8479203434687146},
+      {89.999685210502022, 6.3792172508157821}, {89.999685243819798, 15.612657196795418},
+      {89.999685206240244, 24.832272997648332}, {89.99968524163171, 34.058342188367064},
+      {89.99968517578688, 43.297530376475351}, {89.999685203188207, 52.527475073776678},
+      {89.999685181397865, 61.752220585081773}, {89.999685202277206, 70.985104139922143},
+      {89.99968518247195, 80.217963474074068}, {89.99968522700803, 89.442954884336984},
+      {89.999685227660478, 98.680268851650396}, {89.999685192206272, 107.90697460851368},
+      {89.999685186149748, 117.13789406176531}, {89.999685228445117, 126.37285135109089},
+      {89.999685233572976, 135.60121471931646}, {89.999685247020849, 144.83185713451272},
+      {89.999685284796428, 154.06811882987887}, {89.999685230793332, 163.30317716940496},
+      {89.999685268044431, 172.52145201986872}, {89.999999999992255, -179.35728999771115}};
+  std::vector<std::pair<double, double>> mirrored = ring;
+  for (auto& [lat, lon] : mirrored) lat = -lat;
+  for (const int p : {5, 7, 9, 12, 17, kFullPrecision}) {
+    written::expect_tiling(ring, p);
+    written::expect_tiling(mirrored, p);
+  }
+}
+
+// Clusters within a metre of the south pole, one near -89 degrees, at 0 decimals: the cell that
+// holds the pole came down to the pole line at -128 and back up that meridian (a neighbour's side
+// collapsed onto it) besides its run along the line; pinched there, its two parts shared the
+// meridian's segment, invalid: unwritable (fuzz_cells, with no unwritable cell allowed). The
+// spike is dropped for the owner too when it has another visit to that pole.
+TEST(CellGeometryAsWritten, OwnersSpikeToItsPoleLineBesideARun) {
+  const std::vector<std::pair<double, double>> sites = {
+      {-90, 0}, {-89.999993215534715, -7.4345060526498257}, {-89.999997904797482, 40.851532379491253},
+      {-89.999998303883672, -94.728513615584902}, {-89.999998303883672, 84.506793938044211},
+      {-89.999998303883672, -117.31666588892914}, {-89.999998303883672, 172.45849261039453},
+      {-89.999998303883672, 162.20742290154809}, {-89.999998303883672, 17.172230776503138},
+      {-89, -127.83062485694666}, {-89.000003955551179, -127.83071079190505},
+      {-89.000001524626782, -127.83068746238376}, {-88.999999480003524, -127.830529951941},
+      {-89.000004014158563, -127.83043833504479}, {-89.000001656638375, -127.83069835700509},
+      {-88.999998323174893, -127.83061023831712}, {-88.999996444686005, -127.8305599395197},
+      {-88.999994991689775, -127.83036261927177}, {48.150082146859809, -59.830871667909051},
+      {21.507477825278652, -141.70170110320277}};
+  for (const int p : {0, 1, 2, 7, kFullPrecision}) written::expect_tiling(sites, p);
+}
+
 }  // namespace
 }  // namespace geovor

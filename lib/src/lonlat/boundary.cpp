@@ -371,8 +371,35 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
   split(mp, b, depth + 1);
 }
 
+namespace {
+
+// The longitudes at which a visit to a pole line (a run of points there, merged into one) is
+// drawn when its first or last point has keep_lon: that point's own (NaN: the neighbour's
+// meridian, the rule of a vertex at the pole). Empty: none in the loop.
+struct OwnLon {
+  double in, out;
+};
+
+void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& out, BBox* bbox, int precision,
+                 LoopInfo* info, PoleOwner pole_owner);
+
+}  // namespace
+
 void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int precision, LoopInfo* info,
                       PoleOwner pole_owner) {
+  thread_local std::vector<OwnLon> own;
+  own.clear();
+  if (std::any_of(loop.begin(), loop.end(), [](const Pt& p) { return p.keep_lon; })) {
+    constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+    for (const Pt& p : loop) own.push_back(p.keep_lon ? OwnLon{p.lon, p.lon} : OwnLon{kNone, kNone});
+  }
+  polygons_of(loop, own, out, bbox, precision, info, pole_owner);
+}
+
+namespace {
+
+void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& out, BBox* bbox, int precision,
+                 LoopInfo* info, PoleOwner pole_owner) {
   if (info) *info = LoopInfo{};
   std::size_t used = 0;
   if (bbox) *bbox = BBox{};
@@ -389,55 +416,91 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
     auto merge = [](Pt& kept, const Pt& dropped) {
       if (is_pole(kept.lat) && !at_pole(dropped.v)) kept.v = dropped.v;
     };
+    // A merged run is drawn from its first point's own longitude to its last point's.
+    const bool has_own = !own.empty();
     std::size_t w = 0;
     for (std::size_t i = 0; i < loop.size(); ++i) {
       near_pole |= std::fabs(loop[i].lat) > 89.99;
-      if (w == 0 || !same(loop[i], loop[w - 1]))
+      if (w == 0 || !same(loop[i], loop[w - 1])) {
+        if (has_own) own[w] = own[i];
         loop[w++] = loop[i];
-      else
+      } else {
         merge(loop[w - 1], loop[i]);
+        if (has_own) own[w - 1].out = own[i].out;
+      }
     }
-    while (w > 1 && same(loop[w - 1], loop[0])) merge(loop[0], loop[w - 1]), --w;
+    while (w > 1 && same(loop[w - 1], loop[0])) {
+      merge(loop[0], loop[w - 1]);
+      if (has_own) own[0].in = own[w - 1].in;
+      --w;
+    }
     loop.resize(w);
+    if (has_own) own.resize(w);
     if (info) info->near_pole = near_pole;
   }
   // A point at a pole the site does not own, between two points off the poles on one meridian,
   // is a spike to the pole line and back up that meridian (a boundary passing within a step of
   // the pole, drawn at it): no area and no run along the pole line, so it is dropped, as
   // remove_spikes would drop it. Left in, it was a second visit to the pole, and the pinch below
-  // cut the ring there into two parts sharing that meridian (0 decimals, fuzz_cells).
+  // cut the ring there into two parts sharing that meridian (0 decimals, fuzz_cells). A visit
+  // drawn at a point's own longitude (keep_lon) is a spike only when that is the meridian's.
+  const bool has_own = !own.empty();
   if (near_pole && loop.size() > 3) {
-    auto spike = [&](const Pt& a, const Pt& p, const Pt& b) {
-      return is_pole(p.lat) && (p.lat > 0 ? pole_owner.north : pole_owner.south) == 0 && !is_pole(a.lat) &&
-             !is_pole(b.lat) && a.lon == b.lon;
+    auto drawn_down_and_up = [&](std::size_t a, std::size_t p, std::size_t b) {
+      return is_pole(loop[p].lat) && !is_pole(loop[a].lat) && !is_pole(loop[b].lat) && loop[a].lon == loop[b].lon &&
+             (!has_own || ((std::isnan(own[p].in) || own[p].in == loop[a].lon) &&
+                           (std::isnan(own[p].out) || own[p].out == loop[a].lon)));
+    };
+    // The owner's too, when it has another visit to that pole (a run along the line): its region
+    // lies on both sides of the spike, a neighbour's tip collapsed onto that meridian. Pinched
+    // there, the two parts shared the meridian's segment (clusters a metre from the south pole,
+    // 0 decimals: fuzz_cells).
+    bool other_visit[2] = {false, false};  // north, south
+    for (std::size_t i = 0, n = loop.size(); i < n; ++i)
+      if (is_pole(loop[i].lat) && !drawn_down_and_up((i + n - 1) % n, i, (i + 1) % n)) other_visit[loop[i].lat > 0 ? 0 : 1] = true;
+    auto spike = [&](std::size_t a, std::size_t p, std::size_t b) {
+      if (!drawn_down_and_up(a, p, b)) return false;
+      const int owns = loop[p].lat > 0 ? pole_owner.north : pole_owner.south;
+      return owns == 0 || (owns == 1 && other_visit[loop[p].lat > 0 ? 0 : 1]);
+    };
+    auto copy = [&](std::size_t to, std::size_t from) {
+      loop[to] = loop[from];
+      if (has_own) own[to] = own[from];
+    };
+    auto erase = [&](std::size_t i) {
+      loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(i));
+      if (has_own) own.erase(own.begin() + static_cast<std::ptrdiff_t>(i));
     };
     std::size_t w = 0;
     for (std::size_t i = 0; i < loop.size(); ++i) {
-      loop[w++] = loop[i];
+      copy(w++, i);
       // Ends of a dropped spike at one position merge, which can expose another spike.
-      while (w >= 3 && spike(loop[w - 3], loop[w - 2], loop[w - 1])) {
-        loop[w - 2] = loop[w - 1];
+      while (w >= 3 && spike(w - 3, w - 2, w - 1)) {
+        copy(w - 2, w - 1);
         --w;
         if (loop[w - 1].lon == loop[w - 2].lon && loop[w - 1].lat == loop[w - 2].lat) --w;
       }
     }
     loop.resize(w);
+    if (has_own) own.resize(w);
     // And across the loop's start (at most a few: each pass drops a point).
     for (bool dropped = true; dropped && loop.size() > 3;) {
       dropped = false;
       const std::size_t n = loop.size();
       for (const std::size_t i : {std::size_t{0}, n - 1}) {
-        if (!spike(loop[(i + n - 1) % n], loop[i], loop[(i + 1) % n])) continue;
-        loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(i));
+        if (!spike((i + n - 1) % n, i, (i + 1) % n)) continue;
+        erase(i);
         const std::size_t m = loop.size(), j = i % m;  // the spike's ends: j - 1 and j, cyclically
         const Pt &a = loop[(j + m - 1) % m], &b = loop[j];
-        if (a.lon == b.lon && a.lat == b.lat) loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(j));
+        if (a.lon == b.lon && a.lat == b.lat) erase(j);
         dropped = true;
         break;
       }
     }
   }
-  if (loop.size() < 3) {
+  // Two points may still be three positions: a visit to a pole drawn at its own longitudes (a
+  // part of a pinched loop: the point where it left the line, and its run there).
+  if (loop.size() < 2 || (loop.size() < 3 && !has_own)) {
     out.clear();
     return;
   }
@@ -461,15 +524,22 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
       int enclosing = 0;  // parts around a pole: one at most (the other pole's), else rounding
       MultiPolygon parts_out;
       std::vector<Pt> part;
+      std::vector<OwnLon> part_own;
       out.clear();
       for (std::size_t a = first;;) {
         std::size_t b = (a + 1) % n;
         while (loop[b].lat != split_lat) b = (b + 1) % n;
         part.clear();
-        for (std::size_t i = (a + 1) % n; i != b; i = (i + 1) % n) part.push_back(loop[i]);
+        part_own.clear();
+        for (std::size_t i = (a + 1) % n; i != b; i = (i + 1) % n) {
+          part.push_back(loop[i]);
+          if (has_own) part_own.push_back(own[i]);
+        }
+        // Closed at the pole from b's run to a's: in where b's starts, out where a's ends.
         part.push_back(loop[b]);
+        if (has_own) part_own.push_back({own[b].in, own[a].out});
         LoopInfo part_info;
-        loop_to_polygons(part, parts_out, nullptr, precision, &part_info, pole_owner);
+        polygons_of(part, part_own, parts_out, nullptr, precision, &part_info, pole_owner);
         whole.winding += part_info.winding;
         whole.tangled |= part_info.tangled;
         enclosing += part_info.winding != 0;
@@ -486,7 +556,8 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
     }
   }
 
-  // A vertex at a pole becomes two pole positions with the incoming and outgoing longitudes.
+  // A vertex at a pole becomes two pole positions with the incoming and outgoing longitudes
+  // (a point with keep_lon: its own; one position when they are the same).
   std::vector<RP>& ring = sc.ring;
   ring.clear();
   const std::size_t n = loop.size();
@@ -496,7 +567,11 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
       ring.push_back({p.v, p.lon, p.lat, 0});
       continue;
     }
-    const double in = loop[i == 0 ? n - 1 : i - 1].lon, outl = loop[i + 1 == n ? 0 : i + 1].lon;
+    double in = loop[i == 0 ? n - 1 : i - 1].lon, outl = loop[i + 1 == n ? 0 : i + 1].lon;
+    // Where the run's first or last point has keep_lon, its own longitude: the snap rounded
+    // segment from the neighbour, as every other ring through that point draws it.
+    if (has_own && !std::isnan(own[i].in)) in = own[i].in;
+    if (has_own && !std::isnan(own[i].out)) outl = own[i].out;
     ring.push_back({p.v, in, p.lat, 0});
     // The ring runs west along the north pole's line (east along the south's) from the incoming
     // meridian to the outgoing one: that span is the region's angle at the pole. When the caller
@@ -519,6 +594,10 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
     if (outl != in) ring.push_back({p.v, outl, p.lat, 0, back});
   }
 
+  if (ring.size() < 3) {
+    out.clear();
+    return;
+  }
   // Unwrap: sheets along the ring, and the winding (in turns) after closing it.
   const std::size_t m = ring.size();
   for (std::size_t i = 1; i < m; ++i) ring[i].k = next_sheet(ring[i - 1], ring[i]);
@@ -592,6 +671,8 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
 
   if (bbox && used > 0) *bbox = box_of(out, polar ? Lons::All : used == 1 ? Lons::One : Lons::Cut);
 }
+
+}  // namespace
 
 void path_to_lines(const std::vector<Pt>& path, MultiLineString& out, int precision) {
   out.clear();

@@ -447,6 +447,36 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites) {
       part.push_back(q);
     }
   }
+  // A point written on a pole line but not at the pole, where every edge through it is snap
+  // rounded, is drawn there at its own longitude (Pt::keep_lon) by every cell through it: the
+  // snap rounded picture around it is valid as it is. Drawn by the rules of a vertex at the pole
+  // (meridians down from its neighbours, a run along the line between them), a lune's tip 5 mm
+  // from the south pole ran back west along the line and rose through its own incoming side one
+  // row up (a ring of 39 sites around the north pole, 7 decimals: fuzz_cells). Not where a cell
+  // holds that pole: its ring closes along the whole line. The edges' points: in build().
+  {
+    std::vector<std::pair<TriId, bool>> ends;  // a vertex on a pole line; whether this edge allows it
+    for (std::size_t k = 0; k < paths.size(); ++k) {
+      const Edge& edge = edges[path_edge[k]];
+      const SiteId hi = vd.cell_neighbors(edge.lo)[edge.j];
+      for (const bool front : {true, false}) {
+        const lonlat::SnapVertex& end = front ? paths[k].front() : paths[k].back();
+        const double lat = written(end).second;
+        if (!lonlat::is_pole(lat) || lonlat::at_pole(points[end.tag].v)) continue;
+        const SiteId owner = lat > 0 ? north_owner_ : south_owner_;
+        ends.push_back({front ? edge.a : edge.b, edge.lo != owner && hi != owner});
+      }
+    }
+    std::sort(ends.begin(), ends.end());
+    for (std::size_t i = 0; i < ends.size();) {
+      std::size_t j = i;
+      bool all = true;
+      while (j < ends.size() && ends[j].first == ends[i].first) all &= ends[j++].second;
+      if (all && j - i == 3) vertices_[ends[i].first].flags |= kKeepLon;  // its three edges
+      i = j;
+    }
+  }
+  snapped_part_ = static_cast<std::uint32_t>(points_.size());
   for (const SiteId s : touched) {
     const std::span<const SiteId> nbrs = vd.cell_neighbors(s);
     for (std::size_t i = 0; i < nbrs.size(); ++i) {
@@ -686,7 +716,7 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
     for (std::size_t i = 0; i < d; ++i) {
       const TriId ta = tris[i], tb = tris[i + 1 == d ? 0 : i + 1];
       const Vertex &va = vertices_[ta], &vb = vertices_[tb];
-      const Pt a{va.v, va.lon, va.lat}, b{vb.v, vb.lon, vb.lat};
+      const Pt a{va.v, va.lon, va.lat, (va.flags & kKeepLon) != 0}, b{vb.v, vb.lon, vb.lat, (vb.flags & kKeepLon) != 0};
       loop.push_back(a);
       const SiteId w = nbrs[i];
       const EdgeSlot& e = own[i];
@@ -694,11 +724,20 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
       int crossings = 0;
       if (e.part != 0) {  // computed at construction, in the canonical direction
         if (e.count != 0) {
+          const std::size_t first = loop.size();
           const BoundaryPoint* p = points_[e.part - 1].data() + e.first;
           if (s < w) {
             for (std::uint32_t k = 0; k < e.count; ++k) loop.push_back({p[k].v, p[k].lon, p[k].lat});
           } else {
             for (std::uint32_t k = e.count; k-- > 0;) loop.push_back({p[k].v, p[k].lon, p[k].lat});
+          }
+          if (e.part == snapped_part_) {  // snap rounded: its points on a pole line keep their longitudes
+            for (std::size_t k = first; k < loop.size(); ++k) {
+              Pt& q = loop[k];
+              if (!lonlat::is_pole(q.lat) || lonlat::at_pole(q.v)) continue;
+              const SiteId owner = q.lat > 0 ? north_owner_ : south_owner_;
+              q.keep_lon = s != owner && w != owner;
+            }
           }
         }
         sum = e.s12;
@@ -710,7 +749,7 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
         edge.clear();
         std::vector<Vec3>& guards = scratch<Vec3>();
         guards.clear();
-        if (va.flags | vb.flags)
+        if ((va.flags | vb.flags) & (kCap | kNearPole))
           edge_guards(std::min(s, w), std::max(s, w), forward ? va : vb, forward ? vb : va, guards);
         dens.set_guards(guards);
         dens.edge(from, to, vd.site(std::min(s, w)), vd.site(std::max(s, w)), std::min(va.min_side2, vb.min_side2));

@@ -175,6 +175,7 @@ class CellGeometry {
   // squared chord of the shortest side of its triangle (a lower bound of the distance between
   // the sites of an edge), and flags: its triangle is a cap (kCap), it lies near a pole
   // (kNearPole); the edges at such a vertex are guarded (edge_guards). See the constructor.
+  // kKeepLon: written on a pole line, drawn there at its own longitude (snap_round_thin_cells).
   struct Vertex {
     Vec3 v;
     double lon, lat;
@@ -183,7 +184,7 @@ class CellGeometry {
   };
   static_assert(sizeof(Vertex) == 48);
   std::unique_ptr<Vertex[], Free> vertices_;
-  static constexpr std::uint8_t kCap = 1, kNearPole = 2;
+  static constexpr std::uint8_t kCap = 1, kNearPole = 2, kKeepLon = 4;
   // Per Voronoi edge and each of its two cells, in that cell's slot (slot = index in the
   // diagram's neighbour lists), computed at construction in the direction of the canonical cell
   // (the smaller site id): its densified points strictly between its end vertices
@@ -204,6 +205,9 @@ class CellGeometry {
     double lon, lat;
   };
   std::vector<std::vector<BoundaryPoint>> points_;  // one part per construction thread
+  // The part (EdgeSlot::part) of the snap rounded edges' points (0: none): on a pole line,
+  // they are drawn at their own longitudes, as their vertices with kKeepLon.
+  std::uint32_t snapped_part_ = 0;
   CellStatus build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
   // The great circles the edge between sites lo < hi, from vertex a to vertex b (entries of
   // vertices_, told apart by address), must keep clear of when one of its cells is thin
