@@ -171,6 +171,36 @@ def tri_sr(a, b, c):
     return 2.0 * math.atan2(num, den)
 
 
+def tri_sr_accurate(a, b, c):
+    """tri_sr taken at the corner where the two shorter sides meet: from a far corner the two
+    differences are long and nearly parallel (a site near the antipode of two close ones: 1e-12
+    sr off on a triangle of 3.9e-6 sr)."""
+    sides = (np.linalg.norm(c - b), np.linalg.norm(a - c), np.linalg.norm(b - a))  # opposite a, b, c
+    k = int(np.argmax(sides))
+    return tri_sr(*[(a, b, c), (b, c, a), (c, a, b)][k])
+
+
+def tri_sr_gradient(a, b, c, h=1e-7):
+    """Sum over the corners and two tangent directions at each of |d area / d move| (central
+    differences): moving the corners by d moves the area by at most d times this. About the sum of
+    the chords for a small triangle; far more for one with a corner near another's antipode, where
+    the direction to it turns fast (365 with a corner 0.7 degree from the antipode of two others)."""
+    tri = [a, b, c]
+    g = 0.0
+    for i in range(3):
+        v = tri[i]
+        e = np.array([1.0, 0.0, 0.0]) if abs(v[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+        t1 = np.cross(v, e)
+        t1 /= np.linalg.norm(t1)
+        t2 = np.cross(v, t1)
+        for t in (t1, t2):
+            plus, minus = list(tri), list(tri)
+            plus[i] = (v + h * t) / np.linalg.norm(v + h * t)
+            minus[i] = (v - h * t) / np.linalg.norm(v - h * t)
+            g += abs(tri_sr_accurate(*plus) - tri_sr_accurate(*minus)) / (2 * h)
+    return g
+
+
 INPUT_ULPS = 4e-16   # how far our unit vector of a site and geovor's may each be from the exact one (2 ulps)
 
 
@@ -944,12 +974,14 @@ def check_delaunay(case, geovor, sites, collinear_all):
         if abs(got - a_m2) > max(1e-9 * abs(a_m2), 0.25) + round_m2:
             area_bad.append(f"{kind} {t}: area_m2 {got!r} vs written {a_m2!r} (rel {abs(got - a_m2) / max(a_m2, 1e-300):.3g})")
         if kind == "proper":
-            exact = tri_sr(a, b, c)
+            exact = tri_sr_accurate(a, b, c)
             # Our unit vectors and geovor's are each within an ulp or two of the sites; moving a
             # corner by d moves the area by at most d x its opposite chord, which for a sliver (two
-            # sites a metre apart, one far) is 1e-9 of the area (conditioning, not an error).
+            # sites a metre apart, one far) is 1e-9 of the area (conditioning, not an error), and
+            # by far more with a corner near the antipode of the others (tri_sr_gradient).
             chords = float(np.linalg.norm(b - a) + np.linalg.norm(c - b) + np.linalg.norm(a - c))
-            if abs(got_sr - exact) > 1e-9 * abs(exact) + INPUT_ULPS * chords + 1e-18:
+            cond = max(chords, tri_sr_gradient(a, b, c))
+            if abs(got_sr - exact) > 1e-9 * abs(exact) + INPUT_ULPS * cond + 1e-18:
                 sr_bad.append(f"proper {t}: area_sr {got_sr!r} vs spherical triangle {exact!r}")
             sum_m2 += got
             sum_sr += got_sr
