@@ -374,7 +374,7 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
 namespace {
 
 // The longitudes at which a visit to a pole line (a run of points there, merged into one) is
-// drawn when its first or last point has keep_lon: that point's own (NaN: the neighbour's
+// drawn when its first or last point is in keep_lon: that point's own (NaN: the neighbour's
 // meridian, the rule of a vertex at the pole). Empty: none in the loop.
 struct OwnLon {
   double in, out;
@@ -386,12 +386,13 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
 }  // namespace
 
 void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int precision, LoopInfo* info,
-                      PoleOwner pole_owner) {
+                      PoleOwner pole_owner, std::span<const std::uint32_t> keep_lon) {
   thread_local std::vector<OwnLon> own;
   own.clear();
-  if (std::any_of(loop.begin(), loop.end(), [](const Pt& p) { return p.keep_lon; })) {
+  if (!keep_lon.empty()) {
     constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
-    for (const Pt& p : loop) own.push_back(p.keep_lon ? OwnLon{p.lon, p.lon} : OwnLon{kNone, kNone});
+    own.assign(loop.size(), OwnLon{kNone, kNone});
+    for (const std::uint32_t i : keep_lon) own[i] = {loop[i].lon, loop[i].lon};
   }
   polygons_of(loop, own, out, bbox, precision, info, pole_owner);
 }
@@ -557,7 +558,7 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
   }
 
   // A vertex at a pole becomes two pole positions with the incoming and outgoing longitudes
-  // (a point with keep_lon: its own; one position when they are the same).
+  // (a point in keep_lon: its own; one position when they are the same).
   std::vector<RP>& ring = sc.ring;
   ring.clear();
   const std::size_t n = loop.size();
@@ -568,7 +569,7 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
       continue;
     }
     double in = loop[i == 0 ? n - 1 : i - 1].lon, outl = loop[i + 1 == n ? 0 : i + 1].lon;
-    // Where the run's first or last point has keep_lon, its own longitude: the snap rounded
+    // Where the run's first or last point is in keep_lon, its own longitude: the snap rounded
     // segment from the neighbour, as every other ring through that point draws it.
     if (has_own && !std::isnan(own[i].in)) in = own[i].in;
     if (has_own && !std::isnan(own[i].out)) outl = own[i].out;

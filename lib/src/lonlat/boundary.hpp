@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -24,13 +25,10 @@ inline bool is_pole(double lat) { return lat == 90 || lat == -90; }
 inline bool at_pole(const Vec3& v) { return v.x == 0 && v.y == 0; }
 inline Vec3 normalized(const Vec3& v) { return (1 / std::sqrt(norm2(v))) * v; }
 
-/// A boundary point on the sphere and in geodetic lon/lat (degrees), snapped. keep_lon: a point
-/// written on a pole line but not at the pole, drawn there as one position at its own longitude
-/// (loop_to_polygons); set only where every ring through it does the same (CellGeometry).
+/// A boundary point on the sphere and in geodetic lon/lat (degrees), snapped.
 struct Pt {
   Vec3 v;
   double lon, lat;
-  bool keep_lon = false;
 };
 /// The point of direction `raw`: v snapped to a pole or the antimeridian (kSnapRad), lon/lat as
 /// written with `precision` decimals (snap_to_decimals; kFullPrecision: as computed), with the
@@ -110,8 +108,10 @@ class Densifier {
 /// of longitude at a point of the loop drawn at it runs the short way back along the pole line
 /// there (a spike on the line, cancelled by its other run, or removed when cleaning). When it is
 /// known, a loop drawn at one pole more than once is pinched there: the parts between its runs
-/// at that pole become rings of their own, each closed by one run along the pole line. A point
-/// with keep_lon is none of this: one position on the pole line, like any other.
+/// at that pole become rings of their own, each closed by one run along the pole line.
+/// `keep_lon`: the indices in `loop` (ascending) of points written on a pole line but not at the
+/// pole that are drawn at their own longitudes, the ends of a run there that starts or ends at
+/// one of them too (CellGeometry sets them only where every ring through the point does).
 struct PoleOwner {
   int north = -1, south = -1;
 };
@@ -122,7 +122,8 @@ struct LoopInfo {
   bool tangled = false;
 };
 void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox = nullptr,
-                      int precision = kFullPrecision, LoopInfo* info = nullptr, PoleOwner pole_owner = {});
+                      int precision = kFullPrecision, LoopInfo* info = nullptr, PoleOwner pole_owner = {},
+                      std::span<const std::uint32_t> keep_lon = {});
 
 /// An open path (densified) as lines: cut at the antimeridian (both parts end on it at the same
 /// latitude, at +180 and -180) and at a pole it passes through; parts of fewer than two distinct

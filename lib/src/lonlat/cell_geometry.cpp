@@ -448,12 +448,13 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites) {
     }
   }
   // A point written on a pole line but not at the pole, where every edge through it is snap
-  // rounded, is drawn there at its own longitude (Pt::keep_lon) by every cell through it: the
-  // snap rounded picture around it is valid as it is. Drawn by the rules of a vertex at the pole
-  // (meridians down from its neighbours, a run along the line between them), a lune's tip 5 mm
-  // from the south pole ran back west along the line and rose through its own incoming side one
-  // row up (a ring of 39 sites around the north pole, 7 decimals: fuzz_cells). Not where a cell
-  // holds that pole: its ring closes along the whole line. The edges' points: in build().
+  // rounded, is drawn there at its own longitude (loop_to_polygons' keep_lon) by every cell
+  // through it: the snap rounded picture around it is valid as it is. Drawn by the rules of a
+  // vertex at the pole (meridians down from its neighbours, a run along the line between them),
+  // a lune's tip 5 mm from the south pole ran back west along the line and rose through its own
+  // incoming side one row up (a ring of 40 sites around the north pole, 7 decimals: fuzz_cells).
+  // Not where a cell holds that pole: its ring closes along the whole line. The edges' points:
+  // in build().
   {
     std::vector<std::pair<TriId, bool>> ends;  // a vertex on a pole line; whether this edge allows it
     for (std::size_t k = 0; k < paths.size(); ++k) {
@@ -679,7 +680,9 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
 
   std::vector<Pt>& loop = scratch<Pt, 0>();
   std::vector<Pt>& edge = scratch<Pt, 1>();
+  std::vector<std::uint32_t>& keep_lon = scratch<std::uint32_t>();  // loop_to_polygons' keep_lon
   loop.clear();
+  keep_lon.clear();
   Densifier dens(options_.densify_m, options_.max_step_deg, options_.max_depth, edge, options_.precision);
 
   if (vd.kind() == VoronoiDiagram::Kind::Hemispheres) {
@@ -716,7 +719,8 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
     for (std::size_t i = 0; i < d; ++i) {
       const TriId ta = tris[i], tb = tris[i + 1 == d ? 0 : i + 1];
       const Vertex &va = vertices_[ta], &vb = vertices_[tb];
-      const Pt a{va.v, va.lon, va.lat, (va.flags & kKeepLon) != 0}, b{vb.v, vb.lon, vb.lat, (vb.flags & kKeepLon) != 0};
+      const Pt a{va.v, va.lon, va.lat}, b{vb.v, vb.lon, vb.lat};
+      if (va.flags & kKeepLon) keep_lon.push_back(static_cast<std::uint32_t>(loop.size()));
       loop.push_back(a);
       const SiteId w = nbrs[i];
       const EdgeSlot& e = own[i];
@@ -733,10 +737,10 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
           }
           if (e.part == snapped_part_) {  // snap rounded: its points on a pole line keep their longitudes
             for (std::size_t k = first; k < loop.size(); ++k) {
-              Pt& q = loop[k];
+              const Pt& q = loop[k];
               if (!lonlat::is_pole(q.lat) || lonlat::at_pole(q.v)) continue;
               const SiteId owner = q.lat > 0 ? north_owner_ : south_owner_;
-              q.keep_lon = s != owner && w != owner;
+              if (s != owner && w != owner) keep_lon.push_back(static_cast<std::uint32_t>(k));
             }
           }
         }
@@ -769,7 +773,7 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
       area_crossings += s < w ? crossings : -crossings;
     }
     lonlat::LoopInfo info;
-    lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &info, pole_owner(s));
+    lonlat::loop_to_polygons(loop, out, bbox, options_.precision, &info, pole_owner(s), keep_lon);
     const CellStatus status = finish(s, info, out, bbox);
     if (area_m2 && status == CellStatus::Written) {
       // The edges' sums are the ring's when the ring is the loop itself (same positions, same

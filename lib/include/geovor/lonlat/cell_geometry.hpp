@@ -24,7 +24,9 @@
 ///     pole, and points within kSnapRad of the antimeridian land exactly on it, so rounding
 ///     noise never decides a side.
 ///  3. A vertex at a pole is replaced by two pole positions carrying the longitudes of the
-///     incoming and outgoing edges. Longitudes are unwrapped: the winding is 0, or +-360 for a
+///     incoming and outgoing edges (a point merely written on the pole line, all of whose
+///     edges are snap rounded, below, keeps its own longitude in every cell through it, unless
+///     one of them holds that pole). Longitudes are unwrapped: the winding is 0, or +-360 for a
 ///     cell holding a pole.
 ///  4. A cell crossing +-180 is cut there into a MultiPolygon; the crossing latitude is the
 ///     intersection of the (densified) great-circle arc with the antimeridian, identical for
