@@ -69,10 +69,12 @@ struct RP {
   double lon, lat;
   int k;
   bool back = false;  // reached along a pole line the short way back (see loop_to_polygons)
+  bool full = false;  // reached along a pole line after a whole turn (the owner's, see loop_to_polygons)
 };
 
 // Sheet of q after p along the ring (exact: integer steps and comparisons only).
 int next_sheet(const RP& p, const RP& q) {
+  if (q.full) return p.lat > 0 ? p.k - 1 : p.k + 1;  // west along the north pole's line, east along the south's
   if (is_pole(p.lat) && p.lat == q.lat) {
     // Along a pole from the incoming meridian a = p.lon to the outgoing b = q.lon: the cell's
     // wedge at the pole is (a - b) mod 360 at the north pole (longitude decreases, interior on
@@ -561,6 +563,8 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
   // (a point in keep_lon: its own; one position when they are the same).
   std::vector<RP>& ring = sc.ring;
   ring.clear();
+  constexpr std::size_t kNoTouch = ~std::size_t{0};
+  std::size_t touch = kNoTouch;  // the owner's one visit drawn as one position at its own longitude
   const std::size_t n = loop.size();
   for (std::size_t i = 0; i < n; ++i) {
     const Pt& p = loop[i];
@@ -593,6 +597,28 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
     const int owns = p.lat > 0 ? pole_owner.north : pole_owner.south;
     const bool back = owns == 0 && span > 180 && !at_pole(p.v);
     if (outl != in) ring.push_back({p.v, outl, p.lat, 0, back});
+    else if (owns == 1 && has_own && !std::isnan(own[i].in) && !std::isnan(own[i].out) && touch == kNoTouch &&
+             !(loop[i == 0 ? n - 1 : i - 1].lon == in && loop[i + 1 == n ? 0 : i + 1].lon == in))
+      touch = ring.size() - 1;  // not a spike down a meridian and back, which cleaning removes
+  }
+  // The owner's boundary through a point of its pole line drawn at its own longitude, and
+  // nowhere else along that line: the owner lies on both sides of it, so its ring, which winds
+  // around the pole, would touch its own closure along the line there. It runs a whole turn
+  // along the line from that point instead (the reverse of its boundary's turn), and is cut
+  // at the antimeridian like any ring: two parts meeting at the point (a ring of sites 35 m
+  // around the north pole whose lunes' tips meet millimetres from the south pole, one of them
+  // on the south pole's owner: unwritable, fuzz_cells' ring less the site that owned it).
+  auto wind = [&] {
+    for (std::size_t i = 1; i < ring.size(); ++i) ring[i].k = next_sheet(ring[i - 1], ring[i]);
+    return next_sheet(ring.back(), ring[0]) - ring[0].k;
+  };
+  if (touch != kNoTouch && ring.size() >= 3) {
+    const int w = wind();
+    if (w == (ring[touch].lat > 0 ? 1 : -1)) {
+      RP turn = ring[touch];
+      turn.full = true;
+      ring.insert(ring.begin() + static_cast<std::ptrdiff_t>(touch) + 1, turn);
+    }
   }
 
   if (ring.size() < 3) {
@@ -601,8 +627,7 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
   }
   // Unwrap: sheets along the ring, and the winding (in turns) after closing it.
   const std::size_t m = ring.size();
-  for (std::size_t i = 1; i < m; ++i) ring[i].k = next_sheet(ring[i - 1], ring[i]);
-  const int winding = next_sheet(ring[m - 1], ring[0]) - ring[0].k;
+  const int winding = wind();
   if (winding < -1 || winding > 1) {  // rounded positions wound it twice around a pole (fuzz_cells)
     if (info) info->winding = winding, info->tangled = true;
     return;

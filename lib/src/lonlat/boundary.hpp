@@ -109,9 +109,11 @@ class Densifier {
 /// there (a spike on the line, cancelled by its other run, or removed when cleaning). When it is
 /// known, a loop drawn at one pole more than once is pinched there: the parts between its runs
 /// at that pole become rings of their own, each closed by one run along the pole line.
-/// `keep_lon`: the indices in `loop` (ascending) of points written on a pole line but not at the
-/// pole that are drawn at their own longitudes, the ends of a run there that starts or ends at
-/// one of them too (CellGeometry sets them only where every ring through the point does).
+/// `keep_lon`: the indices in `loop` of points written on a pole line but not at the pole that
+/// are drawn at their own longitudes, the ends of a run there that starts or ends at one of them
+/// too (CellGeometry sets them only where every ring through the point does); a region holding
+/// that pole whose only visit there is such a point (not a spike down a meridian and back) runs
+/// a whole turn along the line from it when its ring would otherwise wind around the pole.
 struct PoleOwner {
   int north = -1, south = -1;
 };

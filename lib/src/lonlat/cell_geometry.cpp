@@ -453,27 +453,23 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites) {
   // vertex at the pole (meridians down from its neighbours, a run along the line between them),
   // a lune's tip 5 mm from the south pole ran back west along the line and rose through its own
   // incoming side one row up (a ring of 40 sites around the north pole, 7 decimals: fuzz_cells).
-  // Not where a cell holds that pole: its ring closes along the whole line. The edges' points:
-  // in build().
+  // The pole's owner too (loop_to_polygons then runs it a whole turn along the line from the
+  // point when that is its only visit there). The edges' points: in build().
   {
-    std::vector<std::pair<TriId, bool>> ends;  // a vertex on a pole line; whether this edge allows it
+    std::vector<TriId> ends;  // vertices on a pole line, once per snap rounded edge
     for (std::size_t k = 0; k < paths.size(); ++k) {
       const Edge& edge = edges[path_edge[k]];
-      const SiteId hi = vd.cell_neighbors(edge.lo)[edge.j];
       for (const bool front : {true, false}) {
         const lonlat::SnapVertex& end = front ? paths[k].front() : paths[k].back();
-        const double lat = written(end).second;
-        if (!lonlat::is_pole(lat) || lonlat::at_pole(points[end.tag].v)) continue;
-        const SiteId owner = lat > 0 ? north_owner_ : south_owner_;
-        ends.push_back({front ? edge.a : edge.b, edge.lo != owner && hi != owner});
+        if (lonlat::is_pole(written(end).second) && !lonlat::at_pole(points[end.tag].v))
+          ends.push_back(front ? edge.a : edge.b);
       }
     }
     std::sort(ends.begin(), ends.end());
     for (std::size_t i = 0; i < ends.size();) {
       std::size_t j = i;
-      bool all = true;
-      while (j < ends.size() && ends[j].first == ends[i].first) all &= ends[j++].second;
-      if (all && j - i == 3) vertices_[ends[i].first].flags |= kKeepLon;  // its three edges
+      while (j < ends.size() && ends[j] == ends[i]) ++j;
+      if (j - i == 3) vertices_[ends[i]].flags |= kKeepLon;  // its three edges
       i = j;
     }
   }
@@ -736,12 +732,9 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
             for (std::uint32_t k = e.count; k-- > 0;) loop.push_back({p[k].v, p[k].lon, p[k].lat});
           }
           if (e.part == snapped_part_) {  // snap rounded: its points on a pole line keep their longitudes
-            for (std::size_t k = first; k < loop.size(); ++k) {
-              const Pt& q = loop[k];
-              if (!lonlat::is_pole(q.lat) || lonlat::at_pole(q.v)) continue;
-              const SiteId owner = q.lat > 0 ? north_owner_ : south_owner_;
-              if (s != owner && w != owner) keep_lon.push_back(static_cast<std::uint32_t>(k));
-            }
+            for (std::size_t k = first; k < loop.size(); ++k)
+              if (lonlat::is_pole(loop[k].lat) && !lonlat::at_pole(loop[k].v))
+                keep_lon.push_back(static_cast<std::uint32_t>(k));
           }
         }
         sum = e.s12;

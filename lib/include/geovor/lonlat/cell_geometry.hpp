@@ -25,8 +25,8 @@
 ///     noise never decides a side.
 ///  3. A vertex at a pole is replaced by two pole positions carrying the longitudes of the
 ///     incoming and outgoing edges (a point merely written on the pole line, all of whose
-///     edges are snap rounded, below, keeps its own longitude in every cell through it, unless
-///     one of them holds that pole). Longitudes are unwrapped: the winding is 0, or +-360 for a
+///     edges are snap rounded, below, keeps its own longitude in every cell through it).
+///     Longitudes are unwrapped: the winding is 0, or +-360 for a
 ///     cell holding a pole.
 ///  4. A cell crossing +-180 is cut there into a MultiPolygon; the crossing latitude is the
 ///     intersection of the (densified) great-circle arc with the antimeridian, identical for
@@ -207,8 +207,8 @@ class CellGeometry {
     double lon, lat;
   };
   std::vector<std::vector<BoundaryPoint>> points_;  // one part per construction thread
-  // The part (EdgeSlot::part) of the snap rounded edges' points (0: none): on a pole line,
-  // they are drawn at their own longitudes, as their vertices with kKeepLon.
+  // The part (EdgeSlot::part) of the snap rounded edges' points (0: none): those written on a
+  // pole line but not at the pole are drawn at their own longitudes, as vertices with kKeepLon.
   std::uint32_t snapped_part_ = 0;
   CellStatus build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
   // The great circles the edge between sites lo < hi, from vertex a to vertex b (entries of
