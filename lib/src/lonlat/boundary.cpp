@@ -407,6 +407,7 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
   std::size_t used = 0;
   if (bbox) *bbox = BBox{};
   Scratch& sc = scratch();
+  const bool has_own = !own.empty();
   bool near_pole = false;  // a point within 0.01 degree of a pole
   // Drop consecutive duplicates in lon/lat (cyclically), and consecutive points at one pole,
   // whatever their longitudes (one point of the sphere: rounding puts runs of points there).
@@ -420,7 +421,6 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
       if (is_pole(kept.lat) && !at_pole(dropped.v)) kept.v = dropped.v;
     };
     // A merged run is drawn from its first point's own longitude to its last point's.
-    const bool has_own = !own.empty();
     std::size_t w = 0;
     for (std::size_t i = 0; i < loop.size(); ++i) {
       near_pole |= std::fabs(loop[i].lat) > 89.99;
@@ -447,13 +447,12 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
   // remove_spikes would drop it. Left in, it was a second visit to the pole, and the pinch below
   // cut the ring there into two parts sharing that meridian (0 decimals, fuzz_cells). A visit
   // drawn at a point's own longitude (keep_lon) is a spike only when that is the meridian's.
-  const bool has_own = !own.empty();
+  auto drawn_down_and_up = [&](std::size_t a, std::size_t p, std::size_t b) {
+    return is_pole(loop[p].lat) && !is_pole(loop[a].lat) && !is_pole(loop[b].lat) && loop[a].lon == loop[b].lon &&
+           (!has_own || ((std::isnan(own[p].in) || own[p].in == loop[a].lon) &&
+                         (std::isnan(own[p].out) || own[p].out == loop[a].lon)));
+  };
   if (near_pole && loop.size() > 3) {
-    auto drawn_down_and_up = [&](std::size_t a, std::size_t p, std::size_t b) {
-      return is_pole(loop[p].lat) && !is_pole(loop[a].lat) && !is_pole(loop[b].lat) && loop[a].lon == loop[b].lon &&
-             (!has_own || ((std::isnan(own[p].in) || own[p].in == loop[a].lon) &&
-                           (std::isnan(own[p].out) || own[p].out == loop[a].lon)));
-    };
     // The owner's too, when it has another visit to that pole (a run along the line): its region
     // lies on both sides of the spike, a neighbour's tip collapsed onto that meridian. Pinched
     // there, the two parts shared the meridian's segment (clusters a metre from the south pole,
@@ -572,7 +571,8 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
       ring.push_back({p.v, p.lon, p.lat, 0});
       continue;
     }
-    double in = loop[i == 0 ? n - 1 : i - 1].lon, outl = loop[i + 1 == n ? 0 : i + 1].lon;
+    const std::size_t prev = i == 0 ? n - 1 : i - 1, next = i + 1 == n ? 0 : i + 1;
+    double in = loop[prev].lon, outl = loop[next].lon;
     // Where the run's first or last point is in keep_lon, its own longitude: the snap rounded
     // segment from the neighbour, as every other ring through that point draws it.
     if (has_own && !std::isnan(own[i].in)) in = own[i].in;
@@ -598,7 +598,7 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
     const bool back = owns == 0 && span > 180 && !at_pole(p.v);
     if (outl != in) ring.push_back({p.v, outl, p.lat, 0, back});
     else if (owns == 1 && has_own && !std::isnan(own[i].in) && !std::isnan(own[i].out) && touch == kNoTouch &&
-             !(loop[i == 0 ? n - 1 : i - 1].lon == in && loop[i + 1 == n ? 0 : i + 1].lon == in))
+             !drawn_down_and_up(prev, i, next))
       touch = ring.size() - 1;  // not a spike down a meridian and back, which cleaning removes
   }
   // The owner's boundary through a point of its pole line drawn at its own longitude, and
@@ -612,18 +612,14 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
     for (std::size_t i = 1; i < ring.size(); ++i) ring[i].k = next_sheet(ring[i - 1], ring[i]);
     return next_sheet(ring.back(), ring[0]) - ring[0].k;
   };
-  if (touch != kNoTouch && ring.size() >= 3) {
-    const int w = wind();
-    if (w == (ring[touch].lat > 0 ? 1 : -1)) {
-      RP turn = ring[touch];
-      turn.full = true;
-      ring.insert(ring.begin() + static_cast<std::ptrdiff_t>(touch) + 1, turn);
-    }
-  }
-
   if (ring.size() < 3) {
     out.clear();
     return;
+  }
+  if (touch != kNoTouch && wind() == (ring[touch].lat > 0 ? 1 : -1)) {
+    RP turn = ring[touch];
+    turn.full = true;
+    ring.insert(ring.begin() + static_cast<std::ptrdiff_t>(touch) + 1, turn);
   }
   // Unwrap: sheets along the ring, and the winding (in turns) after closing it.
   const std::size_t m = ring.size();
