@@ -709,6 +709,14 @@ void expect_tiling(const std::vector<std::pair<double, double>>& sites, int prec
   EXPECT_NEAR(o.planar_sum, 64800, 1e-6);
 }
 
+// The same for the sites and their mirror image across the equator (around the other pole).
+void expect_tiling_mirrored(const std::vector<std::pair<double, double>>& sites, int precision) {
+  std::vector<std::pair<double, double>> mirrored = sites;
+  for (auto& [lat, lon] : mirrored) lat = -lat;
+  expect_tiling(sites, precision);
+  expect_tiling(mirrored, precision);
+}
+
 }  // namespace written
 
 // Three sites on one latitude: thin lunes from pole to pole, not whole-Earth cells (the written
@@ -1335,12 +1343,7 @@ TEST(CellGeometryAsWritten, ThinCellsNearAPoleGuardedPastMaxDepth) {
       {-89.984946146620459, -133.86301847528179}, {-89.984945713940448, -143.08445987167732},
       {-89.984945530241859, -152.3054915070224}, {-89.984945850610686, -161.52701143927519},
       {-89.984946513288406, -170.74836852392889}};
-  std::vector<std::pair<double, double>> mirrored = ring;
-  for (auto& [lat, lon] : mirrored) lat = -lat;
-  for (const int p : {5, 7, 9, 12, 17, kFullPrecision}) {
-    written::expect_tiling(ring, p);
-    written::expect_tiling(mirrored, p);
-  }
+  for (const int p : {5, 7, 9, 12, 17, kFullPrecision}) written::expect_tiling_mirrored(ring, p);
 }
 
 // The guards add no point within a step of a pole, past max_depth: it would be written on the
@@ -1363,12 +1366,7 @@ TEST(CellGeometryAsWritten, GuardsAddNoPointWithinAStepOfAPole) {
       {-61.513735685779849, 4.0391996074155356}, {-61.513735706355419, -14.908168823949612},
       {-61.513735687853824, -33.855537216287999}, {-61.513735698141872, -52.802905659219093},
       {-61.513735686789076, -71.750274090004964}};
-  std::vector<std::pair<double, double>> mirrored = ring;
-  for (auto& [lat, lon] : mirrored) lat = -lat;
-  for (const int p : {5, 7, 8, 9, kFullPrecision}) {
-    written::expect_tiling(ring, p);
-    written::expect_tiling(mirrored, p);
-  }
+  for (const int p : {5, 7, 8, 9, kFullPrecision}) written::expect_tiling_mirrored(ring, p);
 }
 
 // Grids whose steps are dyadic (exact in binary) put Voronoi vertices on ties of the decimal
@@ -1497,14 +1495,8 @@ TEST(CellGeometryAsWritten, SnapRoundedPointsOnAPoleLineKeepTheirLongitudes) {
   // from it (both cells were unwritable at 7 to 17 decimals; a review's mutation).
   std::vector<std::pair<double, double>> less_owner = ring;
   less_owner.erase(std::min_element(less_owner.begin(), less_owner.end()));
-  for (const auto& sites : {ring, less_owner}) {
-    std::vector<std::pair<double, double>> mirrored = sites;
-    for (auto& [lat, lon] : mirrored) lat = -lat;
-    for (const int p : {5, 7, 9, 12, 17, kFullPrecision}) {
-      written::expect_tiling(sites, p);
-      written::expect_tiling(mirrored, p);
-    }
-  }
+  for (const auto& sites : {ring, less_owner})
+    for (const int p : {5, 7, 9, 12, 17, kFullPrecision}) written::expect_tiling_mirrored(sites, p);
 }
 
 // Clusters within a metre of the south pole, one near -89 degrees, at 0 decimals: the cell that
