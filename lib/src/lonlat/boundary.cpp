@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <type_traits>
 
 #include "geovor/core/assert.hpp"
 #include "geovor/core/error.hpp"
@@ -72,6 +73,21 @@ struct RP {
   bool full = false;  // reached along a pole line after a whole turn (the owner's, see loop_to_polygons)
 };
 
+// The step of sheet from p to q, neither of them on a pole line: -1, 0 or 1 (exact).
+int sheet_step(const Vec3& pv, double plon, const Vec3& qv, double qlon) {
+  const double d = qlon - plon;
+  if (std::fabs(d) > 90) {
+    // Only near a pole (or across the antimeridian) do longitudes jump this far, and then the
+    // difference is ill-conditioned near 180 degrees. Along an arc that does not pass through a
+    // pole, the longitude moves monotonically, east exactly when the north pole lies on the
+    // arc's left: decided exactly on the sphere points.
+    const Sign side = kernel::orient(pv, qv, Vec3{0, 0, 1});
+    if (side == Sign::Positive) return d < 0 ? 1 : 0;
+    if (side == Sign::Negative) return d > 0 ? -1 : 0;
+  }
+  return d > 180 ? -1 : d < -180 ? 1 : 0;
+}
+
 // Sheet of q after p along the ring (exact: integer steps and comparisons only).
 int next_sheet(const RP& p, const RP& q) {
   if (q.full) return p.lat > 0 ? p.k - 1 : p.k + 1;  // west along the north pole's line, east along the south's
@@ -83,16 +99,8 @@ int next_sheet(const RP& p, const RP& q) {
     if (p.lat > 0) return q.back ? (q.lon < p.lon ? p.k + 1 : p.k) : (q.lon > p.lon ? p.k - 1 : p.k);
     return q.back ? (q.lon > p.lon ? p.k - 1 : p.k) : (q.lon < p.lon ? p.k + 1 : p.k);
   }
+  if (!is_pole(p.lat) && !is_pole(q.lat)) return p.k + sheet_step(p.v, p.lon, q.v, q.lon);
   const double d = q.lon - p.lon;
-  if (std::fabs(d) > 90 && !is_pole(p.lat) && !is_pole(q.lat)) {
-    // Only near a pole (or across the antimeridian) do longitudes jump this far, and then the
-    // difference is ill-conditioned near 180 degrees. Along an arc that does not pass through a
-    // pole, the longitude moves monotonically, east exactly when the north pole lies on the
-    // arc's left: decided exactly on the sphere points.
-    const Sign side = kernel::orient(p.v, q.v, Vec3{0, 0, 1});
-    if (side == Sign::Positive) return d < 0 ? p.k + 1 : p.k;
-    if (side == Sign::Negative) return d > 0 ? p.k - 1 : p.k;
-  }
   if (d > 180) return p.k - 1;
   if (d < -180) return p.k + 1;
   return p.k;
@@ -197,17 +205,20 @@ bool finish_ring(Ring& ring) {
   return true;
 }
 
-void append_piece(MultiPolygon& out, std::size_t& used, const std::vector<RP>& pts, int sheet) {
+// Appends the ring of `pts` written in sheet `sheet` (p.k of each point: its own sheet, 0 for
+// a Pt) to out[used], the next polygon, counted when it is not degenerate (finish_ring).
+template <typename P>
+void append_piece(MultiPolygon& out, std::size_t& used, const std::vector<P>& pts, int sheet) {
   if (out.size() <= used) out.emplace_back();
   Polygon& poly = out[used];
   poly.holes.clear();
   Ring& r = poly.exterior;
-  r.clear();
-  for (const RP& p : pts) {
-    double lon = p.lon + 360.0 * (p.k - sheet);
+  r.resize(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    int k = 0;
+    if constexpr (std::is_same_v<P, RP>) k = pts[i].k;
     // Only the antimeridian (lon -180 one sheet up) may leave [-180, 180); clamp rounding noise.
-    lon = std::clamp(lon, -180.0, 180.0);
-    r.push_back({lon, p.lat});
+    r[i] = {std::clamp(pts[i].lon + 360.0 * (k - sheet), -180.0, 180.0), pts[i].lat};
   }
   if (finish_ring(r)) ++used;
 }
@@ -554,6 +565,23 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
       if (whole.tangled) out.clear();
       // Parts may wrap around the antimeridian each: all longitudes unless there is one.
       if (bbox && !out.empty()) *bbox = box_of(out, out.size() > 1 || whole.winding != 0 ? Lons::All : Lons::One);
+      return;
+    }
+  }
+
+  // The usual cell: no point near a pole, and every step within one sheet, its loop closing
+  // there: the ring written is the loop itself in sheet 0, as the general way below writes it.
+  if (!near_pole && loop.size() >= 3) {
+    bool one_sheet = true, off_antimeridian = false;
+    for (std::size_t i = 0, n = loop.size(); one_sheet && i < n; ++i) {
+      const Pt &p = loop[i], &q = loop[i + 1 == n ? 0 : i + 1];
+      one_sheet = sheet_step(p.v, p.lon, q.v, q.lon) == 0;
+      off_antimeridian |= p.lon != -180;
+    }
+    if (one_sheet && off_antimeridian) {  // else the sheet of the whole ring is -1
+      append_piece(out, used, loop, 0);
+      out.resize(used);
+      if (bbox && used > 0) *bbox = box_of(out, Lons::One);
       return;
     }
   }
