@@ -17,6 +17,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "geovor/core/copy_short.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/core/output_target.hpp"
 #include "io/direct_output.hpp"
@@ -90,10 +91,8 @@ class GeoJsonEncoder final : public FeatureEncoder {
     std::size_t values_bound = 0;
     for (const std::string_view v : json_values) values_bound += v.size();
     if (has_id) values_bound += json_values[id_index_].size();
-    encode_with(geometry, json_values.size(), number, out, has_id, values_bound, [&](char* p, std::size_t i) {
-      std::memcpy(p, json_values[i].data(), json_values[i].size());
-      return p + json_values[i].size();
-    });
+    encode_with(geometry, json_values.size(), number, out, has_id, values_bound,
+                [&](char* p, std::size_t i) { return copy_short(p, json_values[i]); });
   }
 
   // The feature's text, each value written by put(p, i) (which returns the end; the values
@@ -138,8 +137,7 @@ class GeoJsonEncoder final : public FeatureEncoder {
     }
     p = put_text(p, ",\"properties\":{");
     for (std::size_t i = 0; i < num_values; ++i) {
-      std::memcpy(p, keys_[i].data(), keys_[i].size());
-      p = put(p + keys_[i].size(), i);
+      p = put(copy_short(p, keys_[i]), i);
     }
     p = put_text(p, "},\"geometry\":");
     p = put_geometry(p, geometry);

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
+#include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <string>
 #include <string_view>
@@ -10,10 +13,12 @@
 
 #include "geovor/core/ascii.hpp"
 #include "geovor/core/assert.hpp"
+#include "geovor/core/copy_short.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
 #include "geovor/delaunay/site_rows.hpp"
 #include "geovor/io/geojson_writer.hpp"
+#include "geovor/io/number_format.hpp"
 #include "geovor/layers/input_columns.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 
@@ -126,51 +131,78 @@ class CellFeatures {
     for (std::size_t c = 0; c < table_.columns.size(); ++c) values[kOurFields.size() + c] = input_value(table_, first, c);
   }
 
-  // The same properties as the JSON text of each value, in one string (value i ends at
-  // ends[i]), for the encoder.
-  void json(SiteId s, Areas areas, std::string& text, std::vector<std::size_t>& ends) const {
+  // The same properties as the JSON text of each value, in text[0, ends.back()) (value i ends
+  // at ends[i]), for the encoder; `ids` is scratch. The fields up to the input columns are
+  // written in place, into room made for their longest text (no capacity check per piece).
+  void json(SiteId s, Areas areas, std::string& text, std::vector<std::size_t>& ends, std::string& ids) const {
     const std::span<const std::uint32_t> site_rows = texts_.rows.of(s);
     const InputSite& first = table_.sites[site_rows.front()];
     const auto neighbours = diagram_.cell_neighbors(s);
-    text.clear();
+    const std::string_view own = texts_.site_text[s];
+    ids.clear();
+    if (site_rows.size() > 1) {  // merged rows (rare): their ids escaped as list elements
+      ids += '[';
+      ids += own;
+      for (std::size_t k = 1; k < site_rows.size(); ++k) {
+        ids += ',';
+        append_id_list_element(ids, table_.sites[site_rows[k]].id);
+      }
+      ids += ']';
+    }
+    constexpr std::size_t kIntChars = 24;
+    std::size_t bound = 3 * kIntChars + 2 * kMaxRealChars + 2 * own.size() + ids.size() + 4 + neighbours.size();
+    for (const SiteId w : neighbours) bound += texts_.site_text[w].size();
+    if (text.size() < bound) text.resize(std::max(bound, 2 * text.size()));
+    char* const begin = text.data();
+    char* p = begin;
     ends.clear();
-    auto done = [&] { ends.push_back(text.size()); };
-    append_json_value(text, static_cast<std::int64_t>(s));
+    auto done = [&] { ends.push_back(static_cast<std::size_t>(p - begin)); };
+    auto put_int = [&p](std::size_t x) { p = std::to_chars(p, p + kIntChars, static_cast<std::int64_t>(x)).ptr; };
+    auto put_real = [&p](double x) {
+      if (std::isfinite(x)) {
+        p = format_real(p, x);
+      } else {
+        std::memcpy(p, "null", 4);  // JSON has no NaN or infinity (as append_json_value)
+        p += 4;
+      }
+    };
+    put_int(s);
     done();
-    text += texts_.site_text[s];
+    p = copy_short(p, own);
     done();
-    text += '[';
-    text += texts_.site_text[s];
-    for (std::size_t k = 1; k < site_rows.size(); ++k) {
-      text += ',';
-      append_id_list_element(text, table_.sites[site_rows[k]].id);
+    if (ids.empty()) {
+      *p++ = '[';
+      p = copy_short(p, own);
+      *p++ = ']';
+    } else {
+      p = copy_short(p, ids);
     }
-    text += ']';
     done();
-    append_json_value(text, static_cast<std::int64_t>(site_rows.size()));
+    put_int(site_rows.size());
     done();
-    append_json_value(text, areas.m2);
+    put_real(areas.m2);
     done();
-    append_json_value(text, areas.sr);
+    put_real(areas.sr);
     done();
-    append_json_value(text, static_cast<std::int64_t>(diagram_.cell_vertices(s).size()));
+    put_int(diagram_.cell_vertices(s).size());
     done();
-    text += '[';
+    *p++ = '[';
     for (std::size_t k = 0; k < neighbours.size(); ++k) {
-      if (k) text += ',';
-      text += texts_.site_text[neighbours[k]];
+      if (k) *p++ = ',';
+      p = copy_short(p, texts_.site_text[neighbours[k]]);
     }
-    text += ']';
+    *p++ = ']';
     done();
+    text.resize(static_cast<std::size_t>(p - begin));  // shorter: nothing filled
     const std::size_t id_column = table_.id_column >= 0 && table_.column_type(table_.id_column) == FieldType::String
                                       ? static_cast<std::size_t>(table_.id_column)
                                       : table_.columns.size();
     for (std::size_t c = 0; c < table_.columns.size(); ++c) {
       if (c == id_column && c < first.fields.size() && first.fields[c] == first.id)
-        text += texts_.site_text[s];
+        text += own;
       else
         append_input_json(text, table_, first, c);
-      done();
+      ends.push_back(text.size());
     }
   }
 
@@ -218,7 +250,7 @@ struct CellBlock {
 
 // A worker's reused memory.
 struct Scratch {
-  std::string buffer;
+  std::string buffer, ids;
   MultiPolygon polygon;
   std::vector<std::size_t> ends;
   std::vector<std::string_view> json_values;
@@ -232,7 +264,7 @@ void compute_block(const CellFeatures& features, const std::vector<SiteId>& orde
     for (std::size_t i = block.begin; i < block.end; ++i) {
       features.prefetch_ahead(i);
       const CellFeatures::Areas areas = features.geometry(order[i], scratch.polygon, block.unwritten);
-      features.json(order[i], areas, scratch.buffer, scratch.ends);
+      features.json(order[i], areas, scratch.buffer, scratch.ends, scratch.ids);
       scratch.json_values.clear();
       for (std::size_t k = 0, from = 0; k < scratch.ends.size(); from = scratch.ends[k++])
         scratch.json_values.push_back(std::string_view(scratch.buffer).substr(from, scratch.ends[k] - from));
