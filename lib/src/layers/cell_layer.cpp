@@ -212,13 +212,17 @@ class CellFeatures {
   void prefetch_ahead(std::size_t i) const {
     constexpr std::size_t kLists = 12, kVertices = 8, kPoints = 4;
     const std::vector<SiteId>& order = texts_.order;
-    if (i + kLists < order.size()) cells_.prefetch(order[i + kLists], 0);
-    if (i + kVertices < order.size()) {
-      const SiteId s = order[i + kVertices];
-      cells_.prefetch(s, 1);
+    if (i + kLists < order.size()) {
+      const SiteId s = order[i + kLists];
+      cells_.prefetch(s, 0);
       const InputSite* first = &table_.sites[texts_.rows.first(s)];
       __builtin_prefetch(first);
       __builtin_prefetch(reinterpret_cast<const char*>(first + 1) - 1);
+    }
+    if (i + kVertices < order.size()) {
+      const SiteId s = order[i + kVertices];
+      cells_.prefetch(s, 1);
+      __builtin_prefetch(table_.sites[texts_.rows.first(s)].fields.data());  // the fields' strings
       if (encoded_)
         for (const SiteId w : diagram_.cell_neighbors(s)) __builtin_prefetch(&texts_.site_text[w]);
     }

@@ -17,8 +17,8 @@ namespace {
 
 Vec3 normalized(const Vec3& v) { return (1 / std::sqrt(norm2(v))) * v; }
 
-template <class T>
-std::size_t bytes_of(const std::vector<T>& v) {
+template <class T, class A>
+std::size_t bytes_of(const std::vector<T, A>& v) {
   return v.capacity() * sizeof(T);
 }
 

@@ -37,6 +37,7 @@
 #include <span>
 #include <vector>
 
+#include "geovor/core/default_init.hpp"
 #include "geovor/core/types.hpp"
 
 namespace geovor {
@@ -139,8 +140,9 @@ class VoronoiDiagram {
   };
   std::vector<Range> cells_;   // CSR: cell s is [cells_[s].begin, cells_[s].end)
   std::vector<SiteId> order_;  // live sites in storage order
-  std::vector<TriId> cell_tris_;
-  std::vector<SiteId> cell_nbrs_;
+  // Filled by the parallel walks of the stars (every entry written), not zeroed first.
+  std::vector<TriId, DefaultInitAllocator<TriId>> cell_tris_;
+  std::vector<SiteId, DefaultInitAllocator<SiteId>> cell_nbrs_;
   SiteId pair_[2] = {kNoIndex, kNoIndex};  // the two sites of Kind::Hemispheres
   std::vector<std::uint32_t> degree_;       // scratch of assign()
 };
