@@ -222,7 +222,11 @@ class CellFeatures {
     if (i + kVertices < order.size()) {
       const SiteId s = order[i + kVertices];
       cells_.prefetch(s, 1);
-      __builtin_prefetch(table_.sites[texts_.rows.first(s)].fields.data());  // the fields' strings
+      const std::vector<std::string>& fields = table_.sites[texts_.rows.first(s)].fields;
+      if (!fields.empty()) {  // the fields' strings (short ones hold their text)
+        __builtin_prefetch(fields.data());
+        __builtin_prefetch(reinterpret_cast<const char*>(fields.data() + fields.size()) - 1);
+      }
       if (encoded_)
         for (const SiteId w : diagram_.cell_neighbors(s)) __builtin_prefetch(&texts_.site_text[w]);
     }

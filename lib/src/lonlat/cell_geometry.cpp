@@ -261,12 +261,14 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
           dens.set_guards(guards);
           dens.edge(a, b, diagram.site(s), diagram.site(w), std::min(va.min_side2, vb.min_side2));
           const std::size_t slot = static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
-          EdgeSlot& e = edge_slots_[slot];
+          EdgeSlot e;  // built here, then stored in both slots (s12: at the flush)
+          e.s12 = 0;
           e.first = static_cast<std::uint32_t>(points.size());
           e.count = static_cast<std::uint32_t>(edge.size());
           e.part = thread + 1;  // 0: not computed (calloc)
           for (const Pt& q : edge) points.push_back({q.v, q.lon, q.lat});
           e.crossings = append_segments(a, edge, b, segments);
+          edge_slots_[slot] = e;
           // The other cell's slot of the edge gets the same data (its sum at the flush), so that
           // each cell reads only its own slots, in storage order; not when the two sites share
           // more than this edge (tiny diagrams: that cell computes it in place).
