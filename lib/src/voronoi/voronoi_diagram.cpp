@@ -240,18 +240,6 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
   parallel_chunks(order_.size(), 4096, threads, stars);
 }
 
-std::span<const TriId> VoronoiDiagram::cell_vertices(SiteId s) const {
-  if (kind_ != Kind::Cells || !has_cell(s)) return {};
-  return {cell_tris_.data() + cells_[s].begin, cell_tris_.data() + cells_[s].end};
-}
-
-std::span<const SiteId> VoronoiDiagram::cell_neighbors(SiteId s) const {
-  if (!has_cell(s)) return {};
-  if (kind_ == Kind::Hemispheres) return {s == pair_[0] ? &pair_[1] : &pair_[0], 1};
-  if (kind_ != Kind::Cells) return {};
-  return {cell_nbrs_.data() + cells_[s].begin, cell_nbrs_.data() + cells_[s].end};
-}
-
 void VoronoiDiagram::prefetch(SiteId s, int stage) const {
   if (kind_ != Kind::Cells || s >= cells_.size()) return;
   if (stage == 0) {

@@ -79,10 +79,18 @@ class VoronoiDiagram {
   std::vector<Vec3> release_vertices() { return std::move(vertices_); }
   /// The triangles around s, counter-clockwise: the ids of the vertices of its cell, in order.
   /// Empty unless kind() == Kind::Cells and has_cell(s).
-  std::span<const TriId> cell_vertices(SiteId s) const;
+  std::span<const TriId> cell_vertices(SiteId s) const {
+    if (kind_ != Kind::Cells || !has_cell(s)) return {};
+    return {cell_tris_.data() + cells_[s].begin, cell_tris_.data() + cells_[s].end};
+  }
   /// The neighbour across each edge (vertex i to vertex i + 1, cyclically); with two sites, the
   /// other site. Same length as cell_vertices(s) when kind() == Kind::Cells.
-  std::span<const SiteId> cell_neighbors(SiteId s) const;
+  std::span<const SiteId> cell_neighbors(SiteId s) const {
+    if (!has_cell(s)) return {};
+    if (kind_ == Kind::Cells) return {cell_nbrs_.data() + cells_[s].begin, cell_nbrs_.data() + cells_[s].end};
+    if (kind_ == Kind::Hemispheres) return {s == pair_[0] ? &pair_[1] : &pair_[0], 1};
+    return {};
+  }
   /// Kind::Hemispheres only: the unit normal of the bisector plane pointing into the cell of s,
   /// normalize(site(s) - site(other)); the cell is {p : dot(p, n) >= 0}.
   Vec3 hemisphere_normal(SiteId s) const;
