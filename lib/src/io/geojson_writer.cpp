@@ -121,7 +121,10 @@ class GeoJsonEncoder final : public FeatureEncoder {
     const std::optional<BBox> box = geojson_bbox(geometry);
     std::string& t = out.text;
     const std::size_t old_size = t.size();
-    t.resize(old_size + kFeatureFrameChars + keys_chars_ + values_bound + kBBoxChars + geometry_bound(geometry));
+    // Coordinates are within [-180, 180] here (geometry_problem): coordinate_chars_bound.
+    const std::size_t coordinate_chars = static_cast<std::size_t>(coordinate_chars_bound(precision_));
+    t.resize(old_size + kFeatureFrameChars + keys_chars_ + values_bound + (4 * coordinate_chars + 8) +
+             geometry_bound(geometry, 2 * coordinate_chars + 4));
     char* p = t.data() + old_size;
     // Every feature of a collection starts with its separator; the writer drops the first one.
     if (framing_ == GeoJsonFraming::RecordSeparated) *p++ = '\x1e';
@@ -157,7 +160,6 @@ class GeoJsonEncoder final : public FeatureEncoder {
   // literals of encode_with(): 2 + 17 + 6 + 8 + 15 + 13 + 2 characters, rounded up).
   static constexpr std::size_t kFeatureFrameChars = 80;
   static constexpr std::size_t kBBoxChars = 4 * kMaxCoordinateChars + 8;
-  static constexpr std::size_t kPositionChars = 2 * kMaxCoordinateChars + 4;  // [x,y],
 
   // Copies a string literal without its terminating zero; returns the end.
   template <std::size_t N>
@@ -182,17 +184,17 @@ class GeoJsonEncoder final : public FeatureEncoder {
     return put_text(p, "null");
   }
 
-  // Longest text put_geometry() writes for g.
-  static std::size_t geometry_bound(const Geometry& g) {
+  // Longest text put_geometry() writes for g, a position taking at most position_chars ([x,y],).
+  static std::size_t geometry_bound(const Geometry& g, std::size_t position_chars) {
     constexpr std::size_t kHead = 48;  // {"type":"MultiLineString","coordinates":[ ... ]}
-    if (std::holds_alternative<LonLat>(g)) return kHead + kPositionChars;
+    if (std::holds_alternative<LonLat>(g)) return kHead + position_chars;
     std::size_t n = kHead;
     if (const auto* lines = std::get_if<MultiLineString>(&g)) {
-      for (const LineString& line : *lines) n += 3 + line.size() * kPositionChars;
+      for (const LineString& line : *lines) n += 3 + line.size() * position_chars;
     } else {
       for (const Polygon& poly : std::get<MultiPolygon>(g)) {
-        n += 3 + 3 + poly.exterior.size() * kPositionChars;
-        for (const Ring& hole : poly.holes) n += 3 + hole.size() * kPositionChars;
+        n += 3 + 3 + poly.exterior.size() * position_chars;
+        for (const Ring& hole : poly.holes) n += 3 + hole.size() * position_chars;
       }
     }
     return n;

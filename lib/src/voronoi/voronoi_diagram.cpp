@@ -52,9 +52,10 @@ Vec3 VoronoiDiagram::circumcenter(const Vec3& a, const Vec3& b, const Vec3& c) {
   // away gave a vertex 4e-10 radians (3 mm) off their bisector, across the braid of their
   // lunes' tips (the sides' chords crossed there).
   const Vec3 ab = b - a, bc = c - b, ca = a - c;
-  const Vec3 from[3] = {ab, bc, ca}, to[3] = {ca, ab, bc};  // the corner's sides: from, -to
+  // The corner's sides: u out of it, -w into it (selected, not indexed: no copies through memory).
   const int k = corner_opposite_longest(norm2(ab), norm2(bc), norm2(ca));
-  const Vec3 u = from[k], w = -1.0 * to[k];
+  const Vec3 u = k == 0 ? ab : k == 1 ? bc : ca;
+  const Vec3 w = -1.0 * (k == 0 ? ca : k == 1 ? ab : bc);
   Vec3 n = cross(u, w);
   // A sliver (sides within 1e-4 radians of parallel): the products cancel, and the plain cross
   // product loses its digits (the vertices of thin lunes of sites on one meridian, centimetres

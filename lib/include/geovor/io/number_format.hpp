@@ -7,6 +7,10 @@ namespace geovor {
 
 /// Largest number of characters format_coordinate() writes.
 inline constexpr int kMaxCoordinateChars = 40;
+/// Largest number of characters format_coordinate() writes (past the returned end too) for a
+/// value of magnitude at most 180 (a longitude or latitude) at `precision` decimals (0 to 17):
+/// a sign, three digits, the point, and the decimals or the 8 written at once when fewer.
+constexpr int coordinate_chars_bound(int precision) { return 5 + (precision > 8 ? precision : 8); }
 /// Largest number of characters format_real() writes.
 inline constexpr int kMaxRealChars = 32;
 
