@@ -201,7 +201,7 @@ double area_from_edges(const Ring& ring) {
   geodesic_s12(edges, s12);
   CompensatedSum sum;
   sum += sum_s12(s12);
-  return ring_area_m2(sum, crossings, planar_area_deg2(ring));
+  return ring_area_m2(sum, crossings, ring);
 }
 
 double tolerance_m2(double area) { return 1e-9 * std::fabs(area) + 0.25; }

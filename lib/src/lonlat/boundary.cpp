@@ -191,12 +191,16 @@ BBox box_of(const MultiPolygon& out, Lons lons) {
 
 // Closes `pts` (lon/lat, already in [-180, 180]) into a ring: no consecutive duplicates, exact
 // copy of the first position at the end, counter-clockwise. Returns false if degenerate.
-bool finish_ring(Ring& ring) {
-  std::size_t w = 0;
-  for (std::size_t i = 0; i < ring.size(); ++i)
-    if (w == 0 || !(ring[i] == ring[w - 1])) ring[w++] = ring[i];
-  while (w > 1 && ring[w - 1] == ring[0]) --w;
-  ring.resize(w);
+// distinct: no two consecutive positions are equal already, cyclically.
+bool finish_ring(Ring& ring, bool distinct) {
+  std::size_t w = ring.size();
+  if (!distinct) {
+    w = 0;
+    for (std::size_t i = 0; i < ring.size(); ++i)
+      if (w == 0 || !(ring[i] == ring[w - 1])) ring[w++] = ring[i];
+    while (w > 1 && ring[w - 1] == ring[0]) --w;
+    ring.resize(w);
+  }
   if (w < 3) return false;
   ring.push_back(ring[0]);
   const double a = planar_area_deg2(ring);
@@ -220,7 +224,8 @@ void append_piece(MultiPolygon& out, std::size_t& used, const std::vector<P>& pt
     // Only the antimeridian (lon -180 one sheet up) may leave [-180, 180); clamp rounding noise.
     r[i] = {std::clamp(pts[i].lon + 360.0 * (k - sheet), -180.0, 180.0), pts[i].lat};
   }
-  if (finish_ring(r)) ++used;
+  // A loop of Pt (polygons_of's usual cell) has no equal neighbours left, and is written as it is.
+  if (finish_ring(r, std::is_same_v<P, Pt>)) ++used;
 }
 
 }  // namespace

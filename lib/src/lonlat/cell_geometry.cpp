@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -681,7 +682,13 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
   std::vector<std::uint32_t>& keep_lon = scratch<std::uint32_t>();  // loop_to_polygons' keep_lon
   loop.clear();
   keep_lon.clear();
-  Densifier dens(options_.densify_m, options_.max_step_deg, options_.max_depth, edge, options_.precision);
+  // Made when an edge is densified here (its constructor's powers cost more than a cell's
+  // usual work: the edges were densified at construction).
+  std::optional<Densifier> densifier;
+  auto dens = [&]() -> Densifier& {
+    if (!densifier) densifier.emplace(options_.densify_m, options_.max_step_deg, options_.max_depth, edge, options_.precision);
+    return *densifier;
+  };
 
   if (vd.kind() == VoronoiDiagram::Kind::Hemispheres) {
     // The bisector circle as four quarter arcs, computed for the smaller site id and reversed
@@ -701,7 +708,7 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
       const Pt a = make_pt(q[i], options_.precision), b = make_pt(q[(i + 1) % 4], options_.precision);
       loop.push_back(a);
       edge.clear();
-      dens.edge(a, b, left, right, norm2(left - right));
+      dens().edge(a, b, left, right, norm2(left - right));
       loop.insert(loop.end(), edge.begin(), edge.end());
     }
     if (s != lo) std::reverse(loop.begin(), loop.end());
@@ -750,8 +757,8 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
         guards.clear();
         if ((va.flags | vb.flags) & (kCap | kNearPole))
           edge_guards(std::min(s, w), std::max(s, w), forward ? va : vb, forward ? vb : va, guards);
-        dens.set_guards(guards);
-        dens.edge(from, to, vd.site(std::min(s, w)), vd.site(std::max(s, w)), std::min(va.min_side2, vb.min_side2));
+        dens().set_guards(guards);
+        dens().edge(from, to, vd.site(std::min(s, w)), vd.site(std::max(s, w)), std::min(va.min_side2, vb.min_side2));
         if (forward)
           loop.insert(loop.end(), edge.begin(), edge.end());
         else
@@ -776,7 +783,7 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
       bool same = out.size() == 1 && out[0].holes.empty() && out[0].exterior.size() == loop.size() + 1;
       for (std::size_t j = 0; same && j < loop.size(); ++j)
         same = out[0].exterior[j].lon_deg == loop[j].lon && out[0].exterior[j].lat_deg == loop[j].lat;
-      *area_m2 = same ? ring_area_m2(area_sum, area_crossings, planar_area_deg2(out[0].exterior))
+      *area_m2 = same ? ring_area_m2(area_sum, area_crossings, out[0].exterior)
                       : ellipsoid_area_m2(out);
       return check_near_pole(s, info.near_pole, out, bbox, *area_m2);
     }

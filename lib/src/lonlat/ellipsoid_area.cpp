@@ -363,7 +363,7 @@ double sum_s12(std::span<const double> s12) {
   return acc();
 }
 
-double ring_area_m2(CompensatedSum sum, int crossings, double planar_deg2) {
+double ring_area_m2(CompensatedSum sum, int crossings, const Ring& ring) {
   const double whole = GeographicLib::Geodesic::WGS84().EllipsoidArea();
   sum.remainder(whole);
   if (crossings & 1) sum += (sum < 0 ? 1 : -1) * whole / 2;
@@ -373,7 +373,7 @@ double ring_area_m2(CompensatedSum sum, int crossings, double planar_deg2) {
   else if (sum <= -whole / 2)
     sum += whole;
   double area = 0 + sum();
-  if (area < 0 && std::fabs(planar_deg2) > 10000) area += whole;
+  if (area < 0 && std::fabs(planar_area_deg2(ring)) > 10000) area += whole;
   return area;
 }
 

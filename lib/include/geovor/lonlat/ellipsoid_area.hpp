@@ -100,10 +100,11 @@ inline int prime_meridian_transit(double lon1_deg, double lon2_deg) {
 /// sums them.
 double sum_s12(std::span<const double> s12_m2);
 
-/// The area (m^2) of a ring from its S12 sum and its prime-meridian crossings:
+/// The area (m^2) of `ring` from its S12 sum and its prime-meridian crossings:
 /// PolygonArea::Compute(reverse = false, sign = true) negated (counter-clockwise is positive),
 /// then ellipsoid_area_m2's rule for a ring larger than half the ellipsoid (a negative area
-/// with |planar_deg2| > 10000 square degrees is the ellipsoid minus the ring).
-double ring_area_m2(CompensatedSum s12_sum, int crossings, double planar_deg2);
+/// with |planar_area_deg2(ring)| > 10000 square degrees is the ellipsoid minus the ring; the
+/// planar area is computed only then).
+double ring_area_m2(CompensatedSum s12_sum, int crossings, const Ring& ring);
 
 }  // namespace geovor
