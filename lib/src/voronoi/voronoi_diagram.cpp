@@ -94,6 +94,31 @@ Vec3 VoronoiDiagram::arc_midpoint(const Vec3& a, const Vec3& b, const Vec3& axis
   return normalized(std::cos(theta / 2) * a + std::sin(theta / 2) * t);
 }
 
+namespace {
+
+// 2 atan(det / den), the solid angle of a triangle from Van Oosterom and Strackee's quotient.
+inline double solid_angle(double det, double den) {
+  if (den > 0 && std::fabs(det) <= kSmallAngleMax * den) return 2 * atan_small(det / den);
+  return 2 * std::atan2(det, den);
+}
+
+// triangle_area_sr(apex, b, c)'s det and den bit for bit, given what depends on one corner only:
+// db = b - apex, dc = c - apex, their squared lengths nb, nc, and sb = apex.b, sc = apex.c (a
+// fan's triangles share them), and bc_dot = b.c.
+inline void fan_triangle_quotient(const Vec3& apex, const Vec3& b, const Vec3& c, const Vec3& db, const Vec3& dc,
+                                  double nb, double nc, double sb, double sc, double bc_dot, double& det,
+                                  double& den) {
+  // As triangle_area_sr with a = apex: ab = db, ca = -dc (negation is exact), |ca|^2 = nc.
+  const Vec3 bc = c - b, ca = -1.0 * dc;
+  const Vec3* const corner[3] = {&apex, &b, &c};
+  const Vec3 from[3] = {db, bc, ca}, to[3] = {ca, db, bc};
+  const int k = corner_opposite_longest(nb, norm2(bc), nc);
+  det = dot(*corner[k], cross(from[k], -1.0 * to[k]));
+  den = 1 + sb + bc_dot + sc;
+}
+
+}  // namespace
+
 double VoronoiDiagram::triangle_area_sr(const Vec3& a, const Vec3& b, const Vec3& c) {
   // tan(omega / 2) = det(a, b, c) / (1 + a.b + b.c + c.a): atan2 keeps the full range (-2pi, 2pi);
   // the small triangles of most cells take the polynomial instead (same value within an ulp).
@@ -105,9 +130,7 @@ double VoronoiDiagram::triangle_area_sr(const Vec3& a, const Vec3& b, const Vec3
   const Vec3 from[3] = {ab, bc, ca}, to[3] = {ca, ab, bc};  // the corner's sides: from, -to
   const int k = corner_opposite_longest(norm2(ab), norm2(bc), norm2(ca));
   const double det = dot(*corner[k], cross(from[k], -1.0 * to[k]));
-  const double den = 1 + dot(a, b) + dot(b, c) + dot(c, a);
-  if (den > 0 && std::fabs(det) <= kSmallAngleMax * den) return 2 * atan_small(det / den);
-  return 2 * std::atan2(det, den);
+  return solid_angle(det, 1 + dot(a, b) + dot(b, c) + dot(c, a));
 }
 
 VoronoiDiagram::VoronoiDiagram(const SphericalDelaunay& dt, unsigned threads) { assign(dt, threads); }
@@ -299,17 +322,35 @@ double VoronoiDiagram::cell_area_sr(SiteId s) const {
     }
     if (norm2(sum) > 1e-6) apex = normalized(sum);
   }
+  // The fan's triangles share their sides from the apex: each vertex's difference, squared
+  // length and product with the apex are computed once (fan_triangle_quotient).
+  struct Corner {
+    Vec3 d;
+    double n, s;
+  };
+  auto corner = [&apex](const Vec3& v) {
+    const Vec3 dv = v - apex;
+    return Corner{dv, norm2(dv), dot(apex, v)};
+  };
+  const Vec3& first = vertices_[tris[0]];
+  const Corner first_corner = corner(first);
+  Corner here = first_corner;
   double area = 0;
   for (std::size_t i = 0; i < d; ++i) {
     const Vec3& a = vertices_[tris[i]];
-    const Vec3& b = vertices_[tris[i + 1 == d ? 0 : i + 1]];
-    if (dot(a, b) < 0) {
+    const Vec3& b = i + 1 == d ? first : vertices_[tris[i + 1]];
+    const Corner next = i + 1 == d ? first_corner : corner(b);
+    const double ab_dot = dot(a, b);
+    if (ab_dot < 0) {
       // Long edge: two halves, so that no fan triangle has a side near 180 degrees.
       const Vec3 m = half(i, a, b);
       area += triangle_area_sr(apex, a, m) + triangle_area_sr(apex, m, b);
     } else {
-      area += triangle_area_sr(apex, a, b);
+      double det, den;
+      fan_triangle_quotient(apex, a, b, here.d, next.d, here.n, next.n, here.s, next.s, ab_dot, det, den);
+      area += solid_angle(det, den);
     }
+    here = next;
   }
   return area;
 }
