@@ -12,6 +12,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace geovor {
 namespace {
@@ -88,6 +89,27 @@ TEST(FormatCoordinate, MatchesToCharsFixed) {
       if (!std::isfinite(v) || std::abs(v) >= 4503599627370496.0) continue;
     }
     ASSERT_EQ(coord(v, p), reference(v, p)) << v << " precision " << p;
+  }
+}
+
+// The GeoJSON encoder makes room per coordinate by coordinate_chars_bound: for a longitude or a
+// latitude, format_coordinate writes nothing past it (its end included: it may write ahead).
+TEST(FormatCoordinate, WritesWithinItsBoundForLonLat) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> deg(-180, 180);
+  std::vector<double> values = {180, -180, 179.99999999999997, -179.99999999999997, 100, -100, 99.99999999,
+                                -0.0, 0, 5e-324, 1e-300, 0.5, 123.456789012345678, -92.00000000000001};
+  for (int i = 0; i < 20000; ++i) values.push_back(i % 2 ? deg(rng) : std::ldexp(deg(rng), -static_cast<int>(rng() % 40)));
+  for (int p = 0; p <= 17; ++p) {
+    const int bound = coordinate_chars_bound(p);
+    ASSERT_LE(bound, kMaxCoordinateChars);
+    for (const double v : values) {
+      char buf[2 * kMaxCoordinateChars];
+      std::memset(buf, '#', sizeof buf);
+      char* end = format_coordinate(buf, v, p);
+      ASSERT_EQ(std::string(buf, end), reference(v, p)) << v << " precision " << p;
+      for (int k = bound; k < static_cast<int>(sizeof buf); ++k) ASSERT_EQ(buf[k], '#') << v << " precision " << p;
+    }
   }
 }
 
