@@ -102,19 +102,24 @@ inline double solid_angle(double det, double den) {
   return 2 * std::atan2(det, den);
 }
 
-// triangle_area_sr(apex, b, c)'s det and den bit for bit, given what depends on one corner only:
-// db = b - apex, dc = c - apex, their squared lengths nb, nc, and sb = apex.b, sc = apex.c (a
-// fan's triangles share them), and bc_dot = b.c.
-inline void fan_triangle_quotient(const Vec3& apex, const Vec3& b, const Vec3& c, const Vec3& db, const Vec3& dc,
-                                  double nb, double nc, double sb, double sc, double bc_dot, double& det,
-                                  double& den) {
-  // As triangle_area_sr with a = apex: ab = db, ca = -dc (negation is exact), |ca|^2 = nc.
-  const Vec3 bc = c - b, ca = -1.0 * dc;
-  const Vec3* const corner[3] = {&apex, &b, &c};
-  const Vec3 from[3] = {db, bc, ca}, to[3] = {ca, db, bc};
-  const int k = corner_opposite_longest(nb, norm2(bc), nc);
-  det = dot(*corner[k], cross(from[k], -1.0 * to[k]));
-  den = 1 + sb + bc_dot + sc;
+// det(a, b, c) at the corner opposite the longest side (triangle_area_sr), from the sides
+// ab = b - a, bc = c - b, ca = a - c and their squared lengths.
+inline double det_at_shortest_sides(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& ab, const Vec3& bc,
+                                    const Vec3& ca, double lab, double lbc, double lca) {
+  const Vec3* const corner[3] = {&a, &b, &c};
+  const Vec3 from[3] = {ab, bc, ca}, to[3] = {ca, ab, bc};  // the corner's sides: from, -to
+  const int k = corner_opposite_longest(lab, lbc, lca);
+  return dot(*corner[k], cross(from[k], -1.0 * to[k]));
+}
+
+// triangle_area_sr(apex, b, c) bit for bit, given what depends on one corner only: db = b - apex,
+// dc = c - apex, their squared lengths nb, nc, and sb = apex.b, sc = apex.c (a fan's triangles
+// share them), and bc_dot = b.c. As triangle_area_sr with a = apex: ab = db, ca = -dc (negation
+// is exact), |ca|^2 = nc.
+inline double fan_triangle_area_sr(const Vec3& apex, const Vec3& b, const Vec3& c, const Vec3& db, const Vec3& dc,
+                                   double nb, double nc, double sb, double sc, double bc_dot) {
+  const Vec3 bc = c - b;
+  return solid_angle(det_at_shortest_sides(apex, b, c, db, bc, -1.0 * dc, nb, norm2(bc), nc), 1 + sb + bc_dot + sc);
 }
 
 }  // namespace
@@ -126,11 +131,8 @@ double VoronoiDiagram::triangle_area_sr(const Vec3& a, const Vec3& b, const Vec3
   // sides there are exact differences for a small triangle and not nearly parallel for a
   // sliver, so det keeps its digits (a . (b x c) lost them all below 1e-15 sr).
   const Vec3 ab = b - a, bc = c - b, ca = a - c;
-  const Vec3* const corner[3] = {&a, &b, &c};
-  const Vec3 from[3] = {ab, bc, ca}, to[3] = {ca, ab, bc};  // the corner's sides: from, -to
-  const int k = corner_opposite_longest(norm2(ab), norm2(bc), norm2(ca));
-  const double det = dot(*corner[k], cross(from[k], -1.0 * to[k]));
-  return solid_angle(det, 1 + dot(a, b) + dot(b, c) + dot(c, a));
+  return solid_angle(det_at_shortest_sides(a, b, c, ab, bc, ca, norm2(ab), norm2(bc), norm2(ca)),
+                     1 + dot(a, b) + dot(b, c) + dot(c, a));
 }
 
 VoronoiDiagram::VoronoiDiagram(const SphericalDelaunay& dt, unsigned threads) { assign(dt, threads); }
@@ -323,7 +325,7 @@ double VoronoiDiagram::cell_area_sr(SiteId s) const {
     if (norm2(sum) > 1e-6) apex = normalized(sum);
   }
   // The fan's triangles share their sides from the apex: each vertex's difference, squared
-  // length and product with the apex are computed once (fan_triangle_quotient).
+  // length and product with the apex are computed once (fan_triangle_area_sr).
   struct Corner {
     Vec3 d;
     double n, s;
@@ -346,9 +348,7 @@ double VoronoiDiagram::cell_area_sr(SiteId s) const {
       const Vec3 m = half(i, a, b);
       area += triangle_area_sr(apex, a, m) + triangle_area_sr(apex, m, b);
     } else {
-      double det, den;
-      fan_triangle_quotient(apex, a, b, here.d, next.d, here.n, next.n, here.s, next.s, ab_dot, det, den);
-      area += solid_angle(det, den);
+      area += fan_triangle_area_sr(apex, a, b, here.d, next.d, here.n, next.n, here.s, next.s, ab_dot);
     }
     here = next;
   }
