@@ -205,3 +205,103 @@ TEST(Predicates, StatsCountTheExactStage) {
 
 }  // namespace
 }  // namespace geovor::kernel
+
+namespace geovor::kernel {
+namespace {
+
+// The lifted point p / c as an exact rational.
+std::array<Q, 3> lifted(const Vec3& p, double c) { return {Q(p.x) / Q(c), Q(p.y) / Q(c), Q(p.z) / Q(c)}; }
+
+// perturbed_oracle on the lifted points: radial motion q (1 + er), then the axis motions.
+int perturbed_weighted_oracle(const std::array<Vec3, 4>& pts, const std::array<double, 4>& c,
+                              const std::array<std::uint32_t, 4>& prio) {
+  std::array<int, 4> rank{};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) rank[i] += prio[j] < prio[i];
+  std::array<std::array<Q, 3>, 4> moved;
+  for (int i = 0; i < 4; ++i) {
+    auto p = lifted(pts[i], c[i]);
+    const Q er = pow2neg(24 << (0 + rank[i]));
+    const Q ez = pow2neg(24 << (4 + rank[i]));
+    const Q ey = pow2neg(24 << (8 + rank[i]));
+    const Q ex = pow2neg(24 << (12 + rank[i]));
+    moved[i] = {p[0] + p[0] * er + ex, p[1] + p[1] * er + ey, p[2] + p[2] * er + ez};
+  }
+  return exact_in_sphere(moved[0], moved[1], moved[2], moved[3]);
+}
+
+TEST(WeightedPredicates, InSphereMatchesTheExactLiftedOrientation) {
+  std::mt19937_64 rng(21);
+  const auto pts = testing::uniform_on_sphere(200, 4);
+  const auto near = testing::clustered(200, 3, 1e-7, 5);  // nearly degenerate: tiny triangles
+  std::uniform_real_distribution<double> radius(0.0, 1.5);
+  int decided_by_exact_stage = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const auto& set = trial % 2 ? near : pts;
+    std::array<Vec3, 4> p;
+    std::array<double, 4> c;
+    for (int i = 0; i < 4; ++i) {
+      p[i] = set[rng() % set.size()];
+      // Equal lifts, lifts one ulp apart, and random ones.
+      c[i] = trial % 3 == 0 ? 0.75 : (trial % 3 == 1 ? std::nextafter(0.75, i % 2 ? 1.0 : 0.0) : std::cos(radius(rng)));
+    }
+    const int exact = exact_in_sphere(lifted(p[0], c[0]), lifted(p[1], c[1]), lifted(p[2], c[2]), lifted(p[3], c[3]));
+    reset_predicate_stats();
+    ASSERT_EQ(sgn(in_sphere_weighted(p[0], c[0], p[1], c[1], p[2], c[2], p[3], c[3])), exact) << trial;
+    decided_by_exact_stage += predicate_stats().in_sphere_exact > 0;
+    if (c[0] == c[1] && c[1] == c[2] && c[2] == c[3]) EXPECT_EQ(exact, sgn(in_sphere_sign(p[0], p[1], p[2], p[3])));
+  }
+  EXPECT_GT(decided_by_exact_stage, 0);  // the filter's bound is exercised
+}
+
+TEST(WeightedPredicates, PerturbationIsTheSignOfAnActualSmallMotionOfTheLiftedPoints) {
+  std::mt19937_64 rng(12);
+  const auto circle = testing::on_great_circle(40, 3);  // every quad on a plane through O: axis terms
+  const auto cube = testing::cube_corners();            // co-circular with equal lifts: radial terms
+  std::uniform_real_distribution<double> radius(0.0, 1.0);
+  int checked = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    const bool on_circle = trial % 2 == 0;
+    std::array<Vec3, 4> p;
+    std::array<double, 4> c;
+    std::array<std::uint32_t, 4> prio;
+    const double common = std::cos(radius(rng));
+    for (int i = 0; i < 4; ++i) {
+      const std::uint32_t k = static_cast<std::uint32_t>(rng() % (on_circle ? circle.size() : cube.size()));
+      p[i] = on_circle ? circle[k] : cube[k];
+      c[i] = on_circle ? std::cos(radius(rng)) : common;
+      prio[i] = k;
+    }
+    if (prio[0] == prio[1] || prio[0] == prio[2] || prio[0] == prio[3] || prio[1] == prio[2] ||
+        prio[1] == prio[3] || prio[2] == prio[3])
+      continue;
+    if (in_sphere_weighted(p[0], c[0], p[1], c[1], p[2], c[2], p[3], c[3]) != Sign::Zero) continue;
+    const Sign got = perturbed_in_sphere_weighted(p[0], c[0], prio[0], p[1], c[1], prio[1], p[2], c[2], prio[2],
+                                                  p[3], c[3], prio[3]);
+    ASSERT_NE(got, Sign::Zero);
+    EXPECT_EQ(sgn(got), perturbed_weighted_oracle(p, c, prio)) << trial;
+    if (!on_circle)  // equal lifts break ties as the unweighted test does
+      EXPECT_EQ(got, perturbed_in_sphere(p[0], prio[0], p[1], prio[1], p[2], prio[2], p[3], prio[3]));
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
+TEST(WeightedPredicates, ComparePowerMatchesExact) {
+  std::mt19937_64 rng(6);
+  const auto pts = testing::uniform_on_sphere(300, 10);
+  std::uniform_real_distribution<double> radius(0.0, 1.5);
+  for (int trial = 0; trial < 20000; ++trial) {
+    const Vec3 x = pts[rng() % pts.size()], a = pts[rng() % pts.size()];
+    Vec3 b = pts[rng() % pts.size()];
+    const double ca = std::cos(radius(rng));
+    double cb = std::cos(radius(rng));
+    if (trial % 4 == 0) b = a, cb = ca;  // an exact tie
+    const auto xq = q3(x), aq = lifted(a, ca), bq = lifted(b, cb);
+    const Q exact = xq[0] * (aq[0] - bq[0]) + xq[1] * (aq[1] - bq[1]) + xq[2] * (aq[2] - bq[2]);
+    ASSERT_EQ(sgn(compare_power(x, a, ca, b, cb)), sgn(exact)) << trial;
+  }
+}
+
+}  // namespace
+}  // namespace geovor::kernel

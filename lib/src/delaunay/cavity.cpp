@@ -4,6 +4,7 @@
 #include "delaunay/cavity.hpp"
 
 #include <algorithm>
+#include <functional>
 
 #include "delaunay/conflict.hpp"
 #include "geovor/core/assert.hpp"
@@ -78,8 +79,8 @@ bool SphericalDelaunay::find_cavity_filtered(const Vec3& p, TriId seed) {
   return true;
 }
 
-void SphericalDelaunay::find_cavity(const Vec3& p, std::uint32_t prio, TriId seed) {
-  if (find_cavity_filtered(p, seed)) return;
+void SphericalDelaunay::find_cavity(const Vec3& p, double c, std::uint32_t prio, TriId seed) {
+  if (lifts_.empty() && find_cavity_filtered(p, seed)) return;
   // tested_ holds the triangles place() found not in conflict; they are still marked.
   // Grow the set of triangles in conflict with p (connected: the faces of the hull visible from
   // p), breadth first with cavity_ as the queue, marking faces so each is tested once.
@@ -103,7 +104,7 @@ void SphericalDelaunay::find_cavity(const Vec3& p, std::uint32_t prio, TriId see
       const SiteId u0 = tri[3 * u], u1 = tri[3 * u + 1];
       if (u0 & kMark) continue;  // in the cavity: an inner edge
       if (!(u1 & kMark)) {       // not tested before
-        if (in_conflict(u, p, prio)) {
+        if (in_conflict(u, p, c, prio)) {
           tri[3 * u] = u0 | kMark;
           if (nc == cap_c) cavity = grow(cavity_), cap_c = cavity_.size();
           cavity[nc++] = u;
@@ -129,17 +130,19 @@ void SphericalDelaunay::abandon_cavity() {
 }
 
 void SphericalDelaunay::fill_cavity(SiteId s) {
-  GEOVOR_ASSERT(num_boundary_ == num_cavity_ + 2);
+  // A disk of nc triangles with h vertices inside has nb = nc + 2 - 2h boundary edges (Euler);
+  // h > 0 only for weighted sites, whose inner vertices hide_cavity_interior() has hidden.
+  const std::size_t nb = num_boundary_, nc = num_cavity_;
+  GEOVOR_ASSERT(nb <= nc + 2 && (nc + 2 - nb) % 2 == 0 && (nb == nc + 2 || !lifts_.empty()));
   // Replace the cavity by the fan of triangles (a, b, s), one per boundary edge a -> b, reusing
-  // the cavity's slots and adding two.
+  // the cavity's slots and adding two (fewer when vertices were hidden).
   const TriId first_new = static_cast<TriId>(num_triangles());
-  triangles_.resize(triangles_.size() + 6);
-  halfedges_.resize(halfedges_.size() + 6);
-  const std::size_t nb = num_boundary_;
+  const std::size_t added = nb > nc ? nb - nc : 0;
+  triangles_.resize(triangles_.size() + 3 * added);
+  halfedges_.resize(halfedges_.size() + 3 * added);
   if (nb > cavity_.size()) grow(cavity_);
   TriId* const slot = cavity_.data();  // slot[k]: the triangle of the k-th fan triangle
-  slot[num_cavity_] = first_new;
-  slot[num_cavity_ + 1] = first_new + 1;
+  for (std::size_t k = 0; k < added; ++k) slot[nc + k] = first_new + static_cast<TriId>(k);
   const CavityEdge* const bnd = boundary_.data();
   SiteId* const tri = triangles_.data();
   HalfedgeId* const twin = halfedges_.data();
@@ -163,6 +166,20 @@ void SphericalDelaunay::fill_cavity(SiteId s) {
   // The last boundary edges found lie farthest from the seed, which faces the previous site: the
   // next site, further along the curve, is most often in conflict with the fan triangles there.
   site_edge[s] = 3 * slot[nb - 1] + 2;
+  if (nc > nb) remove_spare_slots(nb);
+}
+
+void SphericalDelaunay::remove_spare_slots(std::size_t first_spare) {
+  // The cavity's slots past the fan are freed; the last triangles of the arrays move into them.
+  std::vector<TriId> spare(cavity_.begin() + static_cast<std::ptrdiff_t>(first_spare),
+                           cavity_.begin() + static_cast<std::ptrdiff_t>(num_cavity_));
+  std::sort(spare.begin(), spare.end(), std::greater<>());
+  for (const TriId t : spare) {
+    const TriId last = static_cast<TriId>(num_triangles() - 1);
+    if (t != last) move_triangle(last, t);
+    triangles_.resize(triangles_.size() - 3);
+    halfedges_.resize(halfedges_.size() - 3);
+  }
 }
 
 }  // namespace geovor

@@ -11,14 +11,21 @@ inline double chord2(const Vec3& a, const Vec3& b) { return norm2(a - b); }
 
 // The hot path is inline and makes no call, so it needs no register spills; the exact and
 // perturbed stages are out of line (insertion.cpp).
-inline bool SphericalDelaunay::in_conflict(TriId t, const Vec3& p, std::uint32_t prio) const {
+inline bool SphericalDelaunay::in_conflict(TriId t, const Vec3& p, double c, std::uint32_t prio) const {
   const SiteId* tri = triangles_.data() + 3 * t;
   const Vec3* s = sites_.data();
-  // Sites and inserted points are unit vectors (checked on input): the static filter applies.
-  const int filtered = kernel::detail::in_sphere_unit_filter(s[tri[0]], s[tri[1]], s[tri[2]], p);
+  int filtered;
+  if (lifts_.empty()) [[likely]] {
+    // Sites and inserted points are unit vectors (checked on input): the static filter applies.
+    filtered = kernel::detail::in_sphere_unit_filter(s[tri[0]], s[tri[1]], s[tri[2]], p);
+  } else {
+    const double* w = lifts_.data();
+    filtered = kernel::detail::in_sphere_weighted_filter(s[tri[0]], w[tri[0]], s[tri[1]], w[tri[1]], s[tri[2]],
+                                                         w[tri[2]], p, c);
+  }
   if (filtered != 0) [[likely]]
     return filtered > 0;
-  return in_conflict_exact(t, p, prio);
+  return in_conflict_exact(t, p, c, prio);
 }
 
 }  // namespace geovor

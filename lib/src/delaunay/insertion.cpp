@@ -13,14 +13,23 @@
 
 namespace geovor {
 
-bool SphericalDelaunay::in_conflict_exact(TriId t, const Vec3& p, std::uint32_t prio) const {
-  const SiteId a = triangles_[3 * t], b = triangles_[3 * t + 1], c = triangles_[3 * t + 2];
+bool SphericalDelaunay::in_conflict_exact(TriId t, const Vec3& p, double c, std::uint32_t prio) const {
+  const SiteId a = triangles_[3 * t], b = triangles_[3 * t + 1], d = triangles_[3 * t + 2];
   // Ties get the perturbation; only now are the priorities needed.
-  return kernel::perturbed_in_sphere(sites_[a], priority(a), sites_[b], priority(b), sites_[c],
-                                     priority(c), p, prio) == Sign::Positive;
+  if (lifts_.empty())
+    return kernel::perturbed_in_sphere(sites_[a], priority(a), sites_[b], priority(b), sites_[d],
+                                       priority(d), p, prio) == Sign::Positive;
+  return kernel::perturbed_in_sphere_weighted(sites_[a], lifts_[a], priority(a), sites_[b], lifts_[b], priority(b),
+                                              sites_[d], lifts_[d], priority(d), p, c, prio) == Sign::Positive;
+}
+
+void SphericalDelaunay::require_unweighted(const char* what) const {
+  if (!lifts_.empty())
+    throw Error(ErrorCode::InvalidArgument, std::string(what) + ": not supported on a triangulation of weighted sites");
 }
 
 InsertResult SphericalDelaunay::insert(const Vec3& p) {
+  require_unweighted("insert");
   touch();
   const double r2 = norm2(p);
   if (!std::isfinite(r2) || std::fabs(r2 - 1.0) > 0x1p-49)
@@ -42,6 +51,7 @@ InsertResult SphericalDelaunay::insert(const Vec3& p) {
 
 InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
   const Vec3& p = sites_[s];
+  const double lift_p = lift(s);
   const std::uint32_t prio = priority(s);
   const double md2 = options_.merge_distance * options_.merge_distance;
   if (num_live_ < 3) {
@@ -61,10 +71,14 @@ InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
     return {s, false, 0, false};
   }
   if (hint == kNoIndex || !alive(hint) || site_edge_[hint] == kNoIndex) hint = any_live_site();
-  const Placement where = place(p, prio, hint);
+  const Placement where = place(p, lift_p, prio, hint);
   if (where.merged_into != kNoIndex) return {where.merged_into, true, where.chord, where.hidden};
-  find_cavity(p, prio, where.conflict);
-  if (num_boundary_ != num_cavity_ + 2) {
+  if (where.conflict == kNoIndex) {  // weighted: p's lifted point is inside the hull
+    hidden_by_[s] = where.hidden_by;
+    return {s, false, 0, true};
+  }
+  find_cavity(p, lift_p, prio, where.conflict);
+  if (num_boundary_ != num_cavity_ + 2 && lifts_.empty()) {
     abandon_cavity();
     // Not a disk: a site is inside the cavity, which only a point on (or extremely near) a site
     // not met so far can cause.
@@ -87,6 +101,8 @@ InsertResult SphericalDelaunay::insert_site(SiteId s, SiteId hint) {
     abandon_cavity();
     return {closest, true, std::sqrt(best), false};
   }
+  // A weighted point can hide vertices: they lie inside its cavity, a disk.
+  if (num_boundary_ != num_cavity_ + 2) hide_cavity_interior(s);
   fill_cavity(s);
   ++num_live_;
   last_site_ = s;
@@ -105,8 +121,24 @@ SiteId SphericalDelaunay::any_live_site() const {
 
 // Greedy walk on the Delaunay graph towards the site maximising dot(p, site): the simplex method
 // on the hull's vertex graph, so a local maximum is the global one. Plain doubles are enough:
-// the result only seeds the exact conflict search.
+// the result only seeds the exact conflict search. Weighted: the same for dot(p, site / lift).
 SiteId SphericalDelaunay::walk_to_nearest(const Vec3& p, SiteId v) const {
+  if (!lifts_.empty()) {
+    double best = dot(p, sites_[v]) / lifts_[v];
+    for (;;) {
+      const HalfedgeId e0 = site_edge_[v];
+      HalfedgeId e = e0;
+      SiteId next = v;
+      do {
+        const SiteId w = triangles_[next_halfedge(e)];
+        const double d = dot(p, sites_[w]) / lifts_[w];
+        if (d > best) best = d, next = w;
+        e = next_around_site(e);
+      } while (e != e0);
+      if (next == v) return v;
+      v = next;
+    }
+  }
   double best = dot(p, sites_[v]);
   for (;;) {
     const HalfedgeId e0 = site_edge_[v];
@@ -123,21 +155,62 @@ SiteId SphericalDelaunay::walk_to_nearest(const Vec3& p, SiteId v) const {
   }
 }
 
-TriId SphericalDelaunay::find_conflict(const Vec3& p, std::uint32_t prio, SiteId near) const {
+TriId SphericalDelaunay::find_conflict(const Vec3& p, double c, std::uint32_t prio, SiteId near) const {
   // The new site's nearest neighbour becomes its Delaunay neighbour, so some triangle around it
-  // is in conflict; the exhaustive search below is only a safety net.
+  // is in conflict; the exhaustive search below is only a safety net. Weighted: so does the site
+  // of largest power when the new site's cell holds its own position, and otherwise a search.
   const HalfedgeId e0 = site_edge_[near];
   HalfedgeId e = e0;
   do {
-    if (in_conflict(tri_of(e), p, prio)) return tri_of(e);
+    if (in_conflict(tri_of(e), p, c, prio)) return tri_of(e);
     e = next_around_site(e);
   } while (e != e0);
+  if (!lifts_.empty()) return search_conflict(p, c, prio, near);
   for (TriId t = 0; t < num_triangles(); ++t)
-    if (in_conflict(t, p, prio)) return t;
+    if (in_conflict(t, p, c, prio)) return t;
   return kNoIndex;
 }
 
-SphericalDelaunay::Placement SphericalDelaunay::place(const Vec3& p, std::uint32_t prio,
+TriId SphericalDelaunay::search_conflict(const Vec3& p, double c, std::uint32_t prio, SiteId near) const {
+  // The triangles in conflict are connected (the faces visible from a point outside a convex
+  // polytope), but need not touch the star of `near`: breadth first from it, the nearest first.
+  std::vector<char> seen(num_triangles(), 0);
+  std::vector<TriId> queue;
+  const HalfedgeId e0 = site_edge_[near];
+  HalfedgeId e = e0;
+  do {
+    seen[tri_of(e)] = 1;
+    queue.push_back(tri_of(e));
+    e = next_around_site(e);
+  } while (e != e0);
+  for (std::size_t k = 0; k < queue.size(); ++k) {
+    const TriId t = queue[k];
+    if (k >= 1 && in_conflict(t, p, c, prio)) return t;
+    for (int j = 0; j < 3; ++j) {
+      const TriId u = tri_of(halfedges_[3 * t + j]);
+      if (!seen[u]) seen[u] = 1, queue.push_back(u);
+    }
+  }
+  return kNoIndex;
+}
+
+void SphericalDelaunay::hide_cavity_interior(SiteId s) {
+  // Interior vertices are those of cavity triangles that start no boundary edge.
+  for (std::size_t k = 0; k < num_boundary_; ++k) site_edge_[boundary_[k].a] = kNoIndex - 2;
+  for (std::size_t k = 0; k < num_cavity_; ++k) {
+    const TriId t = cavity_[k];
+    for (int j = 0; j < 3; ++j) {
+      const SiteId v = triangles_[3 * t + j] & ~kMark;
+      if (site_edge_[v] == kNoIndex - 2 || site_edge_[v] == kRemoved) continue;
+      site_edge_[v] = kRemoved;
+      hidden_by_[v] = s;
+      --num_live_;
+    }
+  }
+  // fill_cavity() sets the boundary vertices' edges again.
+}
+
+SphericalDelaunay::Placement SphericalDelaunay::place(const Vec3& p, double c, std::uint32_t prio,
                                                       SiteId hint) {
   Placement where;
   // Fast path: consecutive sites in a spatial order are near, so the triangles around the last
@@ -149,7 +222,7 @@ SphericalDelaunay::Placement SphericalDelaunay::place(const Vec3& p, std::uint32
   std::size_t nt = 0;
   do {
     const TriId t = tri_of(e);
-    if (in_conflict(t, p, prio)) {
+    if (in_conflict(t, p, c, prio)) {
       where.conflict = t;
       num_tested_ = nt;
       return where;
@@ -166,8 +239,10 @@ SphericalDelaunay::Placement SphericalDelaunay::place(const Vec3& p, std::uint32
   const SiteId v = walk_to_nearest(p, hint);
   const Placement near = nearest_site(p, v);  // its walk starts at the end: no step
   if (near.merged_into != kNoIndex) return near;
-  where.conflict = find_conflict(p, prio, v);
-  if (where.conflict == kNoIndex) {
+  where.conflict = find_conflict(p, c, prio, v);
+  if (where.conflict == kNoIndex && !lifts_.empty()) {
+    where.hidden_by = v;  // a weighted site hidden: v's cell holds p (largest power there)
+  } else if (where.conflict == kNoIndex) {
     // No triangle in conflict: p lies inside the hull, which the minimum separation excludes;
     // it goes into the nearest site all the same, and the report says so.
     where.merged_into = v;

@@ -30,6 +30,7 @@ bool positive(const Vec3& p, const Vec3& q, const Vec3& r) {
 }  // namespace
 
 MoveStats SphericalDelaunay::move(SiteId s, const Vec3& p, const RelocationOptions& options) {
+  require_unweighted("move");
   if (!is_live(s)) throw Error(ErrorCode::InvalidArgument, "move: site " + std::to_string(s) + " is not live");
   if (!is_unit(p)) throw Error(ErrorCode::InvalidArgument, "move: site " + std::to_string(s) + ": not a unit vector");
   GEOVOR_ASSERT(priority_.empty());
@@ -39,6 +40,7 @@ MoveStats SphericalDelaunay::move(SiteId s, const Vec3& p, const RelocationOptio
 }
 
 MoveStats SphericalDelaunay::move_all(std::span<const Vec3> positions, const RelocationOptions& options) {
+  require_unweighted("move_all");
   if (positions.size() != sites_.size())
     throw Error(ErrorCode::InvalidArgument, "move_all: " + std::to_string(positions.size()) +
                                                 " positions for " + std::to_string(sites_.size()) + " site ids");
@@ -366,7 +368,7 @@ bool SphericalDelaunay::relocate_by_flips(SiteId s, const Vec3& p) {
     const TriId th = tri_of(h);
     const int quick = kernel::detail::in_sphere_unit_filter(sites_[triangles_[3 * th]], sites_[triangles_[3 * th + 1]],
                                                             sites_[triangles_[3 * th + 2]], sites_[d]);
-    if (quick < 0 || (quick == 0 && !in_conflict_exact(th, sites_[d], priority(d)))) continue;
+    if (quick < 0 || (quick == 0 && !in_conflict_exact(th, sites_[d], 1.0, priority(d)))) continue;
     const SiteId a = triangles_[h], b = triangles_[next_halfedge(h)], c = triangles_[prev_halfedge(h)];
     // The flip must keep the surface a sphere seen from the centre: both new triangles positively
     // oriented and the new edge not already there. Otherwise undo and reinsert.

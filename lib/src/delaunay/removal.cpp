@@ -13,6 +13,7 @@
 namespace geovor {
 
 void SphericalDelaunay::remove(SiteId s) {
+  require_unweighted("remove");
   if (!is_live(s)) throw Error(ErrorCode::InvalidArgument, "remove: site " + std::to_string(s) + " is not live");
   touch();
   remove_keeping_tolerances(s);

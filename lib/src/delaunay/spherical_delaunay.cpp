@@ -11,6 +11,7 @@
 #include <cstring>
 #include <numeric>
 #include <string>
+#include <tuple>
 
 #include "delaunay/unit_vector.hpp"
 #include "geovor/core/error.hpp"
@@ -71,6 +72,48 @@ std::uint64_t SphericalDelaunay::next_revision() {
 
 SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
                                            const DelaunayOptions& options, BuildReport* report) {
+  return build_sites(points, {}, options, report);
+}
+
+double SphericalDelaunay::lift_of_radius(double r_m, double earth_radius_m) {
+  return std::cos(r_m / earth_radius_m);
+}
+
+SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points, std::span<const double> lifts,
+                                           const DelaunayOptions& options, BuildReport* report) {
+  if (lifts.size() != points.size())
+    throw Error(ErrorCode::InvalidArgument, std::to_string(lifts.size()) + " lifts for " +
+                                                std::to_string(points.size()) + " points");
+  for (std::size_t i = 0; i < lifts.size(); ++i)
+    if (!(lifts[i] > 0 && lifts[i] <= 1))
+      throw Error(ErrorCode::InvalidArgument,
+                  "point " + std::to_string(i) + ": lift " + format_number(lifts[i]) + " is not in (0, 1]");
+  // Equal lifts: the same signs as no lifts (the determinant scales by the lift).
+  const bool equal = std::all_of(lifts.begin(), lifts.end(), [&](double c) { return c == lifts[0]; });
+  return build_sites(points, equal ? std::span<const double>() : lifts, options, report);
+}
+
+namespace {
+// For each input point, the input point of the same position with the smallest lift (the first
+// of them on ties) when that is another one, kNoIndex otherwise.
+std::vector<std::uint32_t> same_position_keeper(std::span<const Vec3> points, std::span<const double> lifts) {
+  std::vector<std::uint32_t> by_pos(points.size());
+  std::iota(by_pos.begin(), by_pos.end(), 0u);
+  auto key = [&](std::uint32_t i) { return std::tuple(points[i].x, points[i].y, points[i].z); };
+  std::sort(by_pos.begin(), by_pos.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return key(a) != key(b) ? key(a) < key(b) : (lifts[a] != lifts[b] ? lifts[a] < lifts[b] : a < b);
+  });
+  std::vector<std::uint32_t> keeper(points.size(), kNoIndex);
+  for (std::size_t k = 1, first = 0; k < by_pos.size(); ++k) {
+    if (key(by_pos[k]) != key(by_pos[first])) first = k;
+    else keeper[by_pos[k]] = by_pos[first];
+  }
+  return keeper;
+}
+}  // namespace
+
+SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, std::span<const double> lifts,
+                                                 const DelaunayOptions& options, BuildReport* report) {
   using Clock = std::chrono::steady_clock;
   const std::size_t n = points.size();
   if (n > kMaxSites)
@@ -106,6 +149,16 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
     dt.sites_[k] = points[order[k]];
   }
   dt.site_edge_.assign(n, kRemoved);  // not inserted yet
+  const bool weighted = !lifts.empty();
+  std::vector<std::uint32_t> keeper, slot_of_input;
+  if (weighted) {
+    keeper = same_position_keeper(points, lifts);
+    dt.lifts_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) dt.lifts_[k] = lifts[order[k]];
+    dt.hidden_by_.assign(n, kNoIndex);
+    slot_of_input.resize(n);
+    for (std::size_t k = 0; k < n; ++k) slot_of_input[order[k]] = static_cast<std::uint32_t>(k);
+  }
   const std::size_t max_tris = n >= 3 ? 2 * n - 4 : 0;
   dt.triangles_.reserve(3 * max_tris);
   dt.halfedges_.reserve(3 * max_tris);
@@ -114,12 +167,28 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
 
   std::vector<Merge> merges;  // input = slot and site = slot until renumbered below
   SiteId hint = kNoIndex;
+  std::vector<SiteId> merged_into;  // weighted: the slot each merged slot went into
+  if (weighted) merged_into.assign(n, kNoIndex);
   for (std::size_t k = 0; k < n; ++k) {
+    if (weighted && keeper[dt.priority_[k]] != kNoIndex) {  // resolved below
+      merges.push_back({static_cast<std::uint32_t>(k), kNoIndex, 0, false});
+      continue;
+    }
     const InsertResult r = dt.insert_site(static_cast<SiteId>(k), hint);
     if (r.merged) {
       merges.push_back({static_cast<std::uint32_t>(k), r.site, r.chord, r.hidden});
-    } else {
+      if (weighted) merged_into[k] = r.site;
+    } else if (!r.hidden) {
       hint = static_cast<SiteId>(k);
+    }
+  }
+  if (weighted) {
+    // A point at another's position goes where that one went (a chain of merges at most).
+    for (Merge& m : merges) {
+      if (m.site != kNoIndex) continue;
+      SiteId t = slot_of_input[keeper[dt.priority_[m.input]]];
+      while (merged_into[t] != kNoIndex) t = merged_into[t];
+      m.site = t;
     }
   }
 
@@ -135,7 +204,7 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
   } else {
     id_of_input.assign(n, kNoIndex);
     for (std::size_t k = 0; k < n; ++k)
-      if (dt.alive(static_cast<SiteId>(k))) id_of_input[input_of_slot[k]] = 0;
+      if (dt.alive(static_cast<SiteId>(k)) || dt.is_hidden(static_cast<SiteId>(k))) id_of_input[input_of_slot[k]] = 0;
     next = 0;
     for (std::size_t i = 0; i < n; ++i)
       if (id_of_input[i] != kNoIndex) id_of_input[i] = next++;
@@ -163,6 +232,7 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
   }
   for (SiteId& s : dt.triangles_) s = new_id[s];
   if (dt.last_site_ != kNoIndex) dt.last_site_ = new_id[dt.last_site_];
+  if (weighted) dt.renumber_weights(new_id, next);
   peak = std::max(peak, dt.memory_bytes() + 2 * n * sizeof(SiteId));
   const auto t2 = Clock::now();
 
@@ -182,11 +252,34 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
     std::sort(merges.begin(), merges.end(),
               [](const Merge& a, const Merge& b) { return a.input < b.input; });
     report->merges = std::move(merges);
+    report->hidden.clear();
+    for (SiteId h = 0; h < dt.hidden_by_.size(); ++h)
+      if (dt.hidden_by_[h] != kNoIndex) report->hidden.push_back({h, dt.hidden_by_[h]});
     report->sort_seconds = std::chrono::duration<double>(t1 - t0).count();
     report->insert_seconds = std::chrono::duration<double>(t2 - t1).count();
     report->peak_bytes = peak;
   }
   return dt;
+}
+
+void SphericalDelaunay::renumber_weights(std::span<const SiteId> new_id, std::size_t num_ids) {
+  std::vector<double> lifts(num_ids);
+  std::vector<SiteId> hidden(num_ids, kNoIndex);
+  for (std::size_t k = 0; k < new_id.size(); ++k) {
+    if (new_id[k] == kNoIndex) continue;
+    lifts[new_id[k]] = lifts_[k];
+    if (hidden_by_[k] != kNoIndex) hidden[new_id[k]] = 0;
+  }
+  lifts_ = std::move(lifts);
+  hidden_by_ = std::move(hidden);
+  // Who hides a site: the live site of largest power at its position, whose cell holds it.
+  const SiteId start = any_live_site();
+  for (SiteId h = 0; h < hidden_by_.size(); ++h)
+    if (hidden_by_[h] != kNoIndex) hidden_by_[h] = start == kNoIndex ? kNoIndex : walk_to_nearest(sites_[h], start);
+}
+
+std::size_t SphericalDelaunay::num_hidden() const {
+  return static_cast<std::size_t>(std::count_if(hidden_by_.begin(), hidden_by_.end(), [](SiteId h) { return h != kNoIndex; }));
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -86,14 +86,14 @@ Validation SphericalDelaunay::validate(const BuildReport* report, bool global) c
     if (tw < e) continue;
     const SiteId d = triangles_[prev_halfedge(tw)];
     if (live == 3) continue;  // the two triangles of three sites share all their vertices
-    if (in_conflict(tri_of(e), sites_[d], priority(d)))
+    if (in_conflict(tri_of(e), sites_[d], lift(d), priority(d)))
       fail("edge " + std::to_string(e) + " is not locally Delaunay");
   }
   if (global) {
     for (TriId t = 0; t < nt; ++t)
       for (SiteId s = 0; s < sites_.size(); ++s) {
         if (!alive(s) || s == triangles_[3 * t] || s == triangles_[3 * t + 1] || s == triangles_[3 * t + 2]) continue;
-        if (in_conflict(t, sites_[s], priority(s)))
+        if (in_conflict(t, sites_[s], lift(s), priority(s)))
           fail("site " + std::to_string(s) + " lies in the circumcircle of triangle " + std::to_string(t));
       }
   }

@@ -66,6 +66,45 @@ inline int in_sphere_unit_filter(const Vec3& p, const Vec3& q, const Vec3& r, co
   return in_sphere_filter_only(p, q, r, s);
 }
 
+/// The weighted filter (rows (p_i, c_i), docs/weighted.md): with B = q - p, C = r - p, D = s - p
+/// and w = c - cp, the sign of -det of the rows is that of
+///   E = cp det(B, C, D) - p . (wq (C x D) + wr (D x B) + ws (B x C)),
+/// E for equal lifts being cp times in_sphere_det. +1 or -1 when certified, 0 when not: no
+/// monomial of E passes through more than 12 roundings (3 in the differences, 2 in a cross
+/// product, 1 in a weight's product, 2 in the sum of three vectors, 3 in the dot product, 1 in
+/// the final difference), so |error| <= gamma_12 of the permanent; 16 eps covers that and the
+/// permanent's own rounding.
+inline constexpr double kWeightedErrBound = 16.0 * 0x1p-53;
+inline int in_sphere_weighted_filter(const Vec3& p, double cp, const Vec3& q, double cq, const Vec3& r, double cr,
+                                     const Vec3& s, double cs) noexcept {
+  const double bx = q.x - p.x, by = q.y - p.y, bz = q.z - p.z;
+  const double cx = r.x - p.x, cy = r.y - p.y, cz = r.z - p.z;
+  const double dx = s.x - p.x, dy = s.y - p.y, dz = s.z - p.z;
+  const double wq = cq - cp, wr = cr - cp, ws = cs - cp;
+  // C x D, D x B, B x C and their permanents (absolute values of the products).
+  const double cdx = cy * dz - cz * dy, cdy = cz * dx - cx * dz, cdz = cx * dy - cy * dx;
+  const double dbx = dy * bz - dz * by, dby = dz * bx - dx * bz, dbz = dx * by - dy * bx;
+  const double bcx = by * cz - bz * cy, bcy = bz * cx - bx * cz, bcz = bx * cy - by * cx;
+  const double pcdx = std::fabs(cy * dz) + std::fabs(cz * dy), pcdy = std::fabs(cz * dx) + std::fabs(cx * dz),
+               pcdz = std::fabs(cx * dy) + std::fabs(cy * dx);
+  const double pdbx = std::fabs(dy * bz) + std::fabs(dz * by), pdby = std::fabs(dz * bx) + std::fabs(dx * bz),
+               pdbz = std::fabs(dx * by) + std::fabs(dy * bx);
+  const double pbcx = std::fabs(by * cz) + std::fabs(bz * cy), pbcy = std::fabs(bz * cx) + std::fabs(bx * cz),
+               pbcz = std::fabs(bx * cy) + std::fabs(by * cx);
+  const double vol = bx * cdx + by * cdy + bz * cdz;
+  const double vx = wq * cdx + wr * dbx + ws * bcx, vy = wq * cdy + wr * dby + ws * bcy,
+               vz = wq * cdz + wr * dbz + ws * bcz;
+  const double e = cp * vol - (p.x * vx + p.y * vy + p.z * vz);
+  const double awq = std::fabs(wq), awr = std::fabs(wr), aws = std::fabs(ws);
+  const double perm =
+      cp * (std::fabs(bx) * pcdx + std::fabs(by) * pcdy + std::fabs(bz) * pcdz) +
+      std::fabs(p.x) * (awq * pcdx + awr * pdbx + aws * pbcx) + std::fabs(p.y) * (awq * pcdy + awr * pdby + aws * pbcy) +
+      std::fabs(p.z) * (awq * pcdz + awr * pdbz + aws * pbcz);
+  // Products that underflow: at most 2^-1075 each, times factors below 3 (see underflow_margin).
+  const double bound = kWeightedErrBound * perm + 0x1p-1000;
+  return (e > bound) - (-e > bound);
+}
+
 inline Sign in_sphere_filtered(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) noexcept {
   const int filtered = in_sphere_filter_only(p, q, r, s);
   if (filtered != 0) return filtered > 0 ? Sign::Positive : Sign::Negative;

@@ -128,6 +128,101 @@ Sign perturbed_in_sphere(const Vec3& p, std::uint32_t ip, const Vec3& q, std::ui
   return Sign::Zero;  // four points on one line: excluded by the minimum separation of sites
 }
 
+namespace {
+using CGAL::Mpzf;
+
+// E of in_sphere_weighted_filter, exactly: Mpzf holds sums and products of doubles exactly.
+Sign in_sphere_weighted_exact(const Vec3& p, double cp, const Vec3& q, double cq, const Vec3& r, double cr,
+                              const Vec3& s, double cs) {
+  ++g_stats.in_sphere_exact;
+  const Mpzf px(p.x), py(p.y), pz(p.z);
+  const Mpzf bx = Mpzf(q.x) - px, by = Mpzf(q.y) - py, bz = Mpzf(q.z) - pz;
+  const Mpzf cx = Mpzf(r.x) - px, cy = Mpzf(r.y) - py, cz = Mpzf(r.z) - pz;
+  const Mpzf dx = Mpzf(s.x) - px, dy = Mpzf(s.y) - py, dz = Mpzf(s.z) - pz;
+  const Mpzf mcp(cp), wq = Mpzf(cq) - mcp, wr = Mpzf(cr) - mcp, ws = Mpzf(cs) - mcp;
+  const Mpzf cdx = cy * dz - cz * dy, cdy = cz * dx - cx * dz, cdz = cx * dy - cy * dx;
+  const Mpzf dbx = dy * bz - dz * by, dby = dz * bx - dx * bz, dbz = dx * by - dy * bx;
+  const Mpzf bcx = by * cz - bz * cy, bcy = bz * cx - bx * cz, bcz = bx * cy - by * cx;
+  const Mpzf vol = bx * cdx + by * cdy + bz * cdz;
+  const Mpzf e = mcp * vol - (px * (wq * cdx + wr * dbx + ws * bcx) + py * (wq * cdy + wr * dby + ws * bcy) +
+                              pz * (wq * cdz + wr * dbz + ws * bcz));
+  return to_sign(CGAL::sign(e));
+}
+}  // namespace
+
+Sign in_sphere_weighted(const Vec3& p, double cp, const Vec3& q, double cq, const Vec3& r, double cr,
+                        const Vec3& s, double cs) noexcept {
+  const int filtered = detail::in_sphere_weighted_filter(p, cp, q, cq, r, cr, s, cs);
+  if (filtered != 0) return filtered > 0 ? Sign::Positive : Sign::Negative;
+  return in_sphere_weighted_exact(p, cp, q, cq, r, cr, s, cs);
+}
+
+Sign perturbed_in_sphere_weighted(const Vec3& p, double cp, std::uint32_t ip, const Vec3& q, double cq,
+                                  std::uint32_t iq, const Vec3& r, double cr, std::uint32_t ir,
+                                  const Vec3& s, double cs, std::uint32_t is) noexcept {
+  const Sign exact = in_sphere_weighted(p, cp, q, cq, r, cr, s, cs);
+  if (exact != Sign::Zero) return exact;
+  ++g_stats.in_sphere_perturbed;
+  // As perturbed_in_sphere, with D the determinant of the rows (p_i, c_i).
+  const Vec3* pts[4] = {&p, &q, &r, &s};
+  double lift[4] = {cp, cq, cr, cs};
+  std::uint32_t pri[4] = {ip, iq, ir, is};
+  int parity = 1;
+  for (int i = 1; i < 4; ++i) {
+    for (int j = i; j > 0 && pri[j] < pri[j - 1]; --j) {
+      std::swap(pri[j], pri[j - 1]);
+      std::swap(pts[j], pts[j - 1]);
+      std::swap(lift[j], lift[j - 1]);
+      parity = -parity;
+    }
+  }
+  auto finish = [&](Sign term, int k) {
+    int d = static_cast<int>(term) * ((k % 2 == 0) ? 1 : -1) * parity;
+    return negate(to_sign(d));
+  };
+  // Radial motion q_k (1 + e) is the row (p_k (1 + e), c_k): coefficient c_k (-1)^k det(others).
+  for (int k = 0; k < 4; ++k) {
+    const Vec3* o[3];
+    for (int i = 0, n = 0; i < 4; ++i)
+      if (i != k) o[n++] = pts[i];
+    const Sign t = orient(*o[0], *o[1], *o[2]);
+    if (t != Sign::Zero) return finish(t, k);
+  }
+  // Motion of q_k along an axis: the row (p_k + e c_k axis, c_k); coefficient c_k (-1)^k times
+  // the determinant of the others' rows (coordinate i, coordinate j, c).
+  constexpr int kAxes[3][2] = {{0, 1}, {2, 0}, {1, 2}};
+  auto pick = [](const Vec3& v, int k) { return k == 0 ? v.x : (k == 1 ? v.y : v.z); };
+  for (const auto& axis : kAxes) {
+    for (int k = 0; k < 4; ++k) {
+      Vec3 o[3];
+      for (int i = 0, n = 0; i < 4; ++i)
+        if (i != k) o[n++] = {pick(*pts[i], axis[0]), pick(*pts[i], axis[1]), lift[i]};
+      const Sign t = orient_exact(o[0], o[1], o[2]);
+      if (t != Sign::Zero) return finish(t, k);
+    }
+  }
+  return Sign::Zero;  // the four lifted points on one line: not decided by this perturbation
+}
+
+Sign compare_power(const Vec3& x, const Vec3& a, double ca, const Vec3& b, double cb) noexcept {
+  if (ca == cb) return compare_dot(x, a, b);
+  ++g_stats.compare_dot_calls;
+  // sign(cb dot(x, a) - ca dot(x, b)), both lifts positive.
+  const double xa = x.x * a.x, ya = x.y * a.y, za = x.z * a.z;
+  const double xb = x.x * b.x, yb = x.y * b.y, zb = x.z * b.z;
+  const double diff = cb * (xa + ya + za) - ca * (xb + yb + zb);
+  const double mag = cb * (std::fabs(xa) + std::fabs(ya) + std::fabs(za)) +
+                     ca * (std::fabs(xb) + std::fabs(yb) + std::fabs(zb));
+  // Each monomial passes through at most 5 roundings (product, two sums, weight, difference).
+  const double bound = 8.0 * kEps * mag + 0x1p-1020;
+  if (diff > bound) return Sign::Positive;
+  if (-diff > bound) return Sign::Negative;
+  ++g_stats.compare_dot_exact;
+  const Mpzf e = Mpzf(cb) * (Mpzf(x.x) * Mpzf(a.x) + Mpzf(x.y) * Mpzf(a.y) + Mpzf(x.z) * Mpzf(a.z)) -
+                 Mpzf(ca) * (Mpzf(x.x) * Mpzf(b.x) + Mpzf(x.y) * Mpzf(b.y) + Mpzf(x.z) * Mpzf(b.z));
+  return to_sign(CGAL::sign(e));
+}
+
 Sign compare_dot(const Vec3& x, const Vec3& a, const Vec3& b) noexcept {
   ++g_stats.compare_dot_calls;
   const double xa = x.x * a.x, ya = x.y * a.y, za = x.z * a.z;

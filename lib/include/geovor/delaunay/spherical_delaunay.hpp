@@ -74,10 +74,17 @@ struct Merge {
   bool hidden = false;      ///< true if the exact hull test found it hidden (never expected)
 };
 
+/// A weighted site that is no vertex of the triangulation: its power cell is empty.
+struct Hidden {
+  SiteId site = kNoIndex;  ///< the hidden site (it keeps its id)
+  SiteId by = kNoIndex;    ///< a live site whose cell holds the hidden site's position
+};
+
 /// What build() did with each input point.
 struct BuildReport {
   std::vector<SiteId> site_of_input;  ///< the site of every input point (kNoIndex: none)
   std::vector<Merge> merges;          ///< every input point merged into another site
+  std::vector<Hidden> hidden;         ///< weighted builds: the hidden sites, by id
   double sort_seconds = 0, insert_seconds = 0;
   std::size_t peak_bytes = 0;         ///< the structure's largest footprint during the build
 };
@@ -87,7 +94,8 @@ struct InsertResult {
   SiteId site = kNoIndex;  ///< the new site, or the site the point was merged into
   bool merged = false;
   double chord = 0;        ///< when merged: the distance to that site on the unit sphere
-  bool hidden = false;     ///< when merged: the exact hull test found the point hidden
+  bool hidden = false;     ///< merged: the exact hull test found the point hidden; not merged
+                           ///< (weighted): the site is hidden, no vertex
 };
 
 /// Options of move_all() (and move()); every default is documented.
@@ -145,6 +153,27 @@ class SphericalDelaunay {
   ///   options are invalid.
   static SphericalDelaunay build(std::span<const Vec3> points, const DelaunayOptions& options = {},
                                  BuildReport* report = nullptr);
+
+  /// The regular triangulation of weighted sites (docs/weighted.md): point i is the circle of
+  /// centre points[i] and radius r_i, given by its lift lifts[i] = cos(r_i / R) in (0, 1] (see
+  /// lift_of_radius()); the triangulation is the convex hull of the lifted points
+  /// points[i] / lifts[i], decided exactly with the lifts taken as the doubles they are.
+  ///  - A site whose lifted point is inside the hull is hidden: it keeps its id but is no vertex
+  ///    (is_hidden(), BuildReport::hidden with a site whose cell holds its position).
+  ///  - Points at one position (bit-identical vectors) merge into the one with the smallest lift
+  ///    (the largest radius; ties: the first in input order); points closer than merge_distance
+  ///    merge as in build() (the first inserted is kept).
+  ///  - Equal lifts give the triangulation of build(points) (the lifts are then dropped:
+  ///    is_weighted() is false).
+  /// Sites of a weighted triangulation cannot be inserted, removed or moved (InvalidArgument).
+  /// @exception Error(InvalidArgument) as build(), or if the sizes differ or a lift is not in
+  ///   (0, 1].
+  static SphericalDelaunay build(std::span<const Vec3> points, std::span<const double> lifts,
+                                 const DelaunayOptions& options = {}, BuildReport* report = nullptr);
+
+  /// The lift cos(r / R) of a circle of radius r_m metres on the sphere of radius R = earth_radius_m,
+  /// rounded once. REQUIRES: 0 <= r_m < pi R / 2 (then the lift is in (0, 1]).
+  static double lift_of_radius(double r_m, double earth_radius_m);
 
   /// The raw arrays of a triangulation, as saved in an index file.
   struct Arrays {
@@ -211,6 +240,16 @@ class SphericalDelaunay {
   /// One past the largest site id ever used (removed sites keep their id).
   std::size_t site_capacity() const { return sites_.size(); }
   bool is_live(SiteId s) const { return s < sites_.size() && alive(s); }
+  /// True iff the triangulation has weights (lifts not all equal).
+  bool is_weighted() const { return !lifts_.empty(); }
+  /// The lift of site s: 1 for an unweighted triangulation.
+  double lift(SiteId s) const { return lifts_.empty() ? 1.0 : lifts_[s]; }
+  std::span<const double> lifts() const { return lifts_; }
+  /// True iff s is a hidden site of a weighted triangulation (an id without a vertex).
+  bool is_hidden(SiteId s) const { return s < hidden_by_.size() && hidden_by_[s] != kNoIndex; }
+  /// For a hidden site: a live site whose power cell holds its position; kNoIndex otherwise.
+  SiteId hidden_by(SiteId s) const { return is_hidden(s) ? hidden_by_[s] : kNoIndex; }
+  std::size_t num_hidden() const;
   const Vec3& site(SiteId s) const { return sites_[s]; }
   std::span<const Vec3> sites() const { return sites_; }
   std::size_t num_triangles() const { return triangles_.size() / 3; }
@@ -251,6 +290,11 @@ class SphericalDelaunay {
   std::uint32_t priority(SiteId s) const { return priority_.empty() ? s : priority_[s]; }
   static std::uint64_t next_revision();
   void touch() { revision_ = next_revision(); }  // every change of sites or triangles calls it
+  // build() of either kind: lifts empty for unweighted sites.
+  static SphericalDelaunay build_sites(std::span<const Vec3> points, std::span<const double> lifts,
+                                       const DelaunayOptions& options, BuildReport* report);
+  // Weighted build: lifts_ and hidden_by_ from slots to final ids; who hides each hidden site.
+  void renumber_weights(std::span<const SiteId> new_id, std::size_t num_ids);
 
   // Insertion (insertion.cpp). Where a new point goes: merged into a site, or a triangle in
   // conflict with it.
@@ -259,13 +303,21 @@ class SphericalDelaunay {
     double chord = 0;
     bool hidden = false;
     TriId conflict = kNoIndex;
+    SiteId hidden_by = kNoIndex;  // weighted: no conflict, the site of largest power at p
   };
-  bool in_conflict(TriId t, const Vec3& p, std::uint32_t prio) const;  // inline: conflict.hpp
-  bool in_conflict_exact(TriId t, const Vec3& p, std::uint32_t prio) const;
+  // p's lift c is read only when the triangulation is weighted.
+  bool in_conflict(TriId t, const Vec3& p, double c, std::uint32_t prio) const;  // inline: conflict.hpp
+  bool in_conflict_exact(TriId t, const Vec3& p, double c, std::uint32_t prio) const;
+  // Unweighted: the site nearest p (largest dot); weighted: of largest power dot(p, site) / lift.
   SiteId walk_to_nearest(const Vec3& p, SiteId start) const;
-  TriId find_conflict(const Vec3& p, std::uint32_t prio, SiteId near) const;
+  TriId find_conflict(const Vec3& p, double c, std::uint32_t prio, SiteId near) const;
+  // Weighted: breadth first from the star of `near` over every triangle; kNoIndex if none.
+  TriId search_conflict(const Vec3& p, double c, std::uint32_t prio, SiteId near) const;
   // Leaves the triangles it found not in conflict marked in tested_ for find_cavity().
-  Placement place(const Vec3& p, std::uint32_t prio, SiteId hint);
+  Placement place(const Vec3& p, double c, std::uint32_t prio, SiteId hint);
+  // Weighted: the vertices inside the cavity found last (none on its boundary) become hidden by s.
+  void hide_cavity_interior(SiteId s);
+  void require_unweighted(const char* what) const;
   // The site p merges into (merged_into set) if any lies within the merge distance.
   Placement nearest_site(const Vec3& p, SiteId hint) const;
   void make_first_triangles(SiteId a, SiteId b, SiteId c);
@@ -276,12 +328,14 @@ class SphericalDelaunay {
 
   // The cavity (cavity.cpp): the triangles in conflict with p, grown from seed, and the
   // half-edges bounding them.
-  void find_cavity(const Vec3& p, std::uint32_t prio, TriId seed);
+  void find_cavity(const Vec3& p, double c, std::uint32_t prio, TriId seed);
   // find_cavity() by the filter alone and without a call; false (its marks undone) when a test
   // needs the exact stage or a scratch buffer is full.
   bool find_cavity_filtered(const Vec3& p, TriId seed);
   // Replaces the cavity found last by the fan of triangles joining its boundary to site s.
   void fill_cavity(SiteId s);
+  // Weighted: frees the cavity's slots from first_spare on (vertices were hidden).
+  void remove_spare_slots(std::size_t first_spare);
   // Gives up the cavity found last (p merges instead): clears its marks.
   void abandon_cavity();
 
@@ -327,6 +381,8 @@ class SphericalDelaunay {
   std::vector<HalfedgeId> halfedges_;
   std::vector<HalfedgeId> site_edge_;
   std::vector<std::uint32_t> priority_;  // empty: priority = site id (a link hull uses global ids)
+  std::vector<double> lifts_;            // weighted only: cos(r / R) of each site (by id)
+  std::vector<SiteId> hidden_by_;        // weighted only: kNoIndex, or who hides the site
   std::size_t num_live_ = 0;
   SiteId last_site_ = kNoIndex;           // hint for the next walk
 

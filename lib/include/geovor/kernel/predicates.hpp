@@ -52,6 +52,34 @@ Sign perturbed_in_sphere(const Vec3& p, std::uint32_t ip, const Vec3& q, std::ui
 /// order of the triangulation (the hull's normal fan); for unit vectors, the angular order.
 Sign compare_dot(const Vec3& x, const Vec3& a, const Vec3& b) noexcept;
 
+/// \name Weighted sites (docs/weighted.md)
+/// A weighted site is the homogeneous point (p, c) of R^4: its unit vector p and its lift
+/// c = cos(r / R) in (0, 1], r its radius; it stands for the lifted point q = p / c of R^3.
+/// Unweighted sites have c = 1 exactly. Every c is taken as the exact double it is.
+///@{
+
+/// in_sphere_sign of the lifted points: Positive when q_s lies beyond the plane of q_p, q_q, q_r
+/// (oriented as in_sphere_sign), i.e. the sign of -det[[p, cp], [q, cq], [r, cr], [s, cs]].
+/// Equal lifts give in_sphere_sign(p, q, r, s) (the determinant is then cp times it).
+/// REQUIRES: every lift in (0, 1], every point a unit vector (|coordinate| <= 1 + 2^-40).
+Sign in_sphere_weighted(const Vec3& p, double cp, const Vec3& q, double cq, const Vec3& r, double cr,
+                        const Vec3& s, double cs) noexcept;
+
+/// in_sphere_weighted with ties broken by the symbolic perturbation of perturbed_in_sphere applied
+/// to the lifted points (radial motion q_i (1 + e_i), then the axis motions): the first-order
+/// coefficients are those of the unweighted test times positive lifts (radial terms) or the
+/// orientations of the rows (x, y, c), (z, x, c), (y, z, c) (axis terms), so equal lifts break
+/// every tie as perturbed_in_sphere does.
+Sign perturbed_in_sphere_weighted(const Vec3& p, double cp, std::uint32_t ip, const Vec3& q, double cq,
+                                  std::uint32_t iq, const Vec3& r, double cr, std::uint32_t ir,
+                                  const Vec3& s, double cs, std::uint32_t is) noexcept;
+
+/// Sign of dot(x, a) / ca - dot(x, b) / cb: Positive when x has the larger power with respect to
+/// the weighted site (a, ca), i.e. lies on its side of the power bisector (the order of the power
+/// diagram). compare_dot when ca == cb. REQUIRES: ca, cb > 0.
+Sign compare_power(const Vec3& x, const Vec3& a, double ca, const Vec3& b, double cb) noexcept;
+///@}
+
 namespace detail {
 Sign orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) noexcept;
 }  // namespace detail
