@@ -519,3 +519,97 @@ TEST(VoronoiDiagram, AssignGivesTheDiagramOfAFreshBuild) {
 
 }  // namespace
 }  // namespace geovor
+
+// Power cells of weighted sites, against brute force over all sites in long double.
+namespace geovor {
+namespace {
+
+struct WeightedSet {
+  std::vector<Vec3> pts;
+  std::vector<double> lifts;
+};
+
+WeightedSet weighted_set(std::size_t n, std::uint64_t seed, double max_rad) {
+  WeightedSet w{testing::uniform_on_sphere(n, seed), {}};
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, max_rad);
+  for (std::size_t i = 0; i < n; ++i) w.lifts.push_back(i % 5 == 0 ? 1.0 : std::cos(u(rng)));
+  return w;
+}
+
+long double power(const Vec3& x, const Vec3& p, double c) {
+  return (static_cast<long double>(x.x) * p.x + static_cast<long double>(x.y) * p.y +
+          static_cast<long double>(x.z) * p.z) / c;
+}
+
+TEST(PowerDiagram, EveryVertexHasTheLargestPowerForItsThreeSites) {
+  for (const double max_rad : {0.05, 0.5}) {
+    const WeightedSet w = weighted_set(400, 3, max_rad);
+    const SphericalDelaunay dt = SphericalDelaunay::build(w.pts, w.lifts);
+    const VoronoiDiagram vd(dt);
+    ASSERT_EQ(vd.kind(), VoronoiDiagram::Kind::Cells);
+    for (TriId t = 0; t < dt.num_triangles(); ++t) {
+      const Vec3& v = vd.vertex(t);
+      const long double own = power(v, w.pts[dt.tri_site(t, 0)], w.lifts[dt.tri_site(t, 0)]);
+      for (int i = 1; i < 3; ++i)
+        EXPECT_NEAR(static_cast<double>(power(v, w.pts[dt.tri_site(t, i)], w.lifts[dt.tri_site(t, i)]) - own), 0, 1e-13);
+      for (SiteId s = 0; s < w.pts.size(); ++s)
+        EXPECT_LE(static_cast<double>(power(v, w.pts[s], w.lifts[s]) - own), 1e-13) << "triangle " << t << " site " << s;
+    }
+  }
+}
+
+TEST(PowerDiagram, AreasMatchMonteCarloAndSumToTheSphere) {
+  const WeightedSet w = weighted_set(60, 8, 0.6);
+  const SphericalDelaunay dt = SphericalDelaunay::build(w.pts, w.lifts);
+  const VoronoiDiagram vd(dt);
+  const auto samples = testing::uniform_on_sphere(400000, 99);
+  std::vector<double> hits(w.pts.size(), 0);
+  for (const Vec3& x : samples) {
+    SiteId best = 0;
+    for (SiteId s = 1; s < w.pts.size(); ++s)
+      if (power(x, w.pts[s], w.lifts[s]) > power(x, w.pts[best], w.lifts[best])) best = s;
+    hits[best] += 1;
+  }
+  double total = 0;
+  int outside_own_cell = 0;
+  for (SiteId s = 0; s < w.pts.size(); ++s) {
+    const double area = vd.cell_area_sr(s), frac = hits[s] / static_cast<double>(samples.size());
+    total += area;
+    // Five binomial standard deviations.
+    EXPECT_NEAR(area / (4 * kPi), frac, 5 * std::sqrt(frac * (1 - frac) / samples.size()) + 1e-6) << s;
+    if (dt.is_hidden(s)) EXPECT_EQ(hits[s], 0) << s;
+    outside_own_cell += vd.has_cell(s) && [&] {
+      for (SiteId o = 0; o < w.pts.size(); ++o)
+        if (power(w.pts[s], w.pts[o], w.lifts[o]) > power(w.pts[s], w.pts[s], w.lifts[s])) return true;
+      return false;
+    }();
+  }
+  EXPECT_NEAR(total, 4 * kPi, 1e-12);
+  EXPECT_GT(outside_own_cell, 0);  // the set exercises sites outside their cells
+  EXPECT_GT(dt.num_hidden(), 0u);
+}
+
+TEST(PowerDiagram, EqualLiftsGiveTheVoronoiVerticesBitForBit) {
+  const auto pts = testing::uniform_on_sphere(300, 4);
+  const VoronoiDiagram plain(SphericalDelaunay::build(pts));
+  const std::vector<double> lifts(pts.size(), std::cos(0.3));
+  const VoronoiDiagram same(SphericalDelaunay::build(pts, lifts));
+  ASSERT_EQ(plain.num_vertices(), same.num_vertices());
+  for (TriId t = 0; t < plain.num_vertices(); ++t) EXPECT_EQ(plain.vertex(t), same.vertex(t));
+}
+
+TEST(PowerDiagram, TwoWeightedSitesSplitAtTheirPowerBisector) {
+  const std::vector<Vec3> pts{{1, 0, 0}, {0, 1, 0}};
+  const std::vector<double> lifts{std::cos(0.5), 1.0};
+  const VoronoiDiagram vd(SphericalDelaunay::build(pts, lifts));
+  ASSERT_EQ(vd.kind(), VoronoiDiagram::Kind::Hemispheres);
+  const Vec3 n = vd.hemisphere_normal(0);
+  // The boundary: x . p0 / c0 = x . p1, i.e. the normal is along p0 - c0 p1.
+  const double c0 = std::cos(0.5), len = std::sqrt(1 + c0 * c0);
+  EXPECT_NEAR(n.x, 1 / len, 1e-15);
+  EXPECT_NEAR(n.y, -c0 / len, 1e-15);
+}
+
+}  // namespace
+}  // namespace geovor

@@ -78,7 +78,25 @@ Vec3 VoronoiDiagram::circumcenter(const SphericalDelaunay& dt, SiteId u, SiteId 
   // triangulation is rebuilt or updated).
   const SiteId s[3] = {u, v, w};
   const int k = u < v ? (u < w ? 0 : 2) : (v < w ? 1 : 2);
-  return circumcenter(dt.site(s[k]), dt.site(s[(k + 1) % 3]), dt.site(s[(k + 2) % 3]));
+  const SiteId a = s[k], b = s[(k + 1) % 3], c = s[(k + 2) % 3];
+  const double ca = dt.lift(a), cb = dt.lift(b), cc = dt.lift(c);
+  // Equal lifts: the Voronoi vertex itself, the same bits as without weights.
+  if (ca == cb && cb == cc) return circumcenter(dt.site(a), dt.site(b), dt.site(c));
+  return power_vertex(dt.site(a), ca, dt.site(b), cb, dt.site(c), cc);
+}
+
+Vec3 VoronoiDiagram::power_vertex(const Vec3& a, double ca, const Vec3& b, double cb, const Vec3& c, double cc) {
+  // The normal of the plane through a / ca, b / cb, c / cc, scaled by ca cb cc:
+  // ca (b x c) + cb (c x a) + cc (a x b) = ca (b - a) x (c - a) + (cb - ca) (c x a) + (cc - ca) (a x b),
+  // whose first term is the circumcentre's, accurate for nearby sites.
+  const Vec3 centre = circumcenter(a, b, c);
+  const Vec3 ab = b - a, ac = c - a;
+  const double len = std::sqrt(norm2(cross(ab, ac)));
+  const Vec3 n = (ca * len) * centre + (cb - ca) * cross(c, a) + (cc - ca) * cross(a, b);
+  const double n2 = norm2(n);
+  GEOVOR_ASSERT(n2 > 0);
+  const double l = std::sqrt(n2);
+  return {n.x / l, n.y / l, n.z / l};
 }
 
 Vec3 VoronoiDiagram::arc_midpoint(const Vec3& a, const Vec3& b, const Vec3& axis) {
@@ -186,6 +204,7 @@ void VoronoiDiagram::assign(const SphericalDelaunay& dt, unsigned threads) {
     });
 
   sites_.assign(dt.sites().begin(), dt.sites().end());
+  lifts_.assign(dt.lifts().begin(), dt.lifts().end());
   live_.assign(cap, 0);
   cells_.assign(cap, Range{});
   order_.clear();
@@ -285,7 +304,13 @@ void VoronoiDiagram::prefetch(SiteId s, int stage) const {
 Vec3 VoronoiDiagram::hemisphere_normal(SiteId s) const {
   GEOVOR_ASSERT(kind_ == Kind::Hemispheres && has_cell(s));
   const SiteId other = s == pair_[0] ? pair_[1] : pair_[0];
-  return normalized(sites_[s] - sites_[other]);
+  return bisector_normal(s, other);
+}
+
+Vec3 VoronoiDiagram::bisector_normal(SiteId s, SiteId other) const {
+  if (lifts_.empty() || lifts_[s] == lifts_[other]) return normalized(sites_[s] - sites_[other]);
+  // The power bisector's plane x . (q_s - q_other) = 0, scaled by both lifts.
+  return normalized(lifts_[other] * sites_[s] - lifts_[s] * sites_[other]);
 }
 
 double VoronoiDiagram::cell_area_sr(SiteId s) const {
@@ -308,11 +333,12 @@ double VoronoiDiagram::cell_area_sr(SiteId s) const {
   // sites reaching (nearly) the site's antipode). A fan triangle with two (nearly) antipodal
   // corners has both terms of the Van Oosterom-Strackee quotient near 0, and lost up to 1e-5 of
   // the cell; the apex is then the direction of the edges' midpoints summed by length, inside it.
+  // A power cell need not hold its site: its apex is always that direction.
   Vec3 apex = site;
-  bool far = false;
+  bool far = !lifts_.empty();
   for (const TriId t : tris) far |= dot(site, vertices_[t]) < -0.5;
   auto half = [&](std::size_t i, const Vec3& a, const Vec3& b) {
-    return dot(a, b) < 0 ? arc_midpoint(a, b, normalized(site - sites_[nbrs[i]])) : normalized(a + b);
+    return dot(a, b) < 0 ? arc_midpoint(a, b, bisector_normal(s, nbrs[i])) : normalized(a + b);
   };
   if (far) {
     Vec3 sum;
@@ -356,7 +382,7 @@ double VoronoiDiagram::cell_area_sr(SiteId s) const {
 }
 
 std::size_t VoronoiDiagram::memory_bytes() const {
-  return bytes_of(sites_) + bytes_of(live_) + bytes_of(vertices_) + bytes_of(cells_) +
+  return bytes_of(sites_) + bytes_of(lifts_) + bytes_of(live_) + bytes_of(vertices_) + bytes_of(cells_) +
          bytes_of(order_) + bytes_of(cell_tris_) + bytes_of(cell_nbrs_);
 }
 

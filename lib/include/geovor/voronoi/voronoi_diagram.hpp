@@ -28,6 +28,10 @@
 ///    great circle; hemisphere_normal(s) is the pole of the cell of s, cell_neighbors(s) the
 ///    other site, and cell_vertices(s) is empty.
 ///
+/// Weighted sites (docs/weighted.md): the cells are the power cells, the vertex of a triangle of
+/// sites with different lifts is power_vertex(), an edge lies on the power bisector
+/// (bisector_normal()), a hidden site has no cell, and a site may lie outside its own cell.
+///
 /// A VoronoiDiagram is a snapshot: it copies what it needs and does not change when the
 /// triangulation does (insertions and removals need a new diagram).
 #pragma once
@@ -92,8 +96,14 @@ class VoronoiDiagram {
     return {};
   }
   /// Kind::Hemispheres only: the unit normal of the bisector plane pointing into the cell of s,
-  /// normalize(site(s) - site(other)); the cell is {p : dot(p, n) >= 0}.
+  /// bisector_normal(s, other); the cell is {p : dot(p, n) >= 0}.
   Vec3 hemisphere_normal(SiteId s) const;
+  /// The unit normal of the (power) bisector plane of s and other, pointing to the side of s:
+  /// normalize(site(s) - site(other)), or with lifts normalize(c_o site(s) - c_s site(other)).
+  Vec3 bisector_normal(SiteId s, SiteId other) const;
+  /// The lift of site s (1 without weights).
+  double lift(SiteId s) const { return lifts_.empty() ? 1.0 : lifts_[s]; }
+  bool is_weighted() const { return !lifts_.empty(); }
   /// Spherical area of the cell of s (steradians): 4 pi for the whole sphere, 2 pi for a
   /// hemisphere, 0 for a site without a cell. Computed on demand in O(degree): the fan of the
   /// spherical triangles (site, v_i, v_i+1), each by the Van Oosterom-Strackee formula, an edge
@@ -127,6 +137,10 @@ class VoronoiDiagram {
   /// The same for the sites u, v, w of `dt`, in that cyclic order, started at the smallest id:
   /// the same bits whichever way the triangle is stored (the diagram's vertices).
   static Vec3 circumcenter(const SphericalDelaunay& dt, SiteId u, SiteId v, SiteId w);
+  /// The power vertex of weighted sites a, b, c (lifts ca, cb, cc): the direction of the normal
+  /// of the plane through a / ca, b / cb, c / cc, on the side where they turn counter-clockwise;
+  /// circumcenter(a, b, c) for equal lifts (not the same bits: callers with equal lifts call that).
+  static Vec3 power_vertex(const Vec3& a, double ca, const Vec3& b, double cb, const Vec3& c, double cc);
   /// Midpoint of the arc from a to b that turns positively (counter-clockwise seen from outside
   /// at the tip of `axis`) about the unit vector `axis`, of which a and b are (nearly)
   /// perpendicular. Robust up to and including 180-degree arcs (b = -a), where the axis alone
@@ -141,6 +155,7 @@ class VoronoiDiagram {
   Kind kind_ = Kind::Empty;
   std::size_t num_cells_ = 0;
   std::vector<Vec3> sites_;         // copy of the triangulation's sites (by id)
+  std::vector<double> lifts_;       // copy of its lifts; empty without weights
   std::vector<std::uint8_t> live_;  // 1 iff the site has a cell
   std::vector<Vec3> vertices_;      // circumcentre of each triangle
   struct Range {
