@@ -48,10 +48,16 @@ void write_report(OutputFile& out, const SiteTable& table, const BuildReport& re
     const auto it = std::lower_bound(unwritten.begin(), unwritten.end(), site,
                                      [](const UnwrittenCell& c, SiteId s) { return c.site < s; });
     std::string detail;
-    if (it != unwritten.end() && it->site == site)
+    const char* status = merged[i] ? "merged" : "site";
+    const auto hidden = std::lower_bound(report.hidden.begin(), report.hidden.end(), site,
+                                         [](const Hidden& h, SiteId s) { return h.site < s; });
+    if (hidden != report.hidden.end() && hidden->site == site && !merged[i]) {
+      status = "hidden";
+      detail = quoted("power cell empty: site " + std::to_string(hidden->by) + " holds its position");
+    } else if (it != unwritten.end() && it->site == site)
       detail = quoted("cell " + std::string(to_string(it->status)) + " " + where + ": empty geometry");
     std::fprintf(f, "%llu,%llu,%s,%s,%u,%s\n", static_cast<unsigned long long>(row.row),
-                 static_cast<unsigned long long>(row.line), quoted(row.id).c_str(), merged[i] ? "merged" : "site",
+                 static_cast<unsigned long long>(row.line), quoted(row.id).c_str(), status,
                  site, detail.c_str());
   }
   for (const RejectedRow& r : table.rejected)
@@ -86,13 +92,14 @@ int run(CellsArgs& args) {
       ::lstat(args.out.output.c_str(), &st) == 0 && S_ISREG(st.st_mode))
     removal.run([path = args.out.output] { ::unlink(path.c_str()); });
   BuildReport report;
-  const SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
+  const SphericalDelaunay dt = build_sites(points, input.lifts(), args.sites, report);
   removal.wait();
   // The diagram while the rows' strings and ids are finished on the other core.
   const VoronoiDiagram diagram(dt, static_cast<unsigned>(args.out.threads));
   const SiteTable& table = input.table();
   args.out.ids_repeat = input.ids_repeat();
   if (!args.out.quiet) report_merges(table, report);  // merged rows stay in the cells' ids and the report
+  report_hidden(table, report);  // listed even with --quiet: an empty cell must not pass unseen
   const int precision = writes_geojson(args.out) ? args.out.precision : kFullPrecision;
   const std::size_t written = write_cells(
       args.out, table, report, dt,
@@ -123,7 +130,7 @@ Command add_cells_command(CLI::App& app) {
       ->check(finite_above(0, false));
   cmd->add_option("--precision", args->out.precision, "Decimals of coordinates in GeoJSON (default 7, about 1 cm; binary formats store doubles): the cells are computed, checked valid and measured (area_m2) as written; a cell that collapses or cannot be written valid at this precision gets an empty geometry and is reported")
       ->check(integer_in(1, 17));
-  cmd->add_option("--report", args->report, "CSV file listing every input row: site, merged (with its site) or rejected (with the reason)");
+  cmd->add_option("--report", args->report, "CSV file listing every input row: site, merged (with its site), hidden (a weighted site whose power cell is empty, with a site that holds its position) or rejected (with the reason)");
   cmd->add_flag("-q,--quiet", args->out.quiet, "No progress, no summary and no list of merged rows on stderr (they stay in the cells' ids and --report); rejected rows and cells written with an empty geometry are still listed");
   cmd->add_option("--threads", args->out.threads, "Threads converting the coordinates and computing and formatting the cells (default: one per core); the output is the same")
       ->check(integer_in(0, kMaxThreads));

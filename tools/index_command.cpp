@@ -55,6 +55,8 @@ int run(IndexArgs& args) {
 SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary) {
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
+  if (!args.weight_field.empty())
+    throw Error(ErrorCode::InvalidArgument, "--weight-field: an index of weighted sites is not supported yet (cells, delaunay and info take weights)");
   const SiteTable table = read_site_input(args);  // lists the rejected rows
   const double read_s = seconds_since(t0);
   if (table.sites.empty())

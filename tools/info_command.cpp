@@ -44,9 +44,11 @@ int run(InfoArgs& args) {
   const std::vector<Vec3> points = site_points(table);
   t0 = Clock::now();
   BuildReport report;
-  const SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
+  const SphericalDelaunay dt = build_sites(points, table.weight_column >= 0 ? site_lifts(table) : std::vector<double>(),
+                                           args.sites, report);
   const double build_s = seconds_since(t0);
   if (!args.sites.quiet) report_merges(table, report);  // counted in `merged` either way
+  report_hidden(table, report);                         // listed even with --quiet, as rejected rows
   t0 = Clock::now();
   const Validation valid = dt.validate(&report, args.global_check);
   const double validate_s = seconds_since(t0);
@@ -56,6 +58,7 @@ int run(InfoArgs& args) {
   std::printf("rows: %llu\n", static_cast<unsigned long long>(table.rows_read));
   std::printf("sites: %zu\n", dt.num_sites());
   std::printf("merged: %zu\n", report.merges.size());
+  if (table.weight_column >= 0) std::printf("hidden: %zu\n", report.hidden.size());
   std::printf("rejected: %zu\n", table.rejected.size());
   std::printf("triangles: %zu\n", dt.num_triangles());
   std::printf("ghost_triangles: %zu\n", dt.num_ghost_triangles());
@@ -77,9 +80,10 @@ Command add_info_command(CLI::App& app) {
   cmd->add_flag("--global-check", args->global_check, "Also check every triangle against every site (O(n^2))");
   cmd->add_flag("-q,--quiet", args->sites.quiet, "No list of merged rows on stderr (rejected rows are still listed)");
   cmd->footer(
-      "Prints one 'key: value' line each: input, rows, sites, merged, rejected, triangles,\n"
-      "ghost_triangles, degenerate, valid, read_seconds, build_seconds, validate_seconds.\n"
-      "Rejected rows and merged sites are listed on stderr with their row numbers.\n"
+      "Prints one 'key: value' line each: input, rows, sites, merged, hidden (with --weight-field: weighted\n"
+      "sites whose power cell is empty), rejected, triangles, ghost_triangles, degenerate, valid,\n"
+      "read_seconds, build_seconds, validate_seconds. 'sites' counts the vertices of the triangulation.\n"
+      "Rejected rows, merged and hidden sites are listed on stderr with their row numbers.\n"
       "Example: geovor info datasets/weather_stations.csv");
   return {[args] { return run(*args); },
           [args] { return site_input_needs_gdal(args->sites); }};

@@ -82,6 +82,8 @@ int run(RelaxArgs& args) {
                                                                format_holds_layers(args.sites_output, "")));
 
   DuplicateIds duplicates;
+  if (!args.sites.weight_field.empty())
+    throw Error(ErrorCode::InvalidArgument, "--weight-field: Lloyd's iterations move unweighted sites only");
   const SiteTable table = read_site_input(args.sites, &duplicates);
   args.cells.ids_repeat = duplicates.rows > 0;
   const std::vector<Vec3> points = site_points(table);

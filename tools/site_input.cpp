@@ -10,6 +10,7 @@
 #include "geovor/geo/column_types.hpp"
 #include "geovor/geo/csv_site_scan.hpp"
 #include "geovor/geo/site_encoder.hpp"
+#include "geovor/geo/site_weights.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
 #include "numeric_options.hpp"
 
@@ -28,6 +29,10 @@ void add_site_input_options(CLI::App* cmd, SiteInputArgs& args) {
                         "Declare an input column's type, over the typing by values, --all-text and the id rule: "
                         "NAME=TYPE (String, Integer, Integer64, Real, Date, DateTime; case-insensitive), repeatable or "
                         "NAME=TYPE,NAME2=TYPE2 (GDAL's COLUMN_TYPES); a value not of that type is bad data (exit 3)");
+  cmd->add_option("--weight-field", args.weight_field,
+                  "Weighted sites: the column holding each site's radius in metres (0 <= r < 10,007,543, a quarter "
+                  "of the circumference); the cells are then power cells (docs/weighted.md). A row whose radius is "
+                  "empty, not a number or out of range is rejected");
   cmd->add_option("--merge-m", args.merge_m,
                   "Merge sites closer than this many metres (default and minimum: 2^-24 R = 0.38 m)")
       ->check(finite_above(0, true));
@@ -132,6 +137,7 @@ bool site_input_needs_gdal(const SiteInputArgs& args) {
 SiteTable read_site_input(SiteInputArgs& args, DuplicateIds* duplicates) {
   prepare(args);
   SiteTable table = read_whole(args);
+  if (!args.weight_field.empty()) read_site_weights(table, args.weight_field);
   list_rejected(table);
   require_sites(table);
   const DuplicateIds found = find_duplicate_ids(table);
@@ -153,8 +159,16 @@ StagedSiteInput::StagedSiteInput(SiteInputArgs& args, bool in_background, std::f
   // The rest: a CSV table's strings, then the duplicate ids beside `then` (both only read the
   // table; in the background, the caller's thread waits for them once its own work is done, and
   // they then share the cores).
-  auto rest = [this, in_background, then = std::move(then)] {
+  const bool weighted = !args.weight_field.empty();
+  if (weighted) in_background = false;  // rows may yet be rejected: the positions come after them
+  auto rest = [this, in_background, weighted, field = args.weight_field, then = std::move(then)] {
     SiteTable table = scan_ ? std::move(*scan_).finish() : std::move(table_);
+    if (weighted) {
+      read_site_weights(table, field);
+      points_ = site_points(table);
+      positions_ = points_;
+      lifts_ = site_lifts(table);
+    }
     TaskGroup duplicates;
     auto find = [&] { duplicates_ = find_duplicate_ids(table); };
     if (in_background && then)
@@ -166,6 +180,14 @@ StagedSiteInput::StagedSiteInput(SiteInputArgs& args, bool in_background, std::f
     table_ = std::move(table);
   };
   // No site: the rows are listed, and the command stops before it creates any output.
+  if (weighted) {
+    rest();
+    if (positions_.empty()) {
+      list_rejected(table_);
+      require_sites(table_);
+    }
+    return;
+  }
   if (positions_.empty()) {
     rest();
     list_rejected(table_);
@@ -197,6 +219,24 @@ std::vector<Vec3> site_points(const SiteTable& table) {
   points.reserve(table.sites.size());
   for (const InputSite& s : table.sites) points.push_back(s.unit);
   return points;
+}
+
+SphericalDelaunay build_sites(std::span<const Vec3> points, std::span<const double> lifts, const SiteInputArgs& args,
+                              BuildReport& report) {
+  if (lifts.empty()) return SphericalDelaunay::build(points, delaunay_options(args), &report);
+  return SphericalDelaunay::build(points, lifts, delaunay_options(args), &report);
+}
+
+void report_hidden(const SiteTable& table, const BuildReport& report) {
+  if (report.hidden.empty()) return;
+  const SiteRows rows = rows_of_sites(report, report.site_of_input.size());
+  for (const Hidden& h : report.hidden) {
+    const InputSite& site = table.sites[rows.first(h.site)];
+    const InputSite& by = table.sites[rows.first(h.by)];
+    std::fprintf(stderr, "%s: row %llu (id '%s', radius %.17g m) is hidden: its power cell is empty (row %llu, id '%s', radius %.17g m, holds its position)\n",
+                 printable(table.source).c_str(), static_cast<unsigned long long>(site.row), printable(site.id).c_str(),
+                 site.weight_m, static_cast<unsigned long long>(by.row), printable(by.id).c_str(), by.weight_m);
+  }
 }
 
 DelaunayOptions delaunay_options(const SiteInputArgs& args) {

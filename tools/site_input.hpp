@@ -16,6 +16,7 @@
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/geo/csv_site_scan.hpp"
 #include "geovor/geo/site_reader.hpp"
+#include "geovor/geo/site_weights.hpp"
 
 namespace geovor::tools {
 
@@ -25,6 +26,7 @@ struct SiteInputArgs {
   std::string ecef_fields;  // "X,Y,Z"
   std::string layer;        // OGR layer; "" for the only one
   double merge_m = 0;       // 0: the minimum separation
+  std::string weight_field; // the radius column of weighted sites; "" for none
   bool quiet = false;       // -q where the command has no other output options: no list of merged rows
 };
 
@@ -57,6 +59,9 @@ class StagedSiteInput {
   StagedSiteInput(SiteInputArgs& args, bool in_background, std::function<void(const SiteTable&)> then = {});
   /// The accepted rows' unit vectors, in row order (valid while this object lives).
   std::span<const Vec3> positions() const { return positions_; }
+  /// With --weight-field, the sites' lifts (site_lifts); empty otherwise. With weights, the table
+  /// is read whole before the positions (a row may be rejected for its radius).
+  std::span<const double> lifts() const { return lifts_; }
   const SiteTable& table();
   /// Whether two accepted rows share an id (known once table() returned).
   bool ids_repeat() const { return duplicates_.rows > 0; }
@@ -65,6 +70,7 @@ class StagedSiteInput {
   std::unique_ptr<CsvSiteScan> scan_;
   std::vector<Vec3> points_;
   std::span<const Vec3> positions_;
+  std::vector<double> lifts_;
   SiteTable table_;
   DuplicateIds duplicates_;
   bool listed_ = false;
@@ -73,6 +79,13 @@ class StagedSiteInput {
 
 /// The unit vectors of the accepted rows, in order.
 std::vector<Vec3> site_points(const SiteTable& table);
+
+/// The triangulation of the sites, weighted when lifts are given (SphericalDelaunay::build).
+SphericalDelaunay build_sites(std::span<const Vec3> points, std::span<const double> lifts, const SiteInputArgs& args,
+                              BuildReport& report);
+
+/// Lists each hidden weighted site on stderr with its row and the row of a site that hides it.
+void report_hidden(const SiteTable& table, const BuildReport& report);
 
 /// DelaunayOptions with the --merge-m distance.
 DelaunayOptions delaunay_options(const SiteInputArgs& args);

@@ -75,10 +75,6 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
   return build_sites(points, {}, options, report);
 }
 
-double SphericalDelaunay::lift_of_radius(double r_m, double earth_radius_m) {
-  return std::cos(r_m / earth_radius_m);
-}
-
 SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points, std::span<const double> lifts,
                                            const DelaunayOptions& options, BuildReport* report) {
   if (lifts.size() != points.size())

@@ -31,6 +31,11 @@ constexpr std::array<FieldType, 8> kOurTypes = {FieldType::Integer64, FieldType:
                                                 FieldType::Integer64, FieldType::Real,   FieldType::Real,
                                                 FieldType::Integer64, FieldType::String};
 constexpr std::array<bool, 8> kOurJson = {false, false, true, false, false, false, false, true};
+// Weighted sites (table.weight_column >= 0): their radius follows the fields above.
+constexpr const char* kWeightField = "weight_m";
+
+// The number of our fields before the input columns.
+std::size_t our_fields(const SiteTable& table) { return kOurFields.size() + (table.weight_column >= 0); }
 
 // What the cells' properties need besides the geometry, made from the table, the report and the
 // triangulation only (so while the diagram and the cells' geometry are built).
@@ -74,7 +79,7 @@ SiteTexts make_site_texts(const SiteTable& table, const BuildReport& report, con
       if (t.rows.first(s) != kNoIndex) t.site_text[s] = id_texts->text[t.rows.first(s)];
   }
   for (SiteId s = 0; s < num_sites; ++s)
-    if (dt.is_live(s)) t.order.push_back(s);  // VoronoiDiagram::has_cell
+    if (dt.is_live(s) || dt.is_hidden(s)) t.order.push_back(s);  // a hidden site: an empty cell
   return t;
 }
 
@@ -92,6 +97,10 @@ class CellFeatures {
   // The cell of s at the output's precision and its areas; a cell not written valid goes to
   // `unwritten`.
   Areas geometry(SiteId s, MultiPolygon& polygon, std::vector<UnwrittenCell>& unwritten) const {
+    if (!diagram_.has_cell(s)) {  // a hidden weighted site (reported by the caller)
+      polygon.clear();
+      return {0, 0};
+    }
     Areas areas{0, diagram_.cell_area_sr(s)};
     const CellStatus status = cells_.polygon(s, polygon, areas.m2);
     if (status != CellStatus::Written)
@@ -106,7 +115,8 @@ class CellFeatures {
     const std::span<const std::uint32_t> site_rows = texts_.rows.of(s);
     const InputSite& first = table_.sites[site_rows.front()];
     const auto neighbours = diagram_.cell_neighbors(s);
-    values.resize(kOurFields.size() + table_.columns.size());
+    const std::size_t ours = our_fields(table_);
+    values.resize(ours + table_.columns.size());
     values[0] = static_cast<std::int64_t>(s);
     values[1] = first.id;
     buffer.assign(1, '[');
@@ -128,7 +138,8 @@ class CellFeatures {
     }
     buffer += ']';
     values[7] = buffer;
-    for (std::size_t c = 0; c < table_.columns.size(); ++c) values[kOurFields.size() + c] = input_value(table_, first, c);
+    if (ours > kOurFields.size()) values[kOurFields.size()] = first.weight_m;
+    for (std::size_t c = 0; c < table_.columns.size(); ++c) values[ours + c] = input_value(table_, first, c);
   }
 
   // The same properties as the JSON text of each value, in text[0, ends.back()) (value i ends
@@ -150,7 +161,7 @@ class CellFeatures {
       ids += ']';
     }
     constexpr std::size_t kIntChars = 24;
-    std::size_t bound = 3 * kIntChars + 2 * kMaxRealChars + 2 * own.size() + ids.size() + 4 + neighbours.size();
+    std::size_t bound = 3 * kIntChars + 3 * kMaxRealChars + 2 * own.size() + ids.size() + 4 + neighbours.size();
     for (const SiteId w : neighbours) bound += texts_.site_text[w].size();
     if (text.size() < bound) text.resize(std::max(bound, 2 * text.size()));
     char* const begin = text.data();
@@ -193,6 +204,10 @@ class CellFeatures {
     }
     *p++ = ']';
     done();
+    if (table_.weight_column >= 0) {
+      put_real(first.weight_m);
+      done();
+    }
     text.resize(static_cast<std::size_t>(p - begin));  // shorter: nothing filled
     const std::size_t id_column = table_.id_column >= 0 && table_.column_type(table_.id_column) == FieldType::String
                                       ? static_cast<std::size_t>(table_.id_column)
@@ -294,6 +309,7 @@ void compute_block(const CellFeatures& features, const std::vector<SiteId>& orde
 std::vector<Field> cell_layer_schema(const SiteTable& table) {
   std::vector<Field> schema;
   for (std::size_t i = 0; i < kOurFields.size(); ++i) schema.push_back({kOurFields[i], kOurTypes[i], kOurJson[i]});
+  if (table.weight_column >= 0) schema.push_back({kWeightField, FieldType::Real, false});
   std::vector<std::size_t> columns(table.columns.size());
   for (std::size_t c = 0; c < columns.size(); ++c) columns[c] = c;
   const std::vector<Field> inputs = input_column_fields(table, columns, schema);

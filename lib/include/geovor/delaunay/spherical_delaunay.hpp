@@ -156,7 +156,7 @@ class SphericalDelaunay {
 
   /// The regular triangulation of weighted sites (docs/weighted.md): point i is the circle of
   /// centre points[i] and radius r_i, given by its lift lifts[i] = cos(r_i / R) in (0, 1] (see
-  /// lift_of_radius()); the triangulation is the convex hull of the lifted points
+  /// site_lift(), geo/site_weights.hpp); the triangulation is the convex hull of the lifted points
   /// points[i] / lifts[i], decided exactly with the lifts taken as the doubles they are.
   ///  - A site whose lifted point is inside the hull is hidden: it keeps its id but is no vertex
   ///    (is_hidden(), BuildReport::hidden with a site whose cell holds its position).
@@ -170,10 +170,6 @@ class SphericalDelaunay {
   ///   (0, 1].
   static SphericalDelaunay build(std::span<const Vec3> points, std::span<const double> lifts,
                                  const DelaunayOptions& options = {}, BuildReport* report = nullptr);
-
-  /// The lift cos(r / R) of a circle of radius r_m metres on the sphere of radius R = earth_radius_m,
-  /// rounded once. REQUIRES: 0 <= r_m < pi R / 2 (then the lift is in (0, 1]).
-  static double lift_of_radius(double r_m, double earth_radius_m);
 
   /// The raw arrays of a triangulation, as saved in an index file.
   struct Arrays {

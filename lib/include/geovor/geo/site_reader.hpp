@@ -86,6 +86,7 @@ struct InputSite {
   double lat_deg = 0;      ///< geodetic latitude (degrees), normalised by normalize_lat_lon
   double lon_deg = 0;      ///< longitude (degrees), normalised by normalize_lat_lon
   double height_m = 0;     ///< height above the ellipsoid (metres); 0 unless ECEF input
+  double weight_m = 0;     ///< radius of a weighted site (metres); 0 unless read_site_weights()
   Vec3 unit;               ///< SiteEncoder::from_lat_lon(lat_deg, lon_deg)
   std::vector<std::string> fields;  ///< every field of the row as read
 };
@@ -109,6 +110,7 @@ struct SiteTable {
   int lon_column = -1;               ///< index into columns; -1 for ECEF input
   int id_column = -1;                ///< index into columns; -1: ids are row numbers
   std::vector<int> ecef_columns;     ///< X, Y, Z indices for ECEF input, else empty
+  int weight_column = -1;            ///< the sites' radii (site_weights.hpp); -1: unweighted
   std::uint64_t rows_read = 0;       ///< data rows seen == sites.size() + rejected.size()
   std::vector<InputSite> sites;
   std::vector<RejectedRow> rejected;
