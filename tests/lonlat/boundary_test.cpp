@@ -114,5 +114,140 @@ TEST(LoopToPolygons, ASpikeToAPoleLineIsNotASecondRun) {
   }
 }
 
+
+// The stages of loop_to_polygons.
+
+Pt written(double lat, double lon, int precision = 0) { return make_pt(SiteEncoder::from_lat_lon(lat, lon), precision); }
+// A point written on a pole line whose sphere point is merely near the pole.
+Pt on_pole_line(double lat, double lon) {
+  Pt p = written(lat > 0 ? 89.9999 : -89.9999, lon, 7);
+  p.lat = lat, p.lon = lon;
+  return p;
+}
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+TEST(MergeRepeatedPositions, DropsRepeatsAcrossTheStartToo) {
+  std::vector<Pt> loop = {written(0, 0), written(0, 0), written(0, 10), written(10, 10), written(0, 0)};
+  std::vector<OwnLon> own;
+  EXPECT_FALSE(merge_repeated_positions(loop, own));
+  ASSERT_EQ(loop.size(), 3u);
+  EXPECT_EQ(loop[0].lon, 0);
+  EXPECT_EQ(loop[1].lon, 10);
+  EXPECT_EQ(loop[2].lat, 10);
+  EXPECT_TRUE(own.empty());
+}
+
+// A run at a pole is one point of the sphere whatever its longitudes: drawn from its first
+// point's own longitude to its last point's, and keeping the sphere point of one merely rounded
+// there (the last such), not the pole itself.
+TEST(MergeRepeatedPositions, MergesARunAtAPole) {
+  const Pt first = on_pole_line(90, 10), last = on_pole_line(90, 30);
+  Pt pole = on_pole_line(90, 20);
+  pole.v = {0, 0, 1};
+  std::vector<Pt> loop = {written(80, 0), first, pole, last, written(80, 30)};
+  std::vector<OwnLon> own = {{kNaN, kNaN}, {10, 10}, {kNaN, kNaN}, {30, 30}, {kNaN, kNaN}};
+  EXPECT_TRUE(merge_repeated_positions(loop, own));
+  ASSERT_EQ(loop.size(), 3u);
+  ASSERT_EQ(own.size(), 3u);
+  EXPECT_EQ(loop[1].lon, 10);
+  EXPECT_EQ(loop[1].v, last.v);
+  EXPECT_EQ(own[1].in, 10);
+  EXPECT_EQ(own[1].out, 30);
+  EXPECT_TRUE(std::isnan(own[0].in) && std::isnan(own[2].out));
+
+  // The same run across the loop's start: merged into the first point, its `in` the last's.
+  loop = {pole, written(80, 0), written(80, 30), first};
+  own = {{kNaN, 20}, {kNaN, kNaN}, {kNaN, kNaN}, {10, kNaN}};
+  EXPECT_TRUE(merge_repeated_positions(loop, own));
+  ASSERT_EQ(loop.size(), 3u);
+  EXPECT_EQ(loop[0].v, first.v);
+  EXPECT_EQ(own[0].in, 10);
+  EXPECT_EQ(own[0].out, 20);
+}
+
+// The loop as the cyclic sequence of its positions from the one at (lon, lat).
+std::vector<std::pair<double, double>> positions_from(const std::vector<Pt>& loop, double lon, double lat) {
+  std::vector<std::pair<double, double>> out;
+  std::size_t start = 0;
+  while (start < loop.size() && !(loop[start].lon == lon && loop[start].lat == lat)) ++start;
+  for (std::size_t i = 0; i < loop.size(); ++i) out.emplace_back(loop[(start + i) % loop.size()].lon, loop[(start + i) % loop.size()].lat);
+  return out;
+}
+
+// A visit to the south pole line drawn down the meridian 20 and back up it: dropped where the
+// region does not hold the pole, wherever the loop starts; its ends, at one position, merge.
+TEST(DropPoleSpikes, DropsASpikeDownAMeridianAndBack) {
+  using Positions = std::vector<std::pair<double, double>>;
+  for (std::size_t start = 0; start < 6; ++start) {
+    std::vector<Pt> loop = {written(-80, 0), written(-80, 20), written(-85, 20), on_pole_line(-90, 77),
+                            written(-85, 20), written(-85, 0)};
+    std::rotate(loop.begin(), loop.begin() + static_cast<std::ptrdiff_t>(start), loop.end());
+    std::vector<OwnLon> own;
+    drop_pole_spikes(loop, own, PoleOwner{-1, 0});
+    EXPECT_EQ(positions_from(loop, 0, -80), (Positions{{0, -80}, {20, -80}, {20, -85}, {0, -85}})) << "start " << start;
+  }
+}
+
+TEST(DropPoleSpikes, KeepsAnOwnersOnlyVisitAndAVisitAtItsOwnLongitude) {
+  const std::vector<Pt> spiked = {written(-80, 0), written(-80, 20), written(-85, 20), on_pole_line(-90, 77),
+                                  written(-88, 20), written(-88, 0)};
+  std::vector<OwnLon> own;
+  for (const int owns : {-1, 1}) {  // unknown, or the owner with no other visit to its pole
+    std::vector<Pt> loop = spiked;
+    drop_pole_spikes(loop, own, PoleOwner{-1, owns});
+    EXPECT_EQ(loop.size(), 6u) << "owns " << owns;
+  }
+  std::vector<Pt> loop = spiked;
+  drop_pole_spikes(loop, own, PoleOwner{-1, 0});
+  EXPECT_EQ(loop.size(), 5u);
+  // Drawn at its own longitude 77 (keep_lon), the visit is no spike down the meridian 20.
+  loop = spiked;
+  own.assign(loop.size(), OwnLon{kNaN, kNaN});
+  own[3] = {77, 77};
+  drop_pole_spikes(loop, own, PoleOwner{-1, 0});
+  EXPECT_EQ(loop.size(), 6u);
+  // The owner drops it when it has another visit to its pole (a run along the line).
+  loop = spiked;
+  loop.insert(loop.begin() + 5, {on_pole_line(-90, 20), on_pole_line(-90, 0)});
+  own.clear();
+  drop_pole_spikes(loop, own, PoleOwner{-1, 1});
+  EXPECT_EQ(loop.size(), 7u);
+  EXPECT_EQ(loop[3].lat, -88);
+}
+
+TEST(PinchLatitude, ThePoleVisitedTwice) {
+  const Pt n = on_pole_line(90, 0), s = on_pole_line(-90, 0), a = written(0, 0), b = written(0, 90);
+  EXPECT_EQ(pinch_latitude({a, n, b, n}), 90);
+  EXPECT_EQ(pinch_latitude({a, s, n, b, s, n}), 90);
+  EXPECT_EQ(pinch_latitude({a, s, n, b, s}), -90);
+  EXPECT_EQ(pinch_latitude({a, s, b, n}), 0);
+}
+
+TEST(InOneSheet, TheUsualCellOnly) {
+  EXPECT_TRUE(in_one_sheet({written(0, 0), written(0, 10), written(10, 10), written(10, 0)}));
+  EXPECT_TRUE(in_one_sheet({written(0, -180), written(0, -170), written(10, -170), written(10, -180)}));
+  // Across the antimeridian: a step of one sheet east (from 170 to -170).
+  EXPECT_FALSE(in_one_sheet({written(0, 170), written(0, -170), written(10, -170), written(10, 170)}));
+  // Every point on the antimeridian: written in sheet -1, at +180.
+  EXPECT_FALSE(in_one_sheet({written(0, -180), written(10, -180), written(5, -180)}));
+}
+
+TEST(RunsBackAlongPoleLine, ASpanOver180DegreesAtAPoleNotHeld) {
+  const Pt north = on_pole_line(90, 0), south = on_pole_line(-90, 0);
+  // At the north pole the run goes west from `in` to `out`: from 10 to -100 spans 110 degrees,
+  // from -100 to 10 spans 250.
+  EXPECT_FALSE(runs_back_along_pole_line(north, 10, -100, 0));
+  EXPECT_TRUE(runs_back_along_pole_line(north, -100, 10, 0));
+  EXPECT_FALSE(runs_back_along_pole_line(north, -100, 10, 1));   // the owner keeps any span
+  EXPECT_FALSE(runs_back_along_pole_line(north, -100, 10, -1));  // unknown owner
+  // At the south pole it goes east.
+  EXPECT_TRUE(runs_back_along_pole_line(south, 10, -100, 0));
+  EXPECT_FALSE(runs_back_along_pole_line(south, -100, 10, 0));
+  // The pole itself a vertex of the boundary: its angle is at most 180 degrees as computed.
+  Pt pole = north;
+  pole.v = {0, 0, 1};
+  EXPECT_FALSE(runs_back_along_pole_line(pole, -100, 10, 0));
+}
+
 }  // namespace
 }  // namespace geovor::lonlat

@@ -391,13 +391,6 @@ void Densifier::split(const Pt& a, const Pt& b, int depth) {
 
 namespace {
 
-// The longitudes at which a visit to a pole line (a run of points there, merged into one) is
-// drawn when its first or last point is in keep_lon: that point's own (NaN: the neighbour's
-// meridian, the rule of a vertex at the pole). Empty: none in the loop.
-struct OwnLon {
-  double in, out;
-};
-
 void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& out, BBox* bbox, int precision,
                  LoopInfo* info, PoleOwner pole_owner);
 
@@ -415,188 +408,225 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox, int 
   polygons_of(loop, own, out, bbox, precision, info, pole_owner);
 }
 
-namespace {
-
-void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& out, BBox* bbox, int precision,
-                 LoopInfo* info, PoleOwner pole_owner) {
-  if (info) *info = LoopInfo{};
-  std::size_t used = 0;
-  if (bbox) *bbox = BBox{};
-  Scratch& sc = scratch();
+bool merge_repeated_positions(std::vector<Pt>& loop, std::vector<OwnLon>& own) {
   const bool has_own = !own.empty();
   bool near_pole = false;  // a point within 0.01 degree of a pole
-  // Drop consecutive duplicates in lon/lat (cyclically), and consecutive points at one pole,
-  // whatever their longitudes (one point of the sphere: rounding puts runs of points there).
+  auto same = [](const Pt& a, const Pt& b) { return a.lat == b.lat && (a.lon == b.lon || is_pole(a.lat)); };
   // A run at a pole keeps the sphere point of one merely rounded there, if it has one: at_pole(v)
   // then says that the pole itself is a vertex of the boundary, with its true angle there.
-  {
-    auto same = [](const Pt& a, const Pt& b) {
-      return a.lat == b.lat && (a.lon == b.lon || is_pole(a.lat));
-    };
-    auto merge = [](Pt& kept, const Pt& dropped) {
-      if (is_pole(kept.lat) && !at_pole(dropped.v)) kept.v = dropped.v;
-    };
-    // A merged run is drawn from its first point's own longitude to its last point's.
-    std::size_t w = 0;
-    for (std::size_t i = 0; i < loop.size(); ++i) {
-      near_pole |= std::fabs(loop[i].lat) > 89.99;
-      if (w == 0 || !same(loop[i], loop[w - 1])) {
-        if (has_own) own[w] = own[i];
-        loop[w++] = loop[i];
-      } else {
-        merge(loop[w - 1], loop[i]);
-        if (has_own) own[w - 1].out = own[i].out;
-      }
-    }
-    while (w > 1 && same(loop[w - 1], loop[0])) {
-      merge(loop[0], loop[w - 1]);
-      if (has_own) own[0].in = own[w - 1].in;
-      --w;
-    }
-    loop.resize(w);
-    if (has_own) own.resize(w);
-    if (info) info->near_pole = near_pole;
-  }
-  // A point at a pole the site does not own, between two points off the poles on one meridian,
-  // is a spike to the pole line and back up that meridian (a boundary passing within a step of
-  // the pole, drawn at it): no area and no run along the pole line, so it is dropped, as
-  // remove_spikes would drop it. Left in, it was a second visit to the pole, and the pinch below
-  // cut the ring there into two parts sharing that meridian (0 decimals, fuzz_cells). A visit
-  // drawn at a point's own longitude (keep_lon) is a spike only when that is the meridian's.
-  auto drawn_down_and_up = [&](std::size_t a, std::size_t p, std::size_t b) {
-    return is_pole(loop[p].lat) && !is_pole(loop[a].lat) && !is_pole(loop[b].lat) && loop[a].lon == loop[b].lon &&
-           (!has_own || ((std::isnan(own[p].in) || own[p].in == loop[a].lon) &&
-                         (std::isnan(own[p].out) || own[p].out == loop[a].lon)));
+  auto merge = [](Pt& kept, const Pt& dropped) {
+    if (is_pole(kept.lat) && !at_pole(dropped.v)) kept.v = dropped.v;
   };
-  if (near_pole && loop.size() > 3) {
-    // The owner's too, when it has another visit to that pole (a run along the line): its region
-    // lies on both sides of the spike, a neighbour's tip collapsed onto that meridian. Pinched
-    // there, the two parts shared the meridian's segment (clusters a metre from the south pole,
-    // 0 decimals: fuzz_cells).
-    bool other_visit[2] = {false, false};  // north, south
-    for (std::size_t i = 0, n = loop.size(); i < n; ++i)
-      if (is_pole(loop[i].lat) && !drawn_down_and_up((i + n - 1) % n, i, (i + 1) % n)) other_visit[loop[i].lat > 0 ? 0 : 1] = true;
-    auto spike = [&](std::size_t a, std::size_t p, std::size_t b) {
-      if (!drawn_down_and_up(a, p, b)) return false;
-      const int owns = loop[p].lat > 0 ? pole_owner.north : pole_owner.south;
-      return owns == 0 || (owns == 1 && other_visit[loop[p].lat > 0 ? 0 : 1]);
-    };
-    auto copy = [&](std::size_t to, std::size_t from) {
-      loop[to] = loop[from];
-      if (has_own) own[to] = own[from];
-    };
-    auto erase = [&](std::size_t i) {
-      loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(i));
-      if (has_own) own.erase(own.begin() + static_cast<std::ptrdiff_t>(i));
-    };
-    std::size_t w = 0;
-    for (std::size_t i = 0; i < loop.size(); ++i) {
-      copy(w++, i);
-      // Ends of a dropped spike at one position merge, which can expose another spike.
-      while (w >= 3 && spike(w - 3, w - 2, w - 1)) {
-        copy(w - 2, w - 1);
-        --w;
-        if (loop[w - 1].lon == loop[w - 2].lon && loop[w - 1].lat == loop[w - 2].lat) --w;
-      }
-    }
-    loop.resize(w);
-    if (has_own) own.resize(w);
-    // And across the loop's start (at most a few: each pass drops a point).
-    for (bool dropped = true; dropped && loop.size() > 3;) {
-      dropped = false;
-      const std::size_t n = loop.size();
-      for (const std::size_t i : {std::size_t{0}, n - 1}) {
-        if (!spike((i + n - 1) % n, i, (i + 1) % n)) continue;
-        erase(i);
-        const std::size_t m = loop.size(), j = i % m;  // the spike's ends: j - 1 and j, cyclically
-        const Pt &a = loop[(j + m - 1) % m], &b = loop[j];
-        if (a.lon == b.lon && a.lat == b.lat) erase(j);
-        dropped = true;
-        break;
-      }
+  // A merged run is drawn from its first point's own longitude to its last point's.
+  std::size_t w = 0;
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    near_pole |= std::fabs(loop[i].lat) > 89.99;
+    if (w == 0 || !same(loop[i], loop[w - 1])) {
+      if (has_own) own[w] = own[i];
+      loop[w++] = loop[i];
+    } else {
+      merge(loop[w - 1], loop[i]);
+      if (has_own) own[w - 1].out = own[i].out;
     }
   }
-  // Two points may still be three positions: a visit to a pole drawn at its own longitudes (a
-  // part of a pinched loop: the point where it left the line, and its run there).
-  if (loop.size() < 2 || (loop.size() < 3 && !has_own)) {
-    out.clear();
-    return;
+  while (w > 1 && same(loop[w - 1], loop[0])) {
+    merge(loop[0], loop[w - 1]);
+    if (has_own) own[0].in = own[w - 1].in;
+    --w;
   }
+  loop.resize(w);
+  if (has_own) own.resize(w);
+  return near_pole;
+}
 
-  // A boundary drawn at one pole more than once (a region passing within a step of the pole on
-  // several sides, or holding it with its boundary there on several sides): its runs along the
-  // pole line would overlap (one turn each way, or a second turn for the owner). The pole is one
-  // point of the sphere, so the region is pinched there: the parts between consecutive runs are
-  // rings of their own, each closed by one run along the pole line (by the rules below).
-  if (near_pole && (pole_owner.north >= 0 || pole_owner.south >= 0)) {
-    std::size_t runs[2] = {0, 0};  // north, south
-    for (const Pt& p : loop)
-      if (is_pole(p.lat)) ++runs[p.lat > 0 ? 0 : 1];
-    const double split_lat = runs[0] >= 2 ? 90 : runs[1] >= 2 ? -90 : 0;
-    if (split_lat != 0) {
-      const std::size_t n = loop.size();
-      std::size_t first = 0;
-      while (loop[first].lat != split_lat) ++first;
-      LoopInfo whole;
-      whole.near_pole = near_pole;
-      int enclosing = 0;  // parts around a pole: one at most (the other pole's), else rounding
-      MultiPolygon parts_out;
-      std::vector<Pt> part;
-      std::vector<OwnLon> part_own;
-      out.clear();
-      for (std::size_t a = first;;) {
-        std::size_t b = (a + 1) % n;
-        while (loop[b].lat != split_lat) b = (b + 1) % n;
-        part.clear();
-        part_own.clear();
-        for (std::size_t i = (a + 1) % n; i != b; i = (i + 1) % n) {
-          part.push_back(loop[i]);
-          if (has_own) part_own.push_back(own[i]);
-        }
-        // Closed at the pole from b's run to a's: in where b's starts, out where a's ends.
-        part.push_back(loop[b]);
-        if (has_own) part_own.push_back({own[b].in, own[a].out});
-        LoopInfo part_info;
-        polygons_of(part, part_own, parts_out, nullptr, precision, &part_info, pole_owner);
-        whole.winding += part_info.winding;
-        whole.tangled |= part_info.tangled;
-        enclosing += part_info.winding != 0;
-        for (Polygon& poly : parts_out) out.push_back(std::move(poly));
-        a = b;
-        if (a == first) break;
-      }
-      if (enclosing > 1) whole.tangled = true;
-      if (info) *info = whole;
-      if (whole.tangled) out.clear();
-      // Parts may wrap around the antimeridian each: all longitudes unless there is one.
-      if (bbox && !out.empty()) *bbox = box_of(out, out.size() > 1 || whole.winding != 0 ? Lons::All : Lons::One);
-      return;
+namespace {
+
+// Whether loop[p], at a pole, is drawn down the meridian of loop[a] and back up it to loop[b]:
+// no area and no run along the pole line. A visit drawn at a point's own longitude (keep_lon) is
+// one only when that is the meridian's.
+bool drawn_down_and_up(const std::vector<Pt>& loop, const std::vector<OwnLon>& own, std::size_t a, std::size_t p,
+                       std::size_t b) {
+  return is_pole(loop[p].lat) && !is_pole(loop[a].lat) && !is_pole(loop[b].lat) && loop[a].lon == loop[b].lon &&
+         (own.empty() || ((std::isnan(own[p].in) || own[p].in == loop[a].lon) &&
+                          (std::isnan(own[p].out) || own[p].out == loop[a].lon)));
+}
+
+// Which poles' spikes drop_pole_spikes drops (north, south): its own rule, applied alike to every
+// point, so that the passes along the loop and across its start agree.
+struct SpikeRule {
+  bool drop[2];
+  bool operator()(const std::vector<Pt>& loop, const std::vector<OwnLon>& own, std::size_t a, std::size_t p,
+                  std::size_t b) const {
+    return drawn_down_and_up(loop, own, a, p, b) && drop[loop[p].lat > 0 ? 0 : 1];
+  }
+};
+
+// The pass of drop_pole_spikes along the loop, in place: ends of a dropped spike at one position
+// merge, which can expose another spike.
+void drop_spikes_along(std::vector<Pt>& loop, std::vector<OwnLon>& own, SpikeRule spike) {
+  const bool has_own = !own.empty();
+  auto copy = [&](std::size_t to, std::size_t from) {
+    loop[to] = loop[from];
+    if (has_own) own[to] = own[from];
+  };
+  std::size_t w = 0;
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    copy(w++, i);
+    while (w >= 3 && spike(loop, own, w - 3, w - 2, w - 1)) {
+      copy(w - 2, w - 1);
+      --w;
+      if (loop[w - 1].lon == loop[w - 2].lon && loop[w - 1].lat == loop[w - 2].lat) --w;
     }
   }
+  loop.resize(w);
+  if (has_own) own.resize(w);
+}
 
-  // The usual cell: no point near a pole, and every step within one sheet, its loop closing
-  // there: the ring written is the loop itself in sheet 0, as the general way below writes it.
-  if (!near_pole && loop.size() >= 3) {
-    bool one_sheet = true, off_antimeridian = false;
-    for (std::size_t i = 0, n = loop.size(); one_sheet && i < n; ++i) {
-      const Pt &p = loop[i], &q = loop[i + 1 == n ? 0 : i + 1];
-      one_sheet = sheet_step(p.v, p.lon, q.v, q.lon) == 0;
-      off_antimeridian |= p.lon != -180;
-    }
-    if (one_sheet && off_antimeridian) {  // else the sheet of the whole ring is -1
-      append_piece(out, used, loop, 0);
-      out.resize(used);
-      if (bbox && used > 0) *bbox = box_of(out, Lons::One);
-      return;
+// The pass of drop_pole_spikes across the loop's start (at most a few: each pass drops a point).
+void drop_spikes_across_start(std::vector<Pt>& loop, std::vector<OwnLon>& own, SpikeRule spike) {
+  const bool has_own = !own.empty();
+  auto erase = [&](std::size_t i) {
+    loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(i));
+    if (has_own) own.erase(own.begin() + static_cast<std::ptrdiff_t>(i));
+  };
+  for (bool dropped = true; dropped && loop.size() > 3;) {
+    dropped = false;
+    const std::size_t n = loop.size();
+    for (const std::size_t i : {std::size_t{0}, n - 1}) {
+      if (!spike(loop, own, (i + n - 1) % n, i, (i + 1) % n)) continue;
+      erase(i);
+      const std::size_t m = loop.size(), j = i % m;  // the spike's ends: j - 1 and j, cyclically
+      const Pt &a = loop[(j + m - 1) % m], &b = loop[j];
+      if (a.lon == b.lon && a.lat == b.lat) erase(j);
+      dropped = true;
+      break;
     }
   }
+}
 
-  // A vertex at a pole becomes two pole positions with the incoming and outgoing longitudes
-  // (a point in keep_lon: its own; one position when they are the same).
-  std::vector<RP>& ring = sc.ring;
+}  // namespace
+
+// A point at a pole the site does not own, between two points off the poles on one meridian,
+// is a spike to the pole line and back up that meridian (a boundary passing within a step of
+// the pole, drawn at it): no area and no run along the pole line, so it is dropped, as
+// remove_spikes would drop it. Left in, it was a second visit to the pole, and the pinch
+// (write_pinched) cut the ring there into two parts sharing that meridian (0 decimals,
+// fuzz_cells). A visit drawn at a point's own longitude (keep_lon) is a spike only when that is
+// the meridian's.
+void drop_pole_spikes(std::vector<Pt>& loop, std::vector<OwnLon>& own, PoleOwner pole_owner) {
+  // The owner's too, when it has another visit to that pole (a run along the line): its region
+  // lies on both sides of the spike, a neighbour's tip collapsed onto that meridian. Pinched
+  // there, the two parts shared the meridian's segment (clusters a metre from the south pole,
+  // 0 decimals: fuzz_cells).
+  bool other_visit[2] = {false, false};  // north, south
+  for (std::size_t i = 0, n = loop.size(); i < n; ++i)
+    if (is_pole(loop[i].lat) && !drawn_down_and_up(loop, own, (i + n - 1) % n, i, (i + 1) % n))
+      other_visit[loop[i].lat > 0 ? 0 : 1] = true;
+  SpikeRule spike;
+  spike.drop[0] = pole_owner.north == 0 || (pole_owner.north == 1 && other_visit[0]);
+  spike.drop[1] = pole_owner.south == 0 || (pole_owner.south == 1 && other_visit[1]);
+  drop_spikes_along(loop, own, spike);
+  drop_spikes_across_start(loop, own, spike);
+}
+
+double pinch_latitude(const std::vector<Pt>& loop) {
+  std::size_t runs[2] = {0, 0};  // north, south
+  for (const Pt& p : loop)
+    if (is_pole(p.lat)) ++runs[p.lat > 0 ? 0 : 1];
+  return runs[0] >= 2 ? 90 : runs[1] >= 2 ? -90 : 0;
+}
+
+bool in_one_sheet(const std::vector<Pt>& loop) {
+  bool one_sheet = true, off_antimeridian = false;
+  for (std::size_t i = 0, n = loop.size(); one_sheet && i < n; ++i) {
+    const Pt &p = loop[i], &q = loop[i + 1 == n ? 0 : i + 1];
+    one_sheet = sheet_step(p.v, p.lon, q.v, q.lon) == 0;
+    off_antimeridian |= p.lon != -180;
+  }
+  return one_sheet && off_antimeridian;  // else the sheet of the whole ring is -1
+}
+
+// The ring runs west along the north pole's line (east along the south's) from the incoming
+// meridian to the outgoing one: that span is the region's angle at the pole. When the caller
+// knows that the region does not hold the pole, a span over 180 degrees is rounding (a
+// boundary passing within a decimal step of the pole, drawn at it, with the region on the
+// side away from the pole): the ring then runs the short way back along the pole line, the
+// reverse of its neighbour's run there, and cancels against its own run along the pole line
+// on the side nearer the pole (lunes passing the pole within a step: both runs are spikes
+// on the line, removed alike on both sides). Only touching the pole there had drawn a chord
+// where the neighbour ran along the pole line. The owner keeps any span: its cell may hold
+// the pole by an ulp, with a vertex of its neighbours at the pole within rounding, each
+// taking its own wedge (sites on one latitude, one of them an ulp higher: dropping its wedge
+// left a gap). So does a cell whose boundary has the pole itself as a vertex: its angle there
+// is at most 180 degrees, one over it is the rounding of its neighbours' longitudes (two
+// sites of equal z, the pole on their bisector: each cell's wedge is 180 degrees, one of them
+// just over it as written), and taken back it had wound around the pole (fuzz_cells).
+bool runs_back_along_pole_line(const Pt& p, double in, double out, int owns) {
+  const double span = std::fmod((p.lat > 0 ? in - out : out - in) + 720.0, 360.0);
+  return owns == 0 && span > 180 && !at_pole(p.v);
+}
+
+namespace {
+
+// A boundary drawn at one pole more than once (a region passing within a step of the pole on
+// several sides, or holding it with its boundary there on several sides): its runs along the
+// pole line would overlap (one turn each way, or a second turn for the owner). The pole is one
+// point of the sphere, so the region is pinched there.
+// The parts of a loop pinched at the pole of latitude split_lat (pinch_latitude), each between
+// consecutive runs there and closed by one run along the pole line, into `out` (polygons_of's
+// results, with its info and bbox for the whole).
+void write_pinched(const std::vector<Pt>& loop, const std::vector<OwnLon>& own, double split_lat, bool near_pole,
+                   MultiPolygon& out, BBox* bbox, int precision, LoopInfo* info, PoleOwner pole_owner) {
+  const bool has_own = !own.empty();
+  const std::size_t n = loop.size();
+  std::size_t first = 0;
+  while (loop[first].lat != split_lat) ++first;
+  LoopInfo whole;
+  whole.near_pole = near_pole;
+  int enclosing = 0;  // parts around a pole: one at most (the other pole's), else rounding
+  MultiPolygon parts_out;
+  std::vector<Pt> part;
+  std::vector<OwnLon> part_own;
+  out.clear();
+  for (std::size_t a = first;;) {
+    std::size_t b = (a + 1) % n;
+    while (loop[b].lat != split_lat) b = (b + 1) % n;
+    part.clear();
+    part_own.clear();
+    for (std::size_t i = (a + 1) % n; i != b; i = (i + 1) % n) {
+      part.push_back(loop[i]);
+      if (has_own) part_own.push_back(own[i]);
+    }
+    // Closed at the pole from b's run to a's: in where b's starts, out where a's ends.
+    part.push_back(loop[b]);
+    if (has_own) part_own.push_back({own[b].in, own[a].out});
+    LoopInfo part_info;
+    polygons_of(part, part_own, parts_out, nullptr, precision, &part_info, pole_owner);
+    whole.winding += part_info.winding;
+    whole.tangled |= part_info.tangled;
+    enclosing += part_info.winding != 0;
+    for (Polygon& poly : parts_out) out.push_back(std::move(poly));
+    a = b;
+    if (a == first) break;
+  }
+  if (enclosing > 1) whole.tangled = true;
+  if (info) *info = whole;
+  if (whole.tangled) out.clear();
+  // Parts may wrap around the antimeridian each: all longitudes unless there is one.
+  if (bbox && !out.empty()) *bbox = box_of(out, out.size() > 1 || whole.winding != 0 ? Lons::All : Lons::One);
+}
+
+constexpr std::size_t kNoTouch = ~std::size_t{0};
+
+// The loop as ring positions, a vertex at a pole as two with the incoming and outgoing
+// longitudes (a point in keep_lon: its own; one position when they are the same), into `ring`.
+// Returns the owner's one visit to its pole drawn as one position at its own longitude, if any
+// (kNoTouch): its ring may need a whole turn there (add_whole_turn).
+std::size_t ring_with_pole_runs(const std::vector<Pt>& loop, const std::vector<OwnLon>& own, PoleOwner pole_owner,
+                                std::vector<RP>& ring) {
+  const bool has_own = !own.empty();
   ring.clear();
-  constexpr std::size_t kNoTouch = ~std::size_t{0};
-  std::size_t touch = kNoTouch;  // the owner's one visit drawn as one position at its own longitude
+  std::size_t touch = kNoTouch;
   const std::size_t n = loop.size();
   for (std::size_t i = 0; i < n; ++i) {
     const Pt& p = loop[i];
@@ -611,120 +641,152 @@ void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& 
     if (has_own && !std::isnan(own[i].in)) in = own[i].in;
     if (has_own && !std::isnan(own[i].out)) outl = own[i].out;
     ring.push_back({p.v, in, p.lat, 0});
-    // The ring runs west along the north pole's line (east along the south's) from the incoming
-    // meridian to the outgoing one: that span is the region's angle at the pole. When the caller
-    // knows that the region does not hold the pole, a span over 180 degrees is rounding (a
-    // boundary passing within a decimal step of the pole, drawn at it, with the region on the
-    // side away from the pole): the ring then runs the short way back along the pole line, the
-    // reverse of its neighbour's run there, and cancels against its own run along the pole line
-    // on the side nearer the pole (lunes passing the pole within a step: both runs are spikes
-    // on the line, removed alike on both sides). Only touching the pole there had drawn a chord
-    // where the neighbour ran along the pole line. The owner keeps any span: its cell may hold
-    // the pole by an ulp, with a vertex of its neighbours at the pole within rounding, each
-    // taking its own wedge (sites on one latitude, one of them an ulp higher: dropping its wedge
-    // left a gap). So does a cell whose boundary has the pole itself as a vertex: its angle there
-    // is at most 180 degrees, one over it is the rounding of its neighbours' longitudes (two
-    // sites of equal z, the pole on their bisector: each cell's wedge is 180 degrees, one of them
-    // just over it as written), and taken back it had wound around the pole (fuzz_cells).
-    const double span = std::fmod((p.lat > 0 ? in - outl : outl - in) + 720.0, 360.0);
     const int owns = p.lat > 0 ? pole_owner.north : pole_owner.south;
-    const bool back = owns == 0 && span > 180 && !at_pole(p.v);
+    const bool back = runs_back_along_pole_line(p, in, outl, owns);
     if (outl != in) ring.push_back({p.v, outl, p.lat, 0, back});
     else if (owns == 1 && has_own && !std::isnan(own[i].in) && !std::isnan(own[i].out) && touch == kNoTouch &&
-             !drawn_down_and_up(prev, i, next))
+             !drawn_down_and_up(loop, own, prev, i, next))
       touch = ring.size() - 1;  // not a spike down a meridian and back, which cleaning removes
   }
-  // The owner's boundary through a point of its pole line drawn at its own longitude, and
-  // nowhere else along that line: the owner lies on both sides of it, so its ring, which winds
-  // around the pole, would touch its own closure along the line there. It runs a whole turn
-  // along the line from that point instead (the reverse of its boundary's turn), and is cut
-  // at the antimeridian like any ring: two parts meeting at the point (a ring of sites 35 m
-  // around the north pole whose lunes' tips meet millimetres from the south pole, one of them
-  // on the south pole's owner: unwritable, fuzz_cells' ring less the site that owned it).
-  auto wind = [&] {
-    for (std::size_t i = 1; i < ring.size(); ++i) ring[i].k = next_sheet(ring[i - 1], ring[i]);
-    return next_sheet(ring.back(), ring[0]) - ring[0].k;
+  return touch;
+}
+
+// Unwraps the ring: the sheets along it (from ring[0]'s); returns its winding (turns) once closed.
+int unwrap(std::vector<RP>& ring) {
+  for (std::size_t i = 1; i < ring.size(); ++i) ring[i].k = next_sheet(ring[i - 1], ring[i]);
+  return next_sheet(ring.back(), ring[0]) - ring[0].k;
+}
+
+// The owner's boundary through a point of its pole line drawn at its own longitude, and
+// nowhere else along that line: the owner lies on both sides of it, so its ring, which winds
+// around the pole, would touch its own closure along the line there. It runs a whole turn
+// along the line from that point instead (the reverse of its boundary's turn), and is cut
+// at the antimeridian like any ring: two parts meeting at the point (a ring of sites 35 m
+// around the north pole whose lunes' tips meet millimetres from the south pole, one of them
+// on the south pole's owner: unwritable, fuzz_cells' ring less the site that owned it).
+void add_whole_turn(std::vector<RP>& ring, std::size_t touch) {
+  if (touch == kNoTouch || unwrap(ring) != (ring[touch].lat > 0 ? 1 : -1)) return;
+  RP turn = ring[touch];
+  turn.full = true;
+  ring.insert(ring.begin() + static_cast<std::ptrdiff_t>(touch) + 1, turn);
+}
+
+// An unwrapped ring that winds around no pole, appended to out from out[used] (used counts the
+// pieces): in one sheet if every point can be written there, else cut at the antimeridian.
+void write_unwound(const std::vector<RP>& ring, MultiPolygon& out, std::size_t& used, int precision) {
+  Scratch& sc = scratch();
+  // Sheets every point can be written in: [k - 1, k] on the antimeridian, else {k}.
+  int common_lo = std::numeric_limits<int>::min(), common_hi = std::numeric_limits<int>::max();
+  int kmin = common_hi, kmax = common_lo;
+  for (const RP& p : ring) {
+    const int lo = p.lon == -180 ? p.k - 1 : p.k;
+    common_lo = std::max(common_lo, lo);
+    common_hi = std::min(common_hi, p.k);
+    kmin = std::min(kmin, lo);
+    kmax = std::max(kmax, p.k);
+  }
+  if (common_lo <= common_hi) {
+    append_piece(out, used, ring, common_lo);
+    return;
+  }
+  // Cut at the antimeridian: clip to the strip [-180, 180] of every sheet touched.
+  for (int j = kmin; j <= kmax; ++j) {
+    clip_half(ring, sc.tmp, side_of_west_edge, j, j, precision);
+    clip_half(sc.tmp, sc.piece, side_of_east_edge, j, j + 1, precision);
+    if (sc.piece.size() >= 3) append_piece(out, used, sc.piece, j);
+  }
+}
+
+// An unwrapped ring that winds once around a pole (winding +1: north, -1: south), appended to
+// out[used]: from where the boundary meets the antimeridian (180 for the north pole, where
+// longitudes increase; -180 for the south pole), one turn, closed through the pole.
+void write_around_pole(const std::vector<RP>& ring, int winding, MultiPolygon& out, std::size_t& used,
+                       int precision) {
+  std::vector<RP>& piece = scratch().piece;
+  const std::size_t m = ring.size();
+  const int line = winding > 0 ? 1 : 0;  // the antimeridian at lon -180 of this sheet
+  auto side = [&](const RP& p) {         // >= 0: the line is reached or passed
+    const int s0 = side_of_west_edge(p, line);
+    return winding > 0 ? s0 : -s0;
   };
+  auto at = [&](std::size_t j) {  // the ring unrolled: position j of the doubled path
+    RP p = ring[j % m];
+    p.k += winding * static_cast<int>(j / m);
+    return p;
+  };
+  std::size_t i = 0;
+  while (side(at(i)) < 0) ++i;
+  GEOVOR_ASSERT(i <= m);
+  piece.clear();
+  if (side(at(i)) == 0) {
+    for (std::size_t j = i; j <= i + m; ++j) piece.push_back(at(j));
+  } else {
+    const RP x = crossing(at(i - 1), at(i), line, precision);
+    piece.push_back(x);
+    for (std::size_t j = i; j < i + m; ++j) piece.push_back(at(j));
+    RP x2 = x;
+    x2.k += winding;
+    piece.push_back(x2);
+  }
+  // Written in the sheet where the first position is -180 (north) or 180 (south); then
+  // through the pole: (180, 90), (-180, 90) for the north, (-180, -90), (180, -90) for the south.
+  const int sheet = winding > 0 ? line : line - 1;
+  const double pole = winding > 0 ? 90 : -90, east_first = winding > 0 ? 180 : -180;
+  const Vec3 pole_v{0, 0, winding > 0 ? 1.0 : -1.0};
+  piece.push_back({pole_v, east_first, pole, sheet});
+  piece.push_back({pole_v, -east_first, pole, sheet});
+  append_piece(out, used, piece, sheet);
+}
+
+// loop_to_polygons, with the own longitudes of its keep_lon points (empty: none), in stages.
+void polygons_of(std::vector<Pt>& loop, std::vector<OwnLon>& own, MultiPolygon& out, BBox* bbox, int precision,
+                 LoopInfo* info, PoleOwner pole_owner) {
+  if (info) *info = LoopInfo{};
+  if (bbox) *bbox = BBox{};
+  const bool has_own = !own.empty();
+  const bool near_pole = merge_repeated_positions(loop, own);
+  if (info) info->near_pole = near_pole;
+  if (near_pole && loop.size() > 3) drop_pole_spikes(loop, own, pole_owner);
+  // Two points may still be three positions: a visit to a pole drawn at its own longitudes (a
+  // part of a pinched loop: the point where it left the line, and its run there).
+  if (loop.size() < 2 || (loop.size() < 3 && !has_own)) {
+    out.clear();
+    return;
+  }
+  if (near_pole && (pole_owner.north >= 0 || pole_owner.south >= 0)) {
+    const double split_lat = pinch_latitude(loop);
+    if (split_lat != 0) {
+      write_pinched(loop, own, split_lat, near_pole, out, bbox, precision, info, pole_owner);
+      return;
+    }
+  }
+  std::size_t used = 0;
+  // The usual cell: the ring written is the loop itself in sheet 0, as the general way writes it.
+  if (!near_pole && loop.size() >= 3 && in_one_sheet(loop)) {
+    append_piece(out, used, loop, 0);
+    out.resize(used);
+    if (bbox && used > 0) *bbox = box_of(out, Lons::One);
+    return;
+  }
+  std::vector<RP>& ring = scratch().ring;
+  const std::size_t touch = ring_with_pole_runs(loop, own, pole_owner, ring);
   if (ring.size() < 3) {
     out.clear();
     return;
   }
-  if (touch != kNoTouch && wind() == (ring[touch].lat > 0 ? 1 : -1)) {
-    RP turn = ring[touch];
-    turn.full = true;
-    ring.insert(ring.begin() + static_cast<std::ptrdiff_t>(touch) + 1, turn);
-  }
-  // Unwrap: sheets along the ring, and the winding (in turns) after closing it.
-  const std::size_t m = ring.size();
-  const int winding = wind();
+  add_whole_turn(ring, touch);
+  const int winding = unwrap(ring);
   if (winding < -1 || winding > 1) {  // rounded positions wound it twice around a pole (fuzz_cells)
     if (info) info->winding = winding, info->tangled = true;
     return;
   }
-
-  std::vector<RP>& piece = sc.piece;
-  bool polar = winding != 0;
   if (info) info->winding = winding;
-  if (winding == 0) {
-    // Sheets every point can be written in: [k - 1, k] on the antimeridian, else {k}.
-    int common_lo = std::numeric_limits<int>::min(), common_hi = std::numeric_limits<int>::max();
-    int kmin = common_hi, kmax = common_lo;
-    for (const RP& p : ring) {
-      const int lo = p.lon == -180 ? p.k - 1 : p.k;
-      common_lo = std::max(common_lo, lo);
-      common_hi = std::min(common_hi, p.k);
-      kmin = std::min(kmin, lo);
-      kmax = std::max(kmax, p.k);
-    }
-    if (common_lo <= common_hi) {
-      append_piece(out, used, ring, common_lo);
-    } else {
-      // Cut at the antimeridian: clip to the strip [-180, 180] of every sheet touched.
-      for (int j = kmin; j <= kmax; ++j) {
-        clip_half(ring, sc.tmp, side_of_west_edge, j, j, precision);
-        clip_half(sc.tmp, piece, side_of_east_edge, j, j + 1, precision);
-        if (piece.size() >= 3) append_piece(out, used, piece, j);
-      }
-    }
-  } else {
-    // A pole inside: start where the boundary meets the antimeridian (180 for the north pole,
-    // where longitudes increase; -180 for the south pole), run one turn, close through the pole.
-    const int line = winding > 0 ? 1 : 0;  // the antimeridian at lon -180 of this sheet
-    auto side = [&](const RP& p) {         // >= 0: the line is reached or passed
-      const int s0 = side_of_west_edge(p, line);
-      return winding > 0 ? s0 : -s0;
-    };
-    auto at = [&](std::size_t j) {  // the ring unrolled: position j of the doubled path
-      RP p = ring[j % m];
-      p.k += winding * static_cast<int>(j / m);
-      return p;
-    };
-    std::size_t i = 0;
-    while (side(at(i)) < 0) ++i;
-    GEOVOR_ASSERT(i <= m);
-    piece.clear();
-    if (side(at(i)) == 0) {
-      for (std::size_t j = i; j <= i + m; ++j) piece.push_back(at(j));
-    } else {
-      const RP x = crossing(at(i - 1), at(i), line, precision);
-      piece.push_back(x);
-      for (std::size_t j = i; j < i + m; ++j) piece.push_back(at(j));
-      RP x2 = x;
-      x2.k += winding;
-      piece.push_back(x2);
-    }
-    // Written in the sheet where the first position is -180 (north) or 180 (south); then
-    // through the pole: (180, 90), (-180, 90) for the north, (-180, -90), (180, -90) for the south.
-    const int sheet = winding > 0 ? line : line - 1;
-    const double pole = winding > 0 ? 90 : -90, east_first = winding > 0 ? 180 : -180;
-    const Vec3 pole_v{0, 0, winding > 0 ? 1.0 : -1.0};
-    piece.push_back({pole_v, east_first, pole, sheet});
-    piece.push_back({pole_v, -east_first, pole, sheet});
-    append_piece(out, used, piece, sheet);
-  }
+  if (winding == 0)
+    write_unwound(ring, out, used, precision);
+  else
+    write_around_pole(ring, winding, out, used, precision);
   out.resize(used);
-
-  if (bbox && used > 0) *bbox = box_of(out, polar ? Lons::All : used == 1 ? Lons::One : Lons::Cut);
+  if (bbox && used > 0) *bbox = box_of(out, winding != 0 ? Lons::All : used == 1 ? Lons::One : Lons::Cut);
 }
 
 }  // namespace

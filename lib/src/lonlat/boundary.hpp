@@ -127,6 +127,34 @@ void loop_to_polygons(std::vector<Pt>& loop, MultiPolygon& out, BBox* bbox = nul
                       int precision = kFullPrecision, LoopInfo* info = nullptr, PoleOwner pole_owner = {},
                       std::span<const std::uint32_t> keep_lon = {});
 
+/// The stages of loop_to_polygons that are pure functions of the loop, here for their tests.
+/// The longitudes at which a visit to a pole line (a run of points there, merged into one) is
+/// drawn when its first or last point is in keep_lon: that point's own (NaN: the neighbour's
+/// meridian, the rule of a vertex at the pole). An empty list of them: no keep_lon in the loop.
+struct OwnLon {
+  double in, out;
+};
+/// Drops consecutive duplicates in lon/lat (cyclically), and consecutive points at one pole
+/// whatever their longitudes (one point of the sphere: rounding puts runs of points there); `own`
+/// (empty, or one per point) follows. Returns whether a point was within 0.01 degree of a pole.
+bool merge_repeated_positions(std::vector<Pt>& loop, std::vector<OwnLon>& own);
+/// Drops the points at a pole drawn down a meridian and back up it (no area, no run along the
+/// pole line: a boundary passing within a step of the pole), where the region does not hold the
+/// pole, or holds it with another visit there; left in, such a spike was a second visit, and the
+/// loop was pinched there into parts sharing the meridian (fuzz_cells). REQUIRES: loop.size() > 3.
+void drop_pole_spikes(std::vector<Pt>& loop, std::vector<OwnLon>& own, PoleOwner pole_owner);
+/// The pole (latitude 90 or -90; 0: none) the loop visits more than once, the north pole first:
+/// there the region is pinched into parts, each closed by one run along the pole line.
+double pinch_latitude(const std::vector<Pt>& loop);
+/// Whether every step of the loop stays within one sheet of longitudes and not every point is
+/// on the antimeridian: the usual cell, whose ring is the loop itself.
+bool in_one_sheet(const std::vector<Pt>& loop);
+/// Whether a vertex p at a pole, drawn from longitude `in` to `out` there, runs the short way
+/// back along the pole line: the region does not hold the pole (owns == 0; -1: unknown, 1: it
+/// does) and its span there exceeds 180 degrees, which is then rounding, and p is not the pole
+/// itself (whose angle is at most 180 degrees). See loop_to_polygons' pole_owner.
+bool runs_back_along_pole_line(const Pt& p, double in, double out, int owns);
+
 /// An open path (densified) as lines: cut at the antimeridian (both parts end on it at the same
 /// latitude, at +180 and -180) and at a pole it passes through; parts of fewer than two distinct
 /// positions are dropped. Crossing latitudes are written with `precision` decimals.
