@@ -290,19 +290,10 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   if (!thin_sites.empty()) snap_round_thin_cells(thin_sites);
 }
 
-void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites) {
-  const VoronoiDiagram& vd = *vd_;
-  // The thin cells (ring 1) have their edges snap rounded; their neighbours (ring 2) give hot
-  // pixels (every position of their edges) and take the rerouted edges they share.
-  std::vector<std::uint8_t> ring(vd.site_capacity(), 0);
-  std::vector<SiteId> cells[2];
-  for (const SiteId s : thin_sites)
-    if (ring[s] == 0) ring[s] = 1, cells[0].push_back(s);
-  for (const SiteId s : cells[0])
-    for (const SiteId w : vd.cell_neighbors(s))
-      if (ring[w] == 0) ring[w] = 2, cells[1].push_back(w);
-
-  // Every edge of those cells once, by the slot of its canonical cell (the smaller site id).
+// The working state of snap_round_thin_cells, shared by its stages: the region's cells and
+// edges, the vertices it moves, and its edges as paths of snap vertices.
+struct CellGeometry::SnapRegion {
+  // An edge of the region, once, by the slot of its canonical cell (the smaller site id).
   struct Edge {
     std::size_t slot, other;  // the canonical cell's slot, the other cell's
     TriId a, b;               // its end vertices, in the canonical direction
@@ -310,58 +301,121 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites) {
     std::uint32_t j;
     bool rerouted;
   };
+  // Per site: 0 outside, 1 a thin cell (its edges snap rounded), 2 a thin cell's neighbour (hot
+  // pixels, and the rerouted edges it shares), 3 beyond those but at a moved vertex.
+  std::vector<std::uint8_t> ring;
+  std::vector<SiteId> cells[2];  // rings 1 and 2
   std::vector<Edge> edges;
-  // Appends the edge between s and its neighbour i, from its canonical cell lo (its index
-  // there, and the other cell's slot), unless computed in place: two sites sharing
-  // more than this edge (tiny diagrams), whose larger one's cell computes it, not snap rounded.
-  auto add_edge = [&](SiteId s, std::size_t i, bool rerouted) {
-    const SiteId w = vd.cell_neighbors(s)[i];
-    const SiteId lo = std::min(s, w), hi = std::max(s, w);
-    const std::span<const SiteId> lo_nbrs = vd.cell_neighbors(lo), hi_nbrs = vd.cell_neighbors(hi);
-    const std::span<const TriId> lo_tris = vd.cell_vertices(lo);
-    if (std::count(lo_nbrs.begin(), lo_nbrs.end(), hi) != 1 || std::count(hi_nbrs.begin(), hi_nbrs.end(), lo) != 1)
-      return;
-    const std::size_t j = lo == s ? i : static_cast<std::size_t>(std::find(lo_nbrs.begin(), lo_nbrs.end(), hi) - lo_nbrs.begin());
-    const std::size_t k = static_cast<std::size_t>(std::find(hi_nbrs.begin(), hi_nbrs.end(), lo) - hi_nbrs.begin());
-    const std::size_t slot = static_cast<std::size_t>(lo_nbrs.data() - nbr_base_) + j;
-    const TriId a = lo_tris[j], b = lo_tris[j + 1 == lo_tris.size() ? 0 : j + 1];
-    if (edge_slots_[slot].part == 0) return;
-    edges.push_back({slot, static_cast<std::size_t>(hi_nbrs.data() - nbr_base_) + k, a, b, lo,
-                     static_cast<std::uint32_t>(j), rerouted});
+  int decimals = 0;              // the grid's: the output's, at most kThinCellDecimals
+  bool moves = false;            // the grid is coarser than the output: rerouted edges' ends move
+  std::vector<TriId> moved_ids;  // those ends, sorted
+  std::vector<bool> moved_set;   // per vertex, when `moves`
+  std::vector<BoundaryPoint> points;                   // the paths' points, by SnapVertex::tag
+  std::vector<std::vector<lonlat::SnapVertex>> paths;  // the rerouted edges, raw and written
+  std::vector<lonlat::SnapVertex> extra;               // the other edges' points: hot pixels only
+  std::vector<std::size_t> path_edge;                  // each path's index in `edges`
+
+  bool moved(TriId r) const { return moves && moved_set[r]; }
+  std::size_t moved_index(TriId r) const {
+    const auto it = std::lower_bound(moved_ids.begin(), moved_ids.end(), r);
+    return it != moved_ids.end() && *it == r ? static_cast<std::size_t>(it - moved_ids.begin()) : moved_ids.size();
+  }
+};
+
+namespace {
+
+// Where a snap vertex is written: the antimeridian at -180, as everywhere else in a file.
+std::pair<double, double> written_position(const lonlat::SnapVertex& q) {
+  return {q.lon == 180 ? -180.0 : q.lon, q.lat};
+}
+
+}  // namespace
+
+void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites) {
+  SnapRegion region;
+  mark_thin_region(thin_sites, region);
+  collect_region_edges(region);
+  find_moved_vertices(region);
+  build_snap_paths(region);
+  // Crossings of the antimeridian on the great-circle arc, as loop_to_polygons takes them (the
+  // same bits whichever way the segment runs).
+  const std::vector<BoundaryPoint>& points = region.points;
+  auto crossing_lat = [&points](const lonlat::SnapVertex& p, const lonlat::SnapVertex& q) {
+    const Vec3 &a = points[p.tag].v, &b = points[q.tag].v;
+    return SiteEncoder::to_lat_lon(std::fabs(b.y) * a + std::fabs(a.y) * b).lat_deg;
   };
+  lonlat::snap_round(region.paths, region.extra, region.decimals, crossing_lat);
+  const std::vector<SiteId> touched = move_vertices(region);
+  store_rerouted_points(region);
+  mark_keep_lon(region);
+  snapped_part_ = static_cast<std::uint32_t>(points_.size());
+  add_touched_edges(touched, region);
+  recompute_area_terms(region);
+}
+
+void CellGeometry::mark_thin_region(std::span<const SiteId> thin_sites, SnapRegion& region) const {
+  const VoronoiDiagram& vd = *vd_;
+  // The thin cells (ring 1) have their edges snap rounded; their neighbours (ring 2) give hot
+  // pixels (every position of their edges) and take the rerouted edges they share.
+  std::vector<std::uint8_t>& ring = region.ring;
+  ring.assign(vd.site_capacity(), 0);
+  for (const SiteId s : thin_sites)
+    if (ring[s] == 0) ring[s] = 1, region.cells[0].push_back(s);
+  for (const SiteId s : region.cells[0])
+    for (const SiteId w : vd.cell_neighbors(s))
+      if (ring[w] == 0) ring[w] = 2, region.cells[1].push_back(w);
+}
+
+void CellGeometry::add_region_edge(SiteId s, std::size_t i, bool rerouted, SnapRegion& region) const {
+  const VoronoiDiagram& vd = *vd_;
+  const SiteId w = vd.cell_neighbors(s)[i];
+  const SiteId lo = std::min(s, w), hi = std::max(s, w);
+  const std::span<const SiteId> lo_nbrs = vd.cell_neighbors(lo), hi_nbrs = vd.cell_neighbors(hi);
+  const std::span<const TriId> lo_tris = vd.cell_vertices(lo);
+  if (std::count(lo_nbrs.begin(), lo_nbrs.end(), hi) != 1 || std::count(hi_nbrs.begin(), hi_nbrs.end(), lo) != 1)
+    return;
+  const std::size_t j = lo == s ? i : static_cast<std::size_t>(std::find(lo_nbrs.begin(), lo_nbrs.end(), hi) - lo_nbrs.begin());
+  const std::size_t k = static_cast<std::size_t>(std::find(hi_nbrs.begin(), hi_nbrs.end(), lo) - hi_nbrs.begin());
+  const std::size_t slot = static_cast<std::size_t>(lo_nbrs.data() - nbr_base_) + j;
+  const TriId a = lo_tris[j], b = lo_tris[j + 1 == lo_tris.size() ? 0 : j + 1];
+  if (edge_slots_[slot].part == 0) return;
+  region.edges.push_back({slot, static_cast<std::size_t>(hi_nbrs.data() - nbr_base_) + k, a, b, lo,
+                          static_cast<std::uint32_t>(j), rerouted});
+}
+
+void CellGeometry::collect_region_edges(SnapRegion& region) const {
   for (int r = 0; r < 2; ++r)
-    for (const SiteId s : cells[r]) {
-      const std::span<const SiteId> nbrs = vd.cell_neighbors(s);
+    for (const SiteId s : region.cells[r]) {
+      const std::span<const SiteId> nbrs = vd_->cell_neighbors(s);
       for (std::size_t i = 0; i < nbrs.size(); ++i) {
         const SiteId w = nbrs[i];
-        if (w < s && ring[w] != 0) continue;  // found from w
-        add_edge(s, i, ring[s] == 1 || ring[w] == 1);
+        if (w < s && region.ring[w] != 0) continue;  // found from w
+        add_region_edge(s, i, region.ring[s] == 1 || region.ring[w] == 1, region);
       }
     }
+}
 
+void CellGeometry::find_moved_vertices(SnapRegion& region) const {
   // The grid: the output's decimals, at most kThinCellDecimals (the sides of a thin cell cross
   // at that scale).
-  const int decimals = thin_cell_decimals(options_.precision);
-  auto on_grid = [decimals](double x) { return snap_to_decimals(x, decimals); };
+  region.decimals = thin_cell_decimals(options_.precision);
   // The ends of the rerouted edges are then written on the grid: they move
   // only when the grid is coarser than the output's decimals.
-  const bool moves = decimals != options_.precision;
-  std::vector<TriId> moved_ids;
-  if (moves)
-    for (const Edge& edge : edges)
+  region.moves = region.decimals != options_.precision;
+  std::vector<TriId>& moved_ids = region.moved_ids;
+  if (region.moves)
+    for (const SnapRegion::Edge& edge : region.edges)
       if (edge.rerouted) moved_ids.insert(moved_ids.end(), {edge.a, edge.b});
   std::sort(moved_ids.begin(), moved_ids.end());
   moved_ids.erase(std::unique(moved_ids.begin(), moved_ids.end()), moved_ids.end());
-  auto moved_index = [&moved_ids](TriId r) {
-    const auto it = std::lower_bound(moved_ids.begin(), moved_ids.end(), r);
-    return it != moved_ids.end() && *it == r ? static_cast<std::size_t>(it - moved_ids.begin()) : moved_ids.size();
-  };
-  std::vector<bool> moved_set(moves ? vd.num_vertices() : 0);
-  for (const TriId r : moved_ids) moved_set[r] = true;
-  auto moved = [&](TriId r) { return moves && moved_set[r]; };
+  region.moved_set.assign(region.moves ? vd_->num_vertices() : 0, false);
+  for (const TriId r : moved_ids) region.moved_set[r] = true;
+}
 
-  // The edges as paths of their vertices, raw and written; a tag indexes `points`.
-  std::vector<BoundaryPoint> points;
+void CellGeometry::build_snap_paths(SnapRegion& region) const {
+  const int decimals = region.decimals;
+  auto on_grid = [decimals](double x) { return snap_to_decimals(x, decimals); };
+  std::vector<BoundaryPoint>& points = region.points;
   // A vertex of a rerouted edge is taken as computed (its written position is then on the
   // grid); one of an edge left as it is, which only gives a hot pixel, as written.
   auto vertex = [&](const BoundaryPoint& q, bool grid, bool rerouted) {
@@ -372,126 +426,129 @@ void CellGeometry::snap_round_thin_cells(std::span<const SiteId> thin_sites) {
     points.push_back(q);
     return lonlat::SnapVertex{raw.lon, raw.lat, lon, lat, static_cast<std::uint32_t>(points.size() - 1)};
   };
-  std::vector<std::vector<lonlat::SnapVertex>> paths;
-  std::vector<lonlat::SnapVertex> extra;
-  std::vector<std::size_t> path_edge;
   {  // every cell at coarse precisions: reserved, not grown
     std::size_t total = 0, rerouted = 0;
-    for (const Edge& edge : edges) total += edge_slots_[edge.slot].count + 2, rerouted += edge.rerouted;
+    for (const SnapRegion::Edge& edge : region.edges)
+      total += edge_slots_[edge.slot].count + 2, rerouted += edge.rerouted;
     points.reserve(total);
-    paths.reserve(rerouted);
-    path_edge.reserve(rerouted);
+    region.paths.reserve(rerouted);
+    region.path_edge.reserve(rerouted);
   }
-  for (std::size_t k = 0; k < edges.size(); ++k) {
-    const Edge& edge = edges[k];
+  for (std::size_t k = 0; k < region.edges.size(); ++k) {
+    const SnapRegion::Edge& edge = region.edges[k];
     const EdgeSlot& e = edge_slots_[edge.slot];
     const Vertex &va = vertices_[edge.a], &vb = vertices_[edge.b];
     std::vector<lonlat::SnapVertex> path;
     path.reserve(e.count + 2);
-    path.push_back(vertex({va.v, va.lon, va.lat}, moved(edge.a), edge.rerouted || moved(edge.a)));
+    path.push_back(vertex({va.v, va.lon, va.lat}, region.moved(edge.a), edge.rerouted || region.moved(edge.a)));
     const BoundaryPoint* p = points_[e.part - 1].data() + e.first;
     for (std::uint32_t i = 0; i < e.count; ++i) path.push_back(vertex(p[i], edge.rerouted, edge.rerouted));
-    path.push_back(vertex({vb.v, vb.lon, vb.lat}, moved(edge.b), edge.rerouted || moved(edge.b)));
+    path.push_back(vertex({vb.v, vb.lon, vb.lat}, region.moved(edge.b), edge.rerouted || region.moved(edge.b)));
     if (edge.rerouted) {
-      paths.push_back(std::move(path));
-      path_edge.push_back(k);
+      region.paths.push_back(std::move(path));
+      region.path_edge.push_back(k);
     } else {
-      extra.insert(extra.end(), path.begin(), path.end());
+      region.extra.insert(region.extra.end(), path.begin(), path.end());
     }
   }
-  // Crossings of the antimeridian on the great-circle arc, as loop_to_polygons takes them (the
-  // same bits whichever way the segment runs).
-  auto crossing_lat = [&points](const lonlat::SnapVertex& p, const lonlat::SnapVertex& q) {
-    const Vec3 &a = points[p.tag].v, &b = points[q.tag].v;
-    return SiteEncoder::to_lat_lon(std::fabs(b.y) * a + std::fabs(a.y) * b).lat_deg;
-  };
-  lonlat::snap_round(paths, extra, decimals, crossing_lat);
+}
 
-  // The written positions: the moved vertices, the rerouted
-  // edges' points in a part of their own; then the area terms of every edge of the region.
-  auto written = [](const lonlat::SnapVertex& q) { return std::pair{q.lon == 180 ? -180.0 : q.lon, q.lat}; };
-  std::vector<std::pair<double, double>> moved_to(moved_ids.size());
-  std::vector<std::array<SiteId, 3>> moved_sites(moved_ids.size());  // each one's triangle's sites
-  for (std::size_t k = 0; k < paths.size() && moves; ++k) {
-    const Edge& edge = edges[path_edge[k]];
-    moved_to[moved_index(edge.a)] = written(paths[k].front());
-    moved_to[moved_index(edge.b)] = written(paths[k].back());
+std::vector<SiteId> CellGeometry::move_vertices(SnapRegion& region) {
+  const VoronoiDiagram& vd = *vd_;
+  std::vector<std::pair<double, double>> moved_to(region.moved_ids.size());
+  std::vector<std::array<SiteId, 3>> moved_sites(region.moved_ids.size());  // each one's triangle's sites
+  for (std::size_t k = 0; k < region.paths.size() && region.moves; ++k) {
+    const SnapRegion::Edge& edge = region.edges[region.path_edge[k]];
+    moved_to[region.moved_index(edge.a)] = written_position(region.paths[k].front());
+    moved_to[region.moved_index(edge.b)] = written_position(region.paths[k].back());
     // Vertex j of cell lo (the edge's start) has the sites lo, neighbours j - 1 and j; vertex
     // j + 1 (its end) lo, neighbours j and j + 1.
     const std::span<const SiteId> nbrs = vd.cell_neighbors(edge.lo);
     const std::size_t d = nbrs.size(), j = edge.j;
-    moved_sites[moved_index(edge.a)] = {edge.lo, nbrs[(j + d - 1) % d], nbrs[j]};
-    moved_sites[moved_index(edge.b)] = {edge.lo, nbrs[j], nbrs[(j + 1) % d]};
+    moved_sites[region.moved_index(edge.a)] = {edge.lo, nbrs[(j + d - 1) % d], nbrs[j]};
+    moved_sites[region.moved_index(edge.b)] = {edge.lo, nbrs[j], nbrs[(j + 1) % d]};
   }
   // The cells around a moved vertex beyond the region need their edges' area terms again.
   std::vector<SiteId> touched;
-  for (std::size_t k = 0; k < moved_ids.size(); ++k) {
-    const TriId t = moved_ids[k];
+  for (std::size_t k = 0; k < region.moved_ids.size(); ++k) {
+    const TriId t = region.moved_ids[k];
     std::tie(vertices_[t].lon, vertices_[t].lat) = moved_to[k];
     for (const SiteId s : moved_sites[k])
-      if (ring[s] == 0) ring[s] = 3, touched.push_back(s);
+      if (region.ring[s] == 0) region.ring[s] = 3, touched.push_back(s);
   }
+  return touched;
+}
+
+void CellGeometry::store_rerouted_points(const SnapRegion& region) {
   std::vector<BoundaryPoint>& part = points_.emplace_back();
-  for (std::size_t k = 0; k < paths.size(); ++k) {
-    EdgeSlot& e = edge_slots_[edges[path_edge[k]].slot];
+  for (std::size_t k = 0; k < region.paths.size(); ++k) {
+    const std::vector<lonlat::SnapVertex>& path = region.paths[k];
+    EdgeSlot& e = edge_slots_[region.edges[region.path_edge[k]].slot];
     e.first = static_cast<std::uint32_t>(part.size());
-    e.count = static_cast<std::uint32_t>(paths[k].size() - 2);
+    e.count = static_cast<std::uint32_t>(path.size() - 2);
     e.part = static_cast<std::uint32_t>(points_.size());
-    for (std::size_t i = 1; i + 1 < paths[k].size(); ++i) {
-      const lonlat::SnapVertex& v = paths[k][i];
+    for (std::size_t i = 1; i + 1 < path.size(); ++i) {
+      const lonlat::SnapVertex& v = path[i];
       BoundaryPoint q;
       if (v.tag == lonlat::kNewVertex) {  // a crossing of the antimeridian: on it, exactly
         q.v = SiteEncoder::from_lat_lon(v.lat, -180);
         q.v.y = 0;
       } else {
-        q = points[v.tag];
+        q = region.points[v.tag];
       }
-      std::tie(q.lon, q.lat) = written(v);
+      std::tie(q.lon, q.lat) = written_position(v);
       part.push_back(q);
     }
   }
-  // A point written on a pole line but not at the pole, where every edge through it is snap
-  // rounded, is drawn there at its own longitude (loop_to_polygons' keep_lon) by every cell
-  // through it: the snap rounded picture around it is valid as it is. Drawn by the rules of a
-  // vertex at the pole (meridians down from its neighbours, a run along the line between them),
-  // a lune's tip 5 mm from the south pole ran back west along the line and rose through its own
-  // incoming side one row up (a ring of 40 sites around the north pole, 7 decimals: fuzz_cells).
-  // The pole's owner too (loop_to_polygons then runs it a whole turn along the line from the
-  // point when that is its only visit there). The edges' points: in build().
-  {
-    std::vector<TriId> ends;  // vertices on a pole line, once per snap rounded edge
-    for (std::size_t k = 0; k < paths.size(); ++k) {
-      const Edge& edge = edges[path_edge[k]];
-      for (const bool front : {true, false}) {
-        const lonlat::SnapVertex& end = front ? paths[k].front() : paths[k].back();
-        if (lonlat::is_pole(written(end).second) && !lonlat::at_pole(points[end.tag].v))
-          ends.push_back(front ? edge.a : edge.b);
-      }
-    }
-    std::sort(ends.begin(), ends.end());
-    for (std::size_t i = 0; i < ends.size();) {
-      std::size_t j = i;
-      while (j < ends.size() && ends[j] == ends[i]) ++j;
-      if (j - i == 3) vertices_[ends[i]].flags |= kKeepLon;  // its three edges
-      i = j;
+}
+
+// A point written on a pole line but not at the pole, where every edge through it is snap
+// rounded, is drawn there at its own longitude (loop_to_polygons' keep_lon) by every cell
+// through it: the snap rounded picture around it is valid as it is. Drawn by the rules of a
+// vertex at the pole (meridians down from its neighbours, a run along the line between them),
+// a lune's tip 5 mm from the south pole ran back west along the line and rose through its own
+// incoming side one row up (a ring of 40 sites around the north pole, 7 decimals: fuzz_cells).
+// The pole's owner too (loop_to_polygons then runs it a whole turn along the line from the
+// point when that is its only visit there). The edges' points: in build().
+void CellGeometry::mark_keep_lon(const SnapRegion& region) {
+  std::vector<TriId> ends;  // vertices on a pole line, once per snap rounded edge
+  for (std::size_t k = 0; k < region.paths.size(); ++k) {
+    const SnapRegion::Edge& edge = region.edges[region.path_edge[k]];
+    for (const bool front : {true, false}) {
+      const lonlat::SnapVertex& end = front ? region.paths[k].front() : region.paths[k].back();
+      if (lonlat::is_pole(written_position(end).second) && !lonlat::at_pole(region.points[end.tag].v))
+        ends.push_back(front ? edge.a : edge.b);
     }
   }
-  snapped_part_ = static_cast<std::uint32_t>(points_.size());
+  std::sort(ends.begin(), ends.end());
+  for (std::size_t i = 0; i < ends.size();) {
+    std::size_t j = i;
+    while (j < ends.size() && ends[j] == ends[i]) ++j;
+    if (j - i == 3) vertices_[ends[i]].flags |= kKeepLon;  // its three edges
+    i = j;
+  }
+}
+
+void CellGeometry::add_touched_edges(std::span<const SiteId> touched, SnapRegion& region) const {
+  const std::vector<std::uint8_t>& ring = region.ring;
   for (const SiteId s : touched) {
-    const std::span<const SiteId> nbrs = vd.cell_neighbors(s);
+    const std::span<const SiteId> nbrs = vd_->cell_neighbors(s);
     for (std::size_t i = 0; i < nbrs.size(); ++i) {
       const SiteId w = nbrs[i];
       if ((w < s && ring[w] == 3) || ring[w] == 1 || ring[w] == 2) continue;  // found from w, or in `edges`
-      add_edge(s, i, false);
+      add_region_edge(s, i, false, region);
     }
   }
+}
+
+void CellGeometry::recompute_area_terms(const SnapRegion& region) {
   std::vector<Pt> interior;
   std::vector<GeodesicEdge> segments;
   std::vector<double> s12;
-  for (const Edge& edge : edges) {
+  for (const SnapRegion::Edge& edge : region.edges) {
     EdgeSlot& e = edge_slots_[edge.slot];
     const Vertex &va = vertices_[edge.a], &vb = vertices_[edge.b];
-    if (!edge.rerouted && !moved(edge.a) && !moved(edge.b)) continue;
+    if (!edge.rerouted && !region.moved(edge.a) && !region.moved(edge.b)) continue;
     interior.clear();
     const BoundaryPoint* p = points_[e.part - 1].data() + e.first;
     for (std::uint32_t i = 0; i < e.count; ++i) interior.push_back({p[i].v, p[i].lon, p[i].lat});

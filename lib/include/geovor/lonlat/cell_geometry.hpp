@@ -221,6 +221,29 @@ class CellGeometry {
   // neighbours, at a decimal precision: near a cap's vertex a cell can be narrower than a step
   // over kilometres, and its rounded sides crossed. Called at the end of construction.
   void snap_round_thin_cells(std::span<const SiteId> thin_sites);
+  // The stages of snap_round_thin_cells, in order, on its working state (cell_geometry.cpp).
+  struct SnapRegion;
+  // The thin cells (ring 1) and their neighbours (ring 2).
+  void mark_thin_region(std::span<const SiteId> thin_sites, SnapRegion& region) const;
+  // Every edge of those cells once, rerouted when one of its cells is thin.
+  void collect_region_edges(SnapRegion& region) const;
+  // The edge between s and its neighbour i, from its canonical cell, unless computed in place.
+  void add_region_edge(SiteId s, std::size_t i, bool rerouted, SnapRegion& region) const;
+  // The grid, and the rerouted edges' ends it moves (a grid coarser than the output's).
+  void find_moved_vertices(SnapRegion& region) const;
+  // The edges as paths of snap vertices: rerouted ones to snap_round, the others' hot pixels.
+  void build_snap_paths(SnapRegion& region) const;
+  // Writes the moved vertices where snap_round put them; returns the cells beyond the region
+  // around them (ring 3), whose edges' area terms change.
+  std::vector<SiteId> move_vertices(SnapRegion& region);
+  // The rerouted edges' points, in a part of points_ of their own (snapped_part_).
+  void store_rerouted_points(const SnapRegion& region);
+  // kKeepLon on the vertices written on a pole line whose three edges are all snap rounded.
+  void mark_keep_lon(const SnapRegion& region);
+  // The edges of the touched cells (ring 3) not yet in the region's.
+  void add_touched_edges(std::span<const SiteId> touched, SnapRegion& region) const;
+  // The area terms of every rerouted edge or edge at a moved vertex, in both its slots.
+  void recompute_area_terms(const SnapRegion& region);
   // Cleans and checks `out` as built for site s, whose ring encloses the pole info.winding says
   // (loop_to_polygons, lonlat/boundary.hpp); empties it unless valid.
   CellStatus finish(SiteId s, const lonlat::LoopInfo& info, MultiPolygon& out, BBox* bbox) const;
