@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <bit>
 #include <cstdlib>
 #include <new>
 #include <numeric>
@@ -23,6 +22,7 @@
 #include "geovor/lonlat/polygon_validity.hpp"
 #include "lonlat/boundary.hpp"
 #include "lonlat/snap_rounding.hpp"
+#include "lonlat/thin_triangles.hpp"
 
 namespace geovor {
 namespace {
@@ -65,96 +65,53 @@ int append_segments(const Pt& a, const Interior& interior, const Pt& b, std::vec
 CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOptions& options)
     : vd_(&diagram), options_(options) {
   lonlat::check_densify_options(options.densify_m, options.max_step_deg, options.max_depth);
-  {
-    double zmax = -2, zmin = 2;
-    for (SiteId s = 0; s < diagram.site_capacity(); ++s) {
-      if (!diagram.has_cell(s)) continue;
-      const double z = diagram.site(s).z;
-      if (z > zmax) zmax = z, north_owner_ = s;
-      else if (z == zmax) north_owner_ = kNoIndex;
-      if (z < zmin) zmin = z, south_owner_ = s;
-      else if (z == zmin) south_owner_ = kNoIndex;
-    }
-  }
+  find_pole_owners();
   if (diagram.kind() != VoronoiDiagram::Kind::Cells) return;
+  const unsigned threads = static_cast<unsigned>(
+      std::min<std::size_t>(thread_count(options.threads), std::max<std::size_t>(1, diagram.num_vertices() / 16384)));
+  const std::vector<SiteId> thin_sites = classify_triangles(threads);
+  compute_vertex_lonlat(threads);
+  densify_edges(threads);
+  if (!thin_sites.empty()) snap_round_thin_cells(thin_sites);
+}
 
+void CellGeometry::find_pole_owners() {
+  const VoronoiDiagram& diagram = *vd_;
+  double zmax = -2, zmin = 2;
+  for (SiteId s = 0; s < diagram.site_capacity(); ++s) {
+    if (!diagram.has_cell(s)) continue;
+    const double z = diagram.site(s).z;
+    if (z > zmax) zmax = z, north_owner_ = s;
+    else if (z == zmax) north_owner_ = kNoIndex;
+    if (z < zmin) zmin = z, south_owner_ = s;
+    else if (z == zmin) south_owner_ = kNoIndex;
+  }
+}
+
+std::vector<SiteId> CellGeometry::classify_triangles(unsigned threads) {
+  const VoronoiDiagram& diagram = *vd_;
   const std::size_t nv = diagram.num_vertices();
   const std::span<const SiteId> order = diagram.storage_order();
-  const unsigned threads = static_cast<unsigned>(
-      std::min<std::size_t>(thread_count(options.threads), std::max<std::size_t>(1, nv / 16384)));
-
   // The edges shorter than two decimal steps (chord), which rounding alone can fold, and the
   // triangles with a side shorter than four: their cells are snap rounded (snap_round_thin_cells).
   // (The step of the grid they are snapped to: the output's, at most kThinCellDecimals, so that
   // 17 decimals and full precision write the same.)
-  const int snap_decimals = thin_cell_decimals(options.precision);
-  const double step_rad = std::pow(10.0, -snap_decimals) * std::numbers::pi / 180;
-  const double fold2 = 4 * step_rad * step_rad, small2 = 16 * step_rad * step_rad;
-  // In the same pass, into the vertices (calloc: fresh pages, first touched by the threads that
-  // fill them; each triangle once, by the cell of its smallest site), the shortest side of each
-  // triangle, rounded down to float (the same for both cells of an edge): triangle t_i of cell s
-  // has the sites s, neighbour i - 1 and neighbour i.
+  const lonlat::ThinThresholds th = lonlat::thin_thresholds(thin_cell_decimals(options_.precision), options_.densify_m);
+  // Into the vertices (calloc: fresh pages, first touched by the threads that fill them; each
+  // triangle once, by the cell of its smallest site): classify_cell.
   vertices_.reset(static_cast<Vertex*>(std::calloc(std::max<std::size_t>(nv, 1), sizeof(Vertex))));
   if (!vertices_) throw std::bad_alloc();
-  // And whether it is a cap, its circumradius over 8 times its longest side (an angle within 3.6
-  // degrees of 180: its three cells have an angle below 3.6 degrees there, thin near it): its
-  // sites are thin cells.
-  // And whether it lies where the plate carree can turn a chord by a degree at its ends: one
-  // within densify_m of its arc turns by about sqrt(2 densify_m tan(lat) / R) radians, a degree
-  // from tan(lat) = 1.5e-4 R / densify_m (84 degrees for 100 m). Cells there are guarded
-  // like caps' (cap angles are below 3.6 degrees; lunes 1 km from a pole crossed).
-  const double pole_guard2 = std::pow(1.5e-4 * SiteEncoder::kEarthRadiusM / options.densify_m, 2);
   std::vector<std::vector<SiteId>> thin(threads);
   std::vector<std::size_t> filled(threads, 0);
-  // Whether the triangle's angle at p (on the sphere, between the great circles to q and r) is
-  // within 3.6 degrees of 180: the test above, for triangles too large for it to hold (sites on
-  // one great circle, two of them close: their lunes are as thin, but the circumradius of a
-  // triangle with a far site is not 8 times its longest side).
-  // (Below a side of 5 degrees the two tests agree: the plane's law of sines holds.)
-  constexpr double kLargeSide2 = 0.0076;  // squared chord of 5 degrees
-  auto near_straight = [](const Vec3& p, const Vec3& q, const Vec3& r) {
-    const Vec3 a = cross(p, q), b = cross(p, r);
-    if (!(dot(a, b) < 0)) return false;
-    constexpr double kSin2 = 0.003942649342761085;  // sin^2(3.6 degrees)
-    return norm2(cross(a, b)) < kSin2 * norm2(a) * norm2(b);
-  };
-  auto round_down = [](double d2) {
-    float f = static_cast<float>(d2);
-    if (f > d2) f = std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) - 1);  // f > 0: the next float down
-    return f;
-  };
   // In chunks taken in turn: the cell layer's texts share the cores meanwhile, so equal slices
   // finished milliseconds apart.
-  constexpr std::size_t kCellChunk = 1024, kVertexChunk = 4096;
+  constexpr std::size_t kCellChunk = 1024;
   parallel_chunks(order.size(), kCellChunk, threads, [&](unsigned thread, std::size_t begin, std::size_t end) {
     std::size_t count = 0;
     for (std::size_t j = begin; j < end; ++j) {
       if (j + 8 < order.size())  // the vertices are scattered: requested some cells ahead
         for (const TriId t : diagram.cell_vertices(order[j + 8])) __builtin_prefetch(&diagram.vertex(t));
-      const SiteId s = order[j];
-      const std::span<const TriId> tris = diagram.cell_vertices(s);
-      const std::span<const SiteId> nbrs = diagram.cell_neighbors(s);
-      const std::size_t d = tris.size();
-      for (std::size_t i = 0; i < d; ++i) {
-        const TriId a = tris[i], b = tris[i + 1 == d ? 0 : i + 1];
-        const SiteId u = nbrs[i == 0 ? d - 1 : i - 1], w = nbrs[i];
-        if (a < b && norm2(diagram.vertex(a) - diagram.vertex(b)) < fold2)  // the sites of both vertices
-          thin[thread].insert(thin[thread].end(), {s, u, w, nbrs[i + 1 == d ? 0 : i + 1]});
-        if (s < u && s < w) {
-          const Vec3 &ps = diagram.site(s), &pu = diagram.site(u), &pw = diagram.site(w);
-          const double su = norm2(ps - pu), sw = norm2(ps - pw), uw = norm2(pu - pw);
-          Vertex& vertex = vertices_[a];
-          vertex.min_side2 = round_down(std::min({su, sw, uw}));
-          const Vec3& va = diagram.vertex(a);
-          const double longest2 = std::max({su, sw, uw});
-          const bool cap = norm2(va - ps) > 64 * longest2 ||
-                           (longest2 > kLargeSide2 && (near_straight(ps, pu, pw) || near_straight(pu, pw, ps) ||
-                                                       near_straight(pw, ps, pu)));
-          vertex.flags = (cap ? kCap : 0) | (va.z * va.z > pole_guard2 * (va.x * va.x + va.y * va.y) ? kNearPole : 0);
-          if (cap || vertex.min_side2 < small2) thin[thread].insert(thin[thread].end(), {s, u, w});
-          ++count;
-        }
-      }
+      count += classify_cell(order[j], th, thin[thread]);
     }
     filled[thread] += count;
   });
@@ -164,26 +121,97 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   // At kSnapAllDecimals or fewer, every cell: a step of a kilometre or more reaches beyond the
   // neighbours of a thin cell, whose positions would not be hot pixels.
   std::vector<SiteId> thin_sites;
-  if (options.precision >= 0 && options.precision <= kSnapAllDecimals) {
+  if (options_.precision >= 0 && options_.precision <= kSnapAllDecimals) {
     for (const SiteId s : order) thin_sites.push_back(s);
   } else {
     for (const std::vector<SiteId>& list : thin) thin_sites.insert(thin_sites.end(), list.begin(), list.end());
     std::sort(thin_sites.begin(), thin_sites.end());  // whatever the threads
     thin_sites.erase(std::unique(thin_sites.begin(), thin_sites.end()), thin_sites.end());
   }
+  return thin_sites;
+}
 
-  // The vertices' lon/lat (the costly part).
-  parallel_chunks(nv, kVertexChunk, threads, [&](unsigned, std::size_t begin, std::size_t end) {
+std::size_t CellGeometry::classify_cell(SiteId s, const lonlat::ThinThresholds& th, std::vector<SiteId>& thin) {
+  const VoronoiDiagram& diagram = *vd_;
+  const std::span<const TriId> tris = diagram.cell_vertices(s);
+  const std::span<const SiteId> nbrs = diagram.cell_neighbors(s);
+  const std::size_t d = tris.size();
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < d; ++i) {
+    const TriId a = tris[i], b = tris[i + 1 == d ? 0 : i + 1];
+    const SiteId u = nbrs[i == 0 ? d - 1 : i - 1], w = nbrs[i];
+    if (a < b && norm2(diagram.vertex(a) - diagram.vertex(b)) < th.fold2)  // the sites of both vertices
+      thin.insert(thin.end(), {s, u, w, nbrs[i + 1 == d ? 0 : i + 1]});
+    if (s < u && s < w) {
+      // Triangle t_i of cell s has the sites s, neighbour i - 1 and neighbour i: its shortest side
+      // rounded down to float (the same for both cells of an edge), whether it is a cap (its
+      // sites are thin cells) and whether its vertex is near a pole (its edges are guarded like
+      // caps': cap angles are below 3.6 degrees; lunes 1 km from a pole crossed).
+      const Vec3 &ps = diagram.site(s), &pu = diagram.site(u), &pw = diagram.site(w);
+      const double su = norm2(ps - pu), sw = norm2(ps - pw), uw = norm2(pu - pw);
+      Vertex& vertex = vertices_[a];
+      vertex.min_side2 = lonlat::round_down_to_float(std::min({su, sw, uw}));
+      const Vec3& va = diagram.vertex(a);
+      const bool cap = lonlat::is_cap(ps, pu, pw, va, std::max({su, sw, uw}));
+      vertex.flags = (cap ? kCap : 0) | (lonlat::near_pole_for_chords(va, th.pole_guard2) ? kNearPole : 0);
+      if (cap || vertex.min_side2 < th.small2) thin.insert(thin.end(), {s, u, w});
+      ++count;
+    }
+  }
+  return count;
+}
+
+void CellGeometry::compute_vertex_lonlat(unsigned threads) {
+  // The costly part of construction: a to_lat_lon per vertex.
+  constexpr std::size_t kVertexChunk = 4096;
+  parallel_chunks(vd_->num_vertices(), kVertexChunk, threads, [&](unsigned, std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
-      const Pt p = make_pt(diagram.vertex(static_cast<TriId>(t)), options_.precision);
+      const Pt p = make_pt(vd_->vertex(static_cast<TriId>(t)), options_.precision);
       Vertex& vertex = vertices_[t];
       vertex.v = p.v, vertex.lon = p.lon, vertex.lat = p.lat;
     }
   });
+}
 
+// The per-thread state of densify_edges: its buffers, the thread's part of points_, and the
+// edges whose area terms wait for a batch (geodesic_s12 solves them in vector lanes).
+struct CellGeometry::EdgeWork {
+  static constexpr std::size_t kNoSlot = ~std::size_t{0};
+  struct Pending {
+    std::size_t slot, other, end;  // the edge's two slots, the end of its segments
+  };
+  std::vector<Pt> edge;
+  std::vector<Vec3> guards;
+  Densifier dens;
+  std::vector<BoundaryPoint>& points;
+  std::vector<GeodesicEdge> segments;
+  std::vector<double> s12;
+  std::vector<Pending> pending;
+
+  EdgeWork(const CellGeometryOptions& o, std::vector<BoundaryPoint>& part)
+      : dens(o.densify_m, o.max_step_deg, o.max_depth, edge, o.precision), points(part) {}
+  // The pending edges' sums of S12 into both their slots.
+  void flush(EdgeSlot* slots) {
+    s12.resize(segments.size());
+    geodesic_s12(segments, s12);
+    std::size_t first = 0;
+    for (const Pending& p : pending) {
+      const double sum = sum_s12(std::span<const double>(s12).subspan(first, p.end - first));
+      slots[p.slot].s12 = sum;
+      if (p.other != kNoSlot) slots[p.other].s12 = sum;
+      first = p.end;
+    }
+    segments.clear();
+    pending.clear();
+  }
+};
+
+void CellGeometry::densify_edges(unsigned threads) {
+  const VoronoiDiagram& diagram = *vd_;
+  const std::span<const SiteId> order = diagram.storage_order();
   // Every edge once, in the direction of its canonical cell (the smaller site id): its densified
-  // points, and its area terms in batches of segments (geodesic_s12 solves them in vector lanes).
-  num_edge_slots_ = 3 * nv;
+  // points, and its area terms in batches of segments.
+  num_edge_slots_ = 3 * diagram.num_vertices();
   edge_slots_.reset(static_cast<EdgeSlot*>(std::calloc(num_edge_slots_, sizeof(EdgeSlot))));
   if (!edge_slots_) throw std::bad_alloc();
   nbr_base_ = diagram.cell_neighbors(order.front()).data();  // the lists are in storage order
@@ -194,100 +222,82 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
   constexpr std::size_t kChunk = 1024;
   std::atomic<std::size_t> next_chunk{0};
   parallel_for(order.size(), threads, [&](unsigned thread, std::size_t, std::size_t) {
-    std::vector<Pt> edge;
-    std::vector<Vec3> guards;
-    Densifier dens(options_.densify_m, options_.max_step_deg, options_.max_depth, edge, options_.precision);
-    std::vector<BoundaryPoint>& points = points_[thread];
-    std::vector<GeodesicEdge> segments;
-    std::vector<double> s12;
-    constexpr std::size_t kNoSlot = ~std::size_t{0};
-    struct Pending {
-      std::size_t slot, other, end;  // the edge's two slots, the end of its segments
-    };
-    std::vector<Pending> pending;
-    // Each edge reads its end vertices and the other cell's lists and slots, scattered: requested
-    // in two stages some cells ahead (the cell's own lists follow the storage order).
-    auto prefetch_edges = [&](std::size_t j) {
-      constexpr std::size_t kWhere = 16, kLists = 8;
-      if (j + kWhere < order.size()) {
-        const SiteId s = order[j + kWhere];
-        for (const SiteId w : diagram.cell_neighbors(s))
-          if (w > s) diagram.prefetch(w, 0);
-      }
-      if (j + kLists < order.size()) {
-        const SiteId s = order[j + kLists];
-        for (const TriId t : diagram.cell_vertices(s)) __builtin_prefetch(&vertices_[t]);
-        for (const SiteId w : diagram.cell_neighbors(s))
-          if (w > s) {
-            diagram.prefetch(w, 1);
-            const std::span<const SiteId> other = diagram.cell_neighbors(w);
-            __builtin_prefetch(edge_slots_.get() + (other.data() - nbr_base_));
-          }
-      }
-    };
-    auto flush = [&] {
-      s12.resize(segments.size());
-      geodesic_s12(segments, s12);
-      std::size_t first = 0;
-      for (const Pending& p : pending) {
-        const double sum = sum_s12(std::span<const double>(s12).subspan(first, p.end - first));
-        edge_slots_[p.slot].s12 = sum;
-        if (p.other != kNoSlot) edge_slots_[p.other].s12 = sum;
-        first = p.end;
-      }
-      segments.clear();
-      pending.clear();
-    };
+    EdgeWork work(options_, points_[thread]);
     for (;;) {
       const std::size_t begin = kChunk * next_chunk.fetch_add(1, std::memory_order_relaxed);
       if (begin >= order.size()) break;
       const std::size_t end = std::min(order.size(), begin + kChunk);
       for (std::size_t j = begin; j < end; ++j) {
-        prefetch_edges(j);
-        const SiteId s = order[j];
-        const std::span<const TriId> tris = diagram.cell_vertices(s);
-        const std::span<const SiteId> nbrs = diagram.cell_neighbors(s);
-        const std::size_t d = tris.size();
-        for (std::size_t i = 0; i < d; ++i) {
-          const SiteId w = nbrs[i];
-          const TriId ta = tris[i], tb = tris[i + 1 == d ? 0 : i + 1];
-          const Vertex &va = vertices_[ta], &vb = vertices_[tb];
-          if (w < s) continue;  // the other cell's
-          const Pt a{va.v, va.lon, va.lat}, b{vb.v, vb.lon, vb.lat};
-          // Both triangles of the edge contain its two sites: the shorter of their shortest
-          // sides bounds their distance.
-          edge.clear();
-          guards.clear();
-          if (va.flags | vb.flags) edge_guards(s, w, va, vb, guards);
-          dens.set_guards(guards);
-          dens.edge(a, b, diagram.site(s), diagram.site(w), std::min(va.min_side2, vb.min_side2));
-          const std::size_t slot = static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
-          EdgeSlot e;  // built here, then stored in both slots (s12: at the flush)
-          e.s12 = 0;
-          e.first = static_cast<std::uint32_t>(points.size());
-          e.count = static_cast<std::uint32_t>(edge.size());
-          e.part = thread + 1;  // 0: not computed (calloc)
-          for (const Pt& q : edge) points.push_back({q.v, q.lon, q.lat});
-          e.crossings = append_segments(a, edge, b, segments);
-          edge_slots_[slot] = e;
-          // The other cell's slot of the edge gets the same data (its sum at the flush), so that
-          // each cell reads only its own slots, in storage order; not when the two sites share
-          // more than this edge (tiny diagrams: that cell computes it in place).
-          const std::span<const SiteId> other_nbrs = diagram.cell_neighbors(w);
-          const auto it = std::find(other_nbrs.begin(), other_nbrs.end(), s);
-          std::size_t other = kNoSlot;
-          if (it != other_nbrs.end() && std::find(it + 1, other_nbrs.end(), s) == other_nbrs.end()) {
-            other = static_cast<std::size_t>(other_nbrs.data() - nbr_base_) + static_cast<std::size_t>(it - other_nbrs.begin());
-            edge_slots_[other] = e;
-          }
-          pending.push_back({slot, other, segments.size()});
-          if (segments.size() >= 4096) flush();
-        }
+        prefetch_edge_inputs(order, j);
+        densify_cell_edges(order[j], thread, work);
       }
     }
-    flush();
+    work.flush(edge_slots_.get());
   });
-  if (!thin_sites.empty()) snap_round_thin_cells(thin_sites);
+}
+
+void CellGeometry::prefetch_edge_inputs(std::span<const SiteId> order, std::size_t j) const {
+  const VoronoiDiagram& diagram = *vd_;
+  constexpr std::size_t kWhere = 16, kLists = 8;
+  if (j + kWhere < order.size()) {
+    const SiteId s = order[j + kWhere];
+    for (const SiteId w : diagram.cell_neighbors(s))
+      if (w > s) diagram.prefetch(w, 0);
+  }
+  if (j + kLists < order.size()) {
+    const SiteId s = order[j + kLists];
+    for (const TriId t : diagram.cell_vertices(s)) __builtin_prefetch(&vertices_[t]);
+    for (const SiteId w : diagram.cell_neighbors(s))
+      if (w > s) {
+        diagram.prefetch(w, 1);
+        const std::span<const SiteId> other = diagram.cell_neighbors(w);
+        __builtin_prefetch(edge_slots_.get() + (other.data() - nbr_base_));
+      }
+  }
+}
+
+void CellGeometry::densify_cell_edges(SiteId s, unsigned thread, EdgeWork& work) {
+  const VoronoiDiagram& diagram = *vd_;
+  const std::span<const TriId> tris = diagram.cell_vertices(s);
+  const std::span<const SiteId> nbrs = diagram.cell_neighbors(s);
+  const std::size_t d = tris.size();
+  for (std::size_t i = 0; i < d; ++i) {
+    const SiteId w = nbrs[i];
+    const TriId ta = tris[i], tb = tris[i + 1 == d ? 0 : i + 1];
+    const Vertex &va = vertices_[ta], &vb = vertices_[tb];
+    if (w < s) continue;  // the other cell's
+    const Pt a{va.v, va.lon, va.lat}, b{vb.v, vb.lon, vb.lat};
+    // Both triangles of the edge contain its two sites: the shorter of their shortest
+    // sides bounds their distance.
+    work.edge.clear();
+    work.guards.clear();
+    if (va.flags | vb.flags) edge_guards(s, w, va, vb, work.guards);
+    work.dens.set_guards(work.guards);
+    work.dens.edge(a, b, diagram.site(s), diagram.site(w), std::min(va.min_side2, vb.min_side2));
+    const std::size_t slot = static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
+    EdgeSlot e;  // built here, then stored in both slots (s12: at the flush)
+    e.s12 = 0;
+    e.first = static_cast<std::uint32_t>(work.points.size());
+    e.count = static_cast<std::uint32_t>(work.edge.size());
+    e.part = thread + 1;  // 0: not computed (calloc)
+    for (const Pt& q : work.edge) work.points.push_back({q.v, q.lon, q.lat});
+    e.crossings = append_segments(a, work.edge, b, work.segments);
+    edge_slots_[slot] = e;
+    const std::size_t other = other_slot(s, w);
+    if (other != EdgeWork::kNoSlot) edge_slots_[other] = e;
+    work.pending.push_back({slot, other, work.segments.size()});
+    if (work.segments.size() >= 4096) work.flush(edge_slots_.get());
+  }
+}
+
+// The other cell's slot of the edge gets the same data (its sum at the flush), so that each cell
+// reads only its own slots, in storage order; not when the two sites share more than this edge
+// (tiny diagrams: that cell computes it in place).
+std::size_t CellGeometry::other_slot(SiteId s, SiteId w) const {
+  const std::span<const SiteId> other_nbrs = vd_->cell_neighbors(w);
+  const auto it = std::find(other_nbrs.begin(), other_nbrs.end(), s);
+  if (it == other_nbrs.end() || std::find(it + 1, other_nbrs.end(), s) != other_nbrs.end()) return EdgeWork::kNoSlot;
+  return static_cast<std::size_t>(other_nbrs.data() - nbr_base_) + static_cast<std::size_t>(it - other_nbrs.begin());
 }
 
 // The working state of snap_round_thin_cells, shared by its stages: the region's cells and

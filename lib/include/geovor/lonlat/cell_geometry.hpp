@@ -68,7 +68,8 @@
 namespace geovor {
 
 namespace lonlat {
-struct LoopInfo;  // lib/src/lonlat/boundary.hpp (private)
+struct LoopInfo;        // lib/src/lonlat/boundary.hpp (private)
+struct ThinThresholds;  // lib/src/lonlat/thin_triangles.hpp (private)
 }
 
 /// Options of the lon/lat cell geometry; every default is documented.
@@ -211,6 +212,27 @@ class CellGeometry {
   // pole line but not at the pole are drawn at their own longitudes, as vertices with kKeepLon.
   std::uint32_t snapped_part_ = 0;
   CellStatus build(SiteId s, MultiPolygon& out, BBox* bbox, double* area_m2) const;
+  // The stages of construction, in order (cell_geometry.cpp).
+  // north_owner_ and south_owner_.
+  void find_pole_owners();
+  // vertices_' min_side2 and flags, each triangle once; returns the sites whose cells are snap
+  // rounded (snap_round_thin_cells): near a cap's vertex or a short side, or every cell at
+  // kSnapAllDecimals or fewer.
+  std::vector<SiteId> classify_triangles(unsigned threads);
+  // classify_triangles for the triangles of cell s it owns (s their smallest site), appending
+  // the sites of thin ones to `thin`; returns how many.
+  std::size_t classify_cell(SiteId s, const lonlat::ThinThresholds& th, std::vector<SiteId>& thin);
+  // vertices_' snapped positions and lon/lat.
+  void compute_vertex_lonlat(unsigned threads);
+  // edge_slots_ and points_: every edge densified once, with its area terms.
+  struct EdgeWork;
+  void densify_edges(unsigned threads);
+  // Memory hints for densify_cell_edges some cells ahead of order[j].
+  void prefetch_edge_inputs(std::span<const SiteId> order, std::size_t j) const;
+  // The edges of cell s it is canonical for (the smaller site id), into both their slots.
+  void densify_cell_edges(SiteId s, unsigned thread, EdgeWork& work);
+  // The slot of cell w for its edge with s, or ~0 when they share more than that edge.
+  std::size_t other_slot(SiteId s, SiteId w) const;
   // The great circles the edge between sites lo < hi, from vertex a to vertex b (entries of
   // vertices_, told apart by address), must keep clear of when one of its cells is thin
   // (Densifier::set_guards), into `guards`. Called only
