@@ -30,7 +30,7 @@ void add_site_input_options(CLI::App* cmd, SiteInputArgs& args) {
                         "NAME=TYPE (String, Integer, Integer64, Real, Date, DateTime; case-insensitive), repeatable or "
                         "NAME=TYPE,NAME2=TYPE2 (GDAL's COLUMN_TYPES); a value not of that type is bad data (exit 3)");
   cmd->add_option("--weight-field", args.weight_field,
-                  "Weighted sites: the column holding each site's radius in metres (0 <= r < 10,007,543, a quarter "
+                  "Weighted sites: the column holding each site's radius in metres (0 <= r < 10,007,557, a quarter "
                   "of the circumference); the cells are then power cells (docs/weighted.md). A row whose radius is "
                   "empty, not a number or out of range is rejected");
   cmd->add_option("--merge-m", args.merge_m,

@@ -179,6 +179,33 @@ TEST(WeightedDelaunay, SitesAtOnePositionKeepTheLargerCircle) {
   EXPECT_TRUE(dt.is_live(kept));
 }
 
+TEST(WeightedDelaunay, NearDuplicatesKeepTheLargerCircleInEitherOrder) {
+  // Two points 2^-26 apart (0.09 m on the Earth, below the merge distance) with radii 1 and 5 km.
+  const auto base = testing::uniform_on_sphere(60, 9);
+  const Vec3 p = base[0];
+  const Vec3 q = testing::normalized({p.x + 0x1p-26, p.y, p.z});
+  for (const bool larger_first : {false, true}) {
+    std::vector<Vec3> pts(base.begin() + 1, base.end());
+    std::vector<double> lifts(pts.size(), 1.0);
+    const double small = std::cos(1000 / 6371008.771415), large = std::cos(5000 / 6371008.771415);
+    pts.push_back(larger_first ? q : p), lifts.push_back(larger_first ? large : small);
+    pts.push_back(larger_first ? p : q), lifts.push_back(larger_first ? small : large);
+    for (const bool sorted : {false, true}) {
+      DelaunayOptions options;
+      options.spatial_sort = sorted;
+      BuildReport report;
+      const SphericalDelaunay dt = SphericalDelaunay::build(pts, lifts, options, &report);
+      ASSERT_TRUE(dt.validate(&report, true).ok());
+      ASSERT_EQ(report.merges.size(), 1u);
+      EXPECT_TRUE(report.hidden.empty());  // merged, not hidden
+      const SiteId kept = report.merges[0].site;
+      EXPECT_EQ(dt.lift(kept), large);
+      EXPECT_GT(report.merges[0].chord, 0);
+      EXPECT_EQ(lifts[report.merges[0].input], small);
+    }
+  }
+}
+
 TEST(WeightedDelaunay, RejectsBadLiftsAndEdits) {
   const auto pts = testing::uniform_on_sphere(20, 1);
   std::vector<double> lifts(pts.size(), 1.0);

@@ -15,7 +15,8 @@ namespace geovor {
 
 // The common case, with no call in the loop so that its state stays in registers: every test
 // decided by the filter, every buffer large enough.
-bool SphericalDelaunay::find_cavity_filtered(const Vec3& p, TriId seed) {
+template <bool kWeighted>
+bool SphericalDelaunay::find_cavity_filtered(const Vec3& p, double c_p, TriId seed) {
   TriId* const cavity = cavity_.data();
   TriId* const tested = tested_.data();
   CavityEdge* const boundary = boundary_.data();
@@ -23,6 +24,7 @@ bool SphericalDelaunay::find_cavity_filtered(const Vec3& p, TriId seed) {
   SiteId* const tri = triangles_.data();
   const HalfedgeId* const twin = halfedges_.data();
   const Vec3* const site = sites_.data();
+  const double* const lift = lifts_.data();
   const std::size_t nt0 = num_tested_;
   std::size_t nc = 0, nt = nt0, nb = 0;
   if (cap_c == 0) return false;
@@ -34,7 +36,12 @@ bool SphericalDelaunay::find_cavity_filtered(const Vec3& p, TriId seed) {
     const SiteId u0 = tri[3 * u], u1 = tri[3 * u + 1];
     if (u0 & kMark) return true;  // in the cavity: an inner edge
     if (!(u1 & kMark)) {          // not tested before
-      const int c = kernel::detail::in_sphere_unit_filter(site[u0], site[u1], site[tri[3 * u + 2]], p);
+      const SiteId u2 = tri[3 * u + 2];
+      int c;
+      if constexpr (kWeighted)
+        c = kernel::detail::in_sphere_weighted_filter(site[u0], lift[u0], site[u1], lift[u1], site[u2], lift[u2], p, c_p);
+      else
+        c = kernel::detail::in_sphere_unit_filter(site[u0], site[u1], site[u2], p);
       if (c == 0) return false;
       if (c > 0) {
         tri[3 * u] = u0 | kMark;
@@ -80,7 +87,7 @@ bool SphericalDelaunay::find_cavity_filtered(const Vec3& p, TriId seed) {
 }
 
 void SphericalDelaunay::find_cavity(const Vec3& p, double c, std::uint32_t prio, TriId seed) {
-  if (lifts_.empty() && find_cavity_filtered(p, seed)) return;
+  if (lifts_.empty() ? find_cavity_filtered<false>(p, c, seed) : find_cavity_filtered<true>(p, c, seed)) return;
   // tested_ holds the triangles place() found not in conflict; they are still marked.
   // Grow the set of triangles in conflict with p (connected: the faces of the hull visible from
   // p), breadth first with cavity_ as the queue, marking faces so each is tested once.

@@ -124,15 +124,16 @@ SiteId SphericalDelaunay::any_live_site() const {
 // the result only seeds the exact conflict search. Weighted: the same for dot(p, site / lift).
 SiteId SphericalDelaunay::walk_to_nearest(const Vec3& p, SiteId v) const {
   if (!lifts_.empty()) {
-    double best = dot(p, sites_[v]) / lifts_[v];
+    // d / c > best_d / best_c, both lifts positive, without a division.
+    double best_d = dot(p, sites_[v]), best_c = lifts_[v];
     for (;;) {
       const HalfedgeId e0 = site_edge_[v];
       HalfedgeId e = e0;
       SiteId next = v;
       do {
         const SiteId w = triangles_[next_halfedge(e)];
-        const double d = dot(p, sites_[w]) / lifts_[w];
-        if (d > best) best = d, next = w;
+        const double d = dot(p, sites_[w]), c = lifts_[w];
+        if (d * best_c > best_d * c) best_d = d, best_c = c, next = w;
         e = next_around_site(e);
       } while (e != e0);
       if (next == v) return v;
@@ -171,9 +172,52 @@ TriId SphericalDelaunay::find_conflict(const Vec3& p, double c, std::uint32_t pr
   return kNoIndex;
 }
 
+bool SphericalDelaunay::origin_inside() const {
+  // Once inside the hull of the lifted points, the centre stays inside: the hull only grows.
+  if (origin_inside_ || num_live_ < 2 * origin_checked_at_) return origin_inside_;
+  origin_checked_at_ = std::max<std::size_t>(num_live_, 4);
+  for (TriId t = 0; t < num_triangles(); ++t)
+    if (kernel::orient(sites_[triangles_[3 * t]], sites_[triangles_[3 * t + 1]], sites_[triangles_[3 * t + 2]]) !=
+        Sign::Positive)
+      return false;
+  return origin_inside_ = true;
+}
+
+TriId SphericalDelaunay::radial_triangle(const Vec3& p, TriId t) const {
+  // A visibility walk: across an edge whose great circle has p on its outer side.
+  for (std::size_t step = 0; step <= num_triangles(); ++step) {
+    int out = -1;
+    for (int j = 0; j < 3 && out < 0; ++j)
+      if (kernel::orient(sites_[triangles_[3 * t + j]], sites_[triangles_[3 * t + (j == 2 ? 0 : j + 1)]], p) ==
+          Sign::Negative)
+        out = j;
+    if (out < 0) return t;
+    t = tri_of(halfedges_[3 * t + static_cast<unsigned>(out)]);
+  }
+  return kNoIndex;
+}
+
 TriId SphericalDelaunay::search_conflict(const Vec3& p, double c, std::uint32_t prio, SiteId near) const {
-  // The triangles in conflict are connected (the faces visible from a point outside a convex
-  // polytope), but need not touch the star of `near`: breadth first from it, the nearest first.
+  // With the centre inside the hull, the ray from it toward p leaves the hull through the face
+  // whose cone holds p: p's lifted point is outside the hull (not hidden) iff beyond that face.
+  // Ties (p on an edge or at a vertex of it) are decided among the faces around its corners.
+  if (origin_inside()) {
+    const TriId t = radial_triangle(p, tri_of(site_edge_[near]));
+    if (t != kNoIndex) {
+      if (in_conflict(t, p, c, prio)) return t;
+      for (int j = 0; j < 3; ++j) {
+        const HalfedgeId e0 = site_edge_[triangles_[3 * t + j]];
+        HalfedgeId e = e0;
+        do {
+          if (in_conflict(tri_of(e), p, c, prio)) return tri_of(e);
+          e = next_around_site(e);
+        } while (e != e0);
+      }
+      return kNoIndex;
+    }
+  }
+  // Otherwise: the triangles in conflict are connected (the faces visible from a point outside a
+  // convex polytope), but need not touch the star of `near`: breadth first from it.
   std::vector<char> seen(num_triangles(), 0);
   std::vector<TriId> queue;
   const HalfedgeId e0 = site_edge_[near];
@@ -195,7 +239,9 @@ TriId SphericalDelaunay::search_conflict(const Vec3& p, double c, std::uint32_t 
 }
 
 void SphericalDelaunay::hide_cavity_interior(SiteId s) {
-  // Interior vertices are those of cavity triangles that start no boundary edge.
+  // Interior vertices are those of cavity triangles that start no boundary edge. One closer to s
+  // than the merge distance is merged into s (the larger circle), not hidden.
+  const double md2 = options_.merge_distance * options_.merge_distance;
   for (std::size_t k = 0; k < num_boundary_; ++k) site_edge_[boundary_[k].a] = kNoIndex - 2;
   for (std::size_t k = 0; k < num_cavity_; ++k) {
     const TriId t = cavity_[k];
@@ -203,8 +249,12 @@ void SphericalDelaunay::hide_cavity_interior(SiteId s) {
       const SiteId v = triangles_[3 * t + j] & ~kMark;
       if (site_edge_[v] == kNoIndex - 2 || site_edge_[v] == kRemoved) continue;
       site_edge_[v] = kRemoved;
-      hidden_by_[v] = s;
       --num_live_;
+      const double d2 = chord2(sites_[v], sites_[s]);
+      if (d2 < md2)
+        absorbed_.push_back({v, s, std::sqrt(d2), false});
+      else
+        hidden_by_[v] = s;
     }
   }
   // fill_cavity() sets the boundary vertices' edges again.

@@ -11,7 +11,6 @@
 #include <cstring>
 #include <numeric>
 #include <string>
-#include <tuple>
 
 #include "delaunay/unit_vector.hpp"
 #include "geovor/core/error.hpp"
@@ -72,7 +71,7 @@ std::uint64_t SphericalDelaunay::next_revision() {
 
 SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
                                            const DelaunayOptions& options, BuildReport* report) {
-  return build_sites(points, {}, options, report);
+  return build_sites(points, {}, {}, options, report);
 }
 
 SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points, std::span<const double> lifts,
@@ -86,30 +85,40 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points, std::sp
                   "point " + std::to_string(i) + ": lift " + format_number(lifts[i]) + " is not in (0, 1]");
   // Equal lifts: the same signs as no lifts (the determinant scales by the lift).
   const bool equal = std::all_of(lifts.begin(), lifts.end(), [&](double c) { return c == lifts[0]; });
-  return build_sites(points, equal ? std::span<const double>() : lifts, options, report);
-}
-
-namespace {
-// For each input point, the input point of the same position with the smallest lift (the first
-// of them on ties) when that is another one, kNoIndex otherwise.
-std::vector<std::uint32_t> same_position_keeper(std::span<const Vec3> points, std::span<const double> lifts) {
-  std::vector<std::uint32_t> by_pos(points.size());
-  std::iota(by_pos.begin(), by_pos.end(), 0u);
-  auto key = [&](std::uint32_t i) { return std::tuple(points[i].x, points[i].y, points[i].z); };
-  std::sort(by_pos.begin(), by_pos.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return key(a) != key(b) ? key(a) < key(b) : (lifts[a] != lifts[b] ? lifts[a] < lifts[b] : a < b);
-  });
-  std::vector<std::uint32_t> keeper(points.size(), kNoIndex);
-  for (std::size_t k = 1, first = 0; k < by_pos.size(); ++k) {
-    if (key(by_pos[k]) != key(by_pos[first])) first = k;
-    else keeper[by_pos[k]] = by_pos[first];
+  if (equal) return build_sites(points, {}, {}, options, report);
+  // Of points closer than the merge distance, the larger circle is kept: where a merged point has
+  // a smaller lift than its site's point, that point merges into it instead, and the build is
+  // done again (rare: near-duplicates of different radii, the smaller inserted first).
+  BuildReport own;
+  BuildReport& r = report ? *report : own;
+  std::vector<std::uint32_t> forced;
+  for (int round = 0;; ++round) {
+    SphericalDelaunay dt = build_sites(points, lifts, forced, options, &r);
+    if (round == 8) return dt;  // every round keeps a larger circle: never reached in practice
+    std::vector<std::uint32_t> site_input(dt.site_capacity(), kNoIndex), larger(dt.site_capacity(), kNoIndex);
+    std::vector<char> merged(points.size(), 0);
+    for (const Merge& m : r.merges) merged[m.input] = 1;
+    for (std::uint32_t i = 0; i < points.size(); ++i)
+      if (!merged[i]) site_input[r.site_of_input[i]] = i;
+    for (const Merge& m : r.merges) {
+      const std::uint32_t i = m.input, j = site_input[m.site];
+      const std::uint32_t best = larger[m.site] == kNoIndex ? j : larger[m.site];
+      if (lifts[i] < lifts[best] || (lifts[i] == lifts[best] && best != j && i < best)) larger[m.site] = i;
+    }
+    bool again = false;
+    for (SiteId s = 0; s < larger.size(); ++s) {
+      if (larger[s] == kNoIndex || lifts[larger[s]] >= lifts[site_input[s]]) continue;
+      if (forced.empty()) forced.assign(points.size(), kNoIndex);
+      forced[site_input[s]] = larger[s];
+      again = true;
+    }
+    if (!again) return dt;
   }
-  return keeper;
 }
-}  // namespace
 
 SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, std::span<const double> lifts,
-                                                 const DelaunayOptions& options, BuildReport* report) {
+                                                 std::span<const std::uint32_t> forced, const DelaunayOptions& options,
+                                                 BuildReport* report) {
   using Clock = std::chrono::steady_clock;
   const std::size_t n = points.size();
   if (n > kMaxSites)
@@ -148,7 +157,10 @@ SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, s
   const bool weighted = !lifts.empty();
   std::vector<std::uint32_t> keeper, slot_of_input;
   if (weighted) {
-    keeper = same_position_keeper(points, lifts);
+    // Points at one position or closer than the merge distance merge as they are inserted (into
+    // the vertex, or the vertex into the larger circle that hides it); build() forces the rest.
+    keeper.assign(forced.begin(), forced.end());
+    keeper.resize(n, kNoIndex);
     dt.lifts_.resize(n);
     for (std::size_t k = 0; k < n; ++k) dt.lifts_[k] = lifts[order[k]];
     dt.hidden_by_.assign(n, kNoIndex);
@@ -177,14 +189,21 @@ SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, s
     } else if (!r.hidden) {
       hint = static_cast<SiteId>(k);
     }
+    // Weighted: vertices the new site hid within the merge distance are merged into it.
+    for (const Merge& m : dt.absorbed_) merges.push_back(m), merged_into[m.input] = m.site;
+    dt.absorbed_.clear();
   }
   if (weighted) {
-    // A point at another's position goes where that one went (a chain of merges at most).
+    // A point at another's position goes where that one went; every merge follows the chain of
+    // merges of its site (a site absorbed later by a larger circle).
     for (Merge& m : merges) {
-      if (m.site != kNoIndex) continue;
-      SiteId t = slot_of_input[keeper[dt.priority_[m.input]]];
+      std::uint32_t kept = dt.priority_[m.input];
+      while (m.site == kNoIndex && keeper[kept] != kNoIndex) kept = keeper[kept];  // a chain of forced merges
+      const bool skipped = m.site == kNoIndex;
+      SiteId t = skipped ? slot_of_input[kept] : m.site;
       while (merged_into[t] != kNoIndex) t = merged_into[t];
       m.site = t;
+      if (skipped) m.chord = std::sqrt(norm2(dt.sites_[m.input] - dt.sites_[t]));
     }
   }
 
@@ -240,7 +259,7 @@ SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, s
       report->site_of_input = std::move(id_of_input);
     }
     for (Merge& m : merges) {
-      // A merge target is never itself merged later: it stays live during the build.
+      // Resolved above for weighted sites; otherwise a merge target stays live during the build.
       m.input = input_of_slot[m.input];
       m.site = new_id[m.site];
       report->site_of_input[m.input] = m.site;
@@ -264,14 +283,23 @@ void SphericalDelaunay::renumber_weights(std::span<const SiteId> new_id, std::si
   for (std::size_t k = 0; k < new_id.size(); ++k) {
     if (new_id[k] == kNoIndex) continue;
     lifts[new_id[k]] = lifts_[k];
-    if (hidden_by_[k] != kNoIndex) hidden[new_id[k]] = 0;
+    if (hidden_by_[k] == kNoIndex) continue;
+    // The site that hid it during the build, or the one that hid that one, ...: a live site
+    // nearby, where the walk below starts.
+    // (Slots here: a slot with an id and no hider is live; one merged has no id.)
+    SiteId by = hidden_by_[k];
+    for (int steps = 0; by != kNoIndex && hidden_by_[by] != kNoIndex && steps < 64; ++steps) by = hidden_by_[by];
+    hidden[new_id[k]] = by != kNoIndex && hidden_by_[by] == kNoIndex && new_id[by] != kNoIndex ? new_id[by] : 0;
   }
   lifts_ = std::move(lifts);
   hidden_by_ = std::move(hidden);
   // Who hides a site: the live site of largest power at its position, whose cell holds it.
-  const SiteId start = any_live_site();
-  for (SiteId h = 0; h < hidden_by_.size(); ++h)
-    if (hidden_by_[h] != kNoIndex) hidden_by_[h] = start == kNoIndex ? kNoIndex : walk_to_nearest(sites_[h], start);
+  const SiteId any = any_live_site();
+  for (SiteId h = 0; h < hidden_by_.size(); ++h) {
+    if (hidden_by_[h] == kNoIndex) continue;
+    const SiteId start = alive(hidden_by_[h]) && site_edge_[hidden_by_[h]] != kNoIndex ? hidden_by_[h] : any;
+    hidden_by_[h] = start == kNoIndex ? kNoIndex : walk_to_nearest(sites_[h], start);
+  }
 }
 
 std::size_t SphericalDelaunay::num_hidden() const {

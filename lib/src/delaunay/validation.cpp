@@ -97,6 +97,16 @@ Validation SphericalDelaunay::validate(const BuildReport* report, bool global) c
           fail("site " + std::to_string(s) + " lies in the circumcircle of triangle " + std::to_string(t));
       }
   }
+  // A hidden weighted site lies inside the hull of the lifted points: no triangle sees it.
+  for (SiteId s = 0; s < hidden_by_.size(); ++s) {
+    if (!is_hidden(s)) continue;
+    if (alive(s)) fail("site " + std::to_string(s) + " is both hidden and a vertex");
+    if (!is_live(hidden_by_[s])) fail("hidden site " + std::to_string(s) + ": its hider is not live");
+    if (!global) continue;
+    for (TriId t = 0; t < nt; ++t)
+      if (in_conflict(t, sites_[s], lift(s), priority(s)))
+        fail("hidden site " + std::to_string(s) + " lies beyond triangle " + std::to_string(t));
+  }
 
   if (report) {
     // Every input point is accounted for: it is a site, or merged into one and listed.

@@ -1,5 +1,7 @@
 #include "geovor/lonlat/cell_geometry.hpp"
 
+#include "geovor/kernel/predicates.hpp"
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -77,6 +79,7 @@ CellGeometry::CellGeometry(const VoronoiDiagram& diagram, const CellGeometryOpti
 
 void CellGeometry::find_pole_owners() {
   const VoronoiDiagram& diagram = *vd_;
+  if (diagram.is_weighted()) return find_power_pole_owners();
   double zmax = -2, zmin = 2;
   for (SiteId s = 0; s < diagram.site_capacity(); ++s) {
     if (!diagram.has_cell(s)) continue;
@@ -86,6 +89,32 @@ void CellGeometry::find_pole_owners() {
     if (z < zmin) zmin = z, south_owner_ = s;
     else if (z == zmin) south_owner_ = kNoIndex;
   }
+}
+
+void CellGeometry::find_power_pole_owners() {
+  // The site of largest power z / lift at each pole, exactly (compare_power); a tie: none.
+  const VoronoiDiagram& vd = *vd_;
+  for (const double pz : {1.0, -1.0}) {
+    const Vec3 pole{0, 0, pz};
+    SiteId best = kNoIndex;
+    bool tie = false;
+    for (SiteId s = 0; s < vd.site_capacity(); ++s) {
+      if (!vd.has_cell(s)) continue;
+      const Sign c = best == kNoIndex ? Sign::Positive
+                                      : kernel::compare_power(pole, vd.site(s), vd.lift(s), vd.site(best), vd.lift(best));
+      if (c == Sign::Positive) best = s, tie = false;
+      else if (c == Sign::Zero) tie = true;
+    }
+    (pz > 0 ? north_owner_ : south_owner_) = tie ? kNoIndex : best;
+  }
+}
+
+CellGeometry::EdgeSides CellGeometry::edge_sides(SiteId left, SiteId right) const {
+  const VoronoiDiagram& vd = *vd_;
+  const double cl = vd.lift(left), cr = vd.lift(right);
+  if (cl == cr) return {vd.site(left), vd.site(right)};
+  // left - right along the power bisector's normal: c_r p_l - c_l p_r.
+  return {cr * vd.site(left), cl * vd.site(right)};
 }
 
 std::vector<SiteId> CellGeometry::classify_triangles(unsigned threads) {
@@ -273,7 +302,8 @@ void CellGeometry::densify_cell_edges(SiteId s, unsigned thread, EdgeWork& work)
     work.guards.clear();
     if (va.flags | vb.flags) edge_guards(s, w, va, vb, work.guards);
     work.dens.set_guards(work.guards);
-    work.dens.edge(a, b, diagram.site(s), diagram.site(w), std::min(va.min_side2, vb.min_side2));
+    const EdgeSides sides = edge_sides(s, w);
+    work.dens.edge(a, b, sides.left, sides.right, std::min(va.min_side2, vb.min_side2));
     const std::size_t slot = static_cast<std::size_t>(nbrs.data() - nbr_base_) + i;
     EdgeSlot e;  // built here, then stored in both slots (s12: at the flush)
     e.s12 = 0;
@@ -585,7 +615,7 @@ void CellGeometry::edge_guards(SiteId lo, SiteId hi, const Vertex& a, const Vert
       const Vertex& f0 = vertices_[tris[i]];
       const Vertex& f1 = vertices_[tris[i + 1 == d ? 0 : i + 1]];
       const bool at_a = &f0 == &a || &f1 == &a, at_b = &f0 == &b || &f1 == &b;  // vertices_ entries
-      const Vec3 n = lonlat::normalized(vd.site(c) - vd.site(nbrs[i]));
+      const Vec3 n = vd.is_weighted() ? vd.bisector_normal(c, nbrs[i]) : lonlat::normalized(vd.site(c) - vd.site(nbrs[i]));
       if (at_a && at_b) {
         // The other side of a lune (its ends ours): the side it must keep clear
         // of most. Its chords had crossed a lune 0.39 m wide (relax of a column).
@@ -769,8 +799,9 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
                                                    : normalized(Vec3{1, 0, 0} - n.x * n);
     const Vec3 e2 = normalized(cross(n, e1));
     const Vec3 q[4] = {e1, e2, -1.0 * e1, -1.0 * e2};
-    const Vec3& left = vd.site(lo);
-    const Vec3& right = vd.site(std::max(s, other));
+    const EdgeSides sides = edge_sides(lo, std::max(s, other));
+    const Vec3& left = sides.left;
+    const Vec3& right = sides.right;
     for (int i = 0; i < 4; ++i) {
       const Pt a = make_pt(q[i], options_.precision), b = make_pt(q[(i + 1) % 4], options_.precision);
       loop.push_back(a);
@@ -825,7 +856,8 @@ CellStatus CellGeometry::build(SiteId s, MultiPolygon& out, BBox* bbox, double* 
         if ((va.flags | vb.flags) & (kCap | kNearPole))
           edge_guards(std::min(s, w), std::max(s, w), forward ? va : vb, forward ? vb : va, guards);
         dens().set_guards(guards);
-        dens().edge(from, to, vd.site(std::min(s, w)), vd.site(std::max(s, w)), std::min(va.min_side2, vb.min_side2));
+        const EdgeSides sides = edge_sides(std::min(s, w), std::max(s, w));
+        dens().edge(from, to, sides.left, sides.right, std::min(va.min_side2, vb.min_side2));
         if (forward)
           loop.insert(loop.end(), edge.begin(), edge.end());
         else

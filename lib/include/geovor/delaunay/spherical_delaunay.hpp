@@ -160,9 +160,10 @@ class SphericalDelaunay {
   /// points[i] / lifts[i], decided exactly with the lifts taken as the doubles they are.
   ///  - A site whose lifted point is inside the hull is hidden: it keeps its id but is no vertex
   ///    (is_hidden(), BuildReport::hidden with a site whose cell holds its position).
-  ///  - Points at one position (bit-identical vectors) merge into the one with the smallest lift
-  ///    (the largest radius; ties: the first in input order); points closer than merge_distance
-  ///    merge as in build() (the first inserted is kept).
+  ///  - Points at one position or closer than merge_distance merge into the one with the
+  ///    smallest lift (the largest circle; ties: the first inserted, which at one position is the
+  ///    first in input order). A vertex that a new site hides within the merge distance is merged
+  ///    into it, not hidden; a hidden point is merged only into a vertex within that distance.
   ///  - Equal lifts give the triangulation of build(points) (the lifts are then dropped:
   ///    is_weighted() is false).
   /// Sites of a weighted triangulation cannot be inserted, removed or moved (InvalidArgument).
@@ -286,9 +287,11 @@ class SphericalDelaunay {
   std::uint32_t priority(SiteId s) const { return priority_.empty() ? s : priority_[s]; }
   static std::uint64_t next_revision();
   void touch() { revision_ = next_revision(); }  // every change of sites or triangles calls it
-  // build() of either kind: lifts empty for unweighted sites.
+  // build() of either kind: lifts empty for unweighted sites; forced[i], if not empty and not
+  // kNoIndex, is an input point that point i merges into (weighted only).
   static SphericalDelaunay build_sites(std::span<const Vec3> points, std::span<const double> lifts,
-                                       const DelaunayOptions& options, BuildReport* report);
+                                       std::span<const std::uint32_t> forced, const DelaunayOptions& options,
+                                       BuildReport* report);
   // Weighted build: lifts_ and hidden_by_ from slots to final ids; who hides each hidden site.
   void renumber_weights(std::span<const SiteId> new_id, std::size_t num_ids);
 
@@ -307,8 +310,15 @@ class SphericalDelaunay {
   // Unweighted: the site nearest p (largest dot); weighted: of largest power dot(p, site) / lift.
   SiteId walk_to_nearest(const Vec3& p, SiteId start) const;
   TriId find_conflict(const Vec3& p, double c, std::uint32_t prio, SiteId near) const;
-  // Weighted: breadth first from the star of `near` over every triangle; kNoIndex if none.
+  // Weighted: a triangle in conflict with p, kNoIndex when p is hidden: the face of the hull
+  // whose cone holds p when the centre is inside the hull, else breadth first from `near`.
   TriId search_conflict(const Vec3& p, double c, std::uint32_t prio, SiteId near) const;
+  // Whether the centre is strictly inside the hull (no triangle with orient <= 0), checked again
+  // each time the number of sites has doubled until it is.
+  bool origin_inside() const;
+  // The triangle whose cone from the centre holds p, by a visibility walk from t; kNoIndex if the
+  // walk does not end.
+  TriId radial_triangle(const Vec3& p, TriId t) const;
   // Leaves the triangles it found not in conflict marked in tested_ for find_cavity().
   Placement place(const Vec3& p, double c, std::uint32_t prio, SiteId hint);
   // Weighted: the vertices inside the cavity found last (none on its boundary) become hidden by s.
@@ -327,7 +337,8 @@ class SphericalDelaunay {
   void find_cavity(const Vec3& p, double c, std::uint32_t prio, TriId seed);
   // find_cavity() by the filter alone and without a call; false (its marks undone) when a test
   // needs the exact stage or a scratch buffer is full.
-  bool find_cavity_filtered(const Vec3& p, TriId seed);
+  template <bool kWeighted>
+  bool find_cavity_filtered(const Vec3& p, double c, TriId seed);
   // Replaces the cavity found last by the fan of triangles joining its boundary to site s.
   void fill_cavity(SiteId s);
   // Weighted: frees the cavity's slots from first_spare on (vertices were hidden).
@@ -379,6 +390,9 @@ class SphericalDelaunay {
   std::vector<std::uint32_t> priority_;  // empty: priority = site id (a link hull uses global ids)
   std::vector<double> lifts_;            // weighted only: cos(r / R) of each site (by id)
   std::vector<SiteId> hidden_by_;        // weighted only: kNoIndex, or who hides the site
+  std::vector<Merge> absorbed_;          // weighted build: vertices merged into the site that hid them
+  mutable bool origin_inside_ = false;   // origin_inside()'s cache
+  mutable std::size_t origin_checked_at_ = 2;
   std::size_t num_live_ = 0;
   SiteId last_site_ = kNoIndex;           // hint for the next walk
 

@@ -14,11 +14,15 @@
 /// - area_sr (Real): area of the exact cell on the unit sphere (steradians);
 /// - n_vertices (Integer): Voronoi vertices of the cell;
 /// - neighbors (String, JSON as ids): the ids of the neighbouring sites, in the cell's order;
+/// - weight_m (Real), weighted sites only (table.weight_column >= 0, site_weights.hpp): the site's
+///   radius in metres; the cells are then power cells (docs/weighted.md);
 /// - then every input column, with its type and the value of the site's first row, named as in
 ///   the input or renamed by input_columns.hpp's rule (`fid` -> `src_fid`, `area_m2` ->
 ///   `src_area_m2`).
 /// A cell that cannot be written valid at the output's precision gets an empty geometry and is
-/// reported (CellLayerReport::unwritten), never dropped: the layer has one feature per live site.
+/// reported (CellLayerReport::unwritten), never dropped: the layer has one feature per live site,
+/// and one with an empty geometry (areas 0, no neighbours) per hidden weighted site
+/// (SphericalDelaunay::is_hidden; the caller reports those from BuildReport::hidden).
 #pragma once
 
 #include <cstddef>
@@ -79,7 +83,7 @@ struct CellLayerOptions {
 
 /// What write_cell_layer() wrote.
 struct CellLayerReport {
-  std::size_t cells_written = 0;        ///< features written: every live site's
+  std::size_t cells_written = 0;        ///< features written: every live or hidden site's
   std::vector<UnwrittenCell> unwritten;  ///< those with an empty geometry, by site id
 };
 

@@ -276,6 +276,14 @@ class CellGeometry {
   // the hull's extreme point in that direction, an exact comparison), or kNoIndex when two
   // sites tie (the pole is on the boundary of their cells).
   SiteId north_owner_ = kNoIndex, south_owner_ = kNoIndex;
+  // The owners of the poles of power cells: largest power, not largest z.
+  void find_power_pole_owners();
+  // What the densifier takes as an edge's two sites: left - right is along the (power) bisector's
+  // normal, toward the left cell (the sites themselves without weights).
+  struct EdgeSides {
+    Vec3 left, right;
+  };
+  EdgeSides edge_sides(SiteId left, SiteId right) const;
 };
 
 /// One cell, building a CellGeometry first (O(size of the diagram)): for one-off use only; use

@@ -1,0 +1,93 @@
+// Fuzz target: the regular triangulation of weighted sites (issue 33, docs/weighted.md). The bytes
+// are a recipe of points (point_recipes.hpp) and each point's lift cos(r / R): unweighted, one
+// shared radius, radii from metres to near a quarter of the circumference, huge circles hiding
+// their neighbours, nested circles at one position, lifts a few ulps apart. After build(),
+// validate() must pass (with the global check, which tests every hidden site against every
+// triangle, on small inputs); every point is a live site, a hidden one or a listed merge; of points
+// closer than the merge distance the smallest lift is kept; without merges the triangles and the hidden sites do
+// not depend on the insertion order; equal lifts give the unweighted triangles.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <iterator>
+#include <vector>
+
+#include "fuzz_check.hpp"
+#include "point_recipes.hpp"
+#include "geovor/delaunay/spherical_delaunay.hpp"
+
+namespace {
+
+using namespace geovor;
+using namespace geovor::fuzz;
+
+constexpr std::size_t kGlobalCheckBelow = 48;
+constexpr double kQuarter = 1.5707963267948966;  // radians: the largest radius, excluded
+
+// The lift of one point from the bytes; `previous` is the lift of the point before it.
+double lift(Bytes& in, double previous) {
+  const std::uint8_t kind = in.u8();
+  switch (kind % 8) {
+    case 0: return 1.0;
+    case 1: return previous;                                              // shared radius
+    case 2: return std::cos(in.range(0, 1e-3));                           // up to 6 km
+    case 3: return std::cos(in.range(0, 0.1));                            // up to 600 km
+    case 4: return std::cos(in.range(0.5, kQuarter * (1 - 1e-9)));        // huge circles
+    case 5: return std::cos(kQuarter * (1 - std::ldexp(1.0, -(kind >> 3)))); // near the limit
+    case 6: {                                                             // a few ulps off
+      double c = previous;
+      for (int k = kind >> 5; k >= 0; --k) c = std::nextafter(c, 0.0);
+      return c > 0 ? c : previous;
+    }
+    default: return std::ldexp(1.0, -static_cast<int>(kind >> 3) % 40);    // powers of two
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  Bytes in(data, size);
+  DelaunayOptions options;
+  const std::uint8_t flags = in.u8();
+  options.spatial_sort = (flags & 1) != 0;
+  options.brio = (flags & 2) != 0;
+  options.seed = flags >> 4;
+  const int ops = 1 + in.u8() % 32;
+  std::vector<Vec3> pts;
+  for (int k = 0; k < ops && !in.empty(); ++k) operation(in, pts);
+  if (flags & 4) {  // nested circles: copies of a point with other radii
+    const std::size_t n = pts.size();
+    for (std::size_t k = 0; k < n && k < 8; ++k) add(pts, pts[in.u8() % n]);
+  }
+  std::vector<double> lifts;
+  for (std::size_t i = 0; i < pts.size(); ++i) lifts.push_back(lift(in, lifts.empty() ? 0.5 : lifts.back()));
+
+  BuildReport report;
+  const SphericalDelaunay dt = SphericalDelaunay::build(pts, lifts, options, &report);
+  const Validation v = dt.validate(&report, pts.size() < kGlobalCheckBelow);
+  FUZZ_CHECK(v.ok(), "build: %s", v.errors.front().c_str());
+  FUZZ_CHECK(dt.num_sites() + dt.num_hidden() + report.merges.size() == pts.size(),
+             "%zu sites + %zu hidden + %zu merges != %zu points", dt.num_sites(), dt.num_hidden(),
+             report.merges.size(), pts.size());
+  FUZZ_CHECK(report.hidden.size() == dt.num_hidden(), "hidden listed %zu, found %zu", report.hidden.size(),
+             dt.num_hidden());
+  for (const Hidden& h : report.hidden) FUZZ_CHECK(dt.is_live(h.by), "hidden site %u: hider %u not live", h.site, h.by);
+  for (const Merge& m : report.merges) {
+    const SiteId s = m.site;
+    FUZZ_CHECK(s < dt.site_capacity() && (dt.is_live(s) || dt.is_hidden(s)), "merge of point %u", m.input);
+    FUZZ_CHECK(m.chord < options.merge_distance, "merge at chord %.17g", m.chord);
+    FUZZ_CHECK(dt.lift(s) <= lifts[m.input], "merged point %u has a larger radius than its site", m.input);
+  }
+  if (report.merges.empty()) {
+    DelaunayOptions other = options;
+    other.spatial_sort = !options.spatial_sort;
+    const SphericalDelaunay again = SphericalDelaunay::build(pts, lifts, other);
+    FUZZ_CHECK(triangle_set(again) == triangle_set(dt), "the triangles depend on the insertion order");
+    for (SiteId s = 0; s < dt.site_capacity(); ++s)
+      FUZZ_CHECK(again.is_hidden(s) == dt.is_hidden(s), "site %u hidden in one order only", s);
+    if (!dt.is_weighted())
+      FUZZ_CHECK(triangle_set(SphericalDelaunay::build(pts, other)) == triangle_set(dt),
+                 "equal lifts: not the unweighted triangles");
+  }
+  return 0;
+}
