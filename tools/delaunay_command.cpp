@@ -68,7 +68,7 @@ int run(DelaunayArgs& args) {
   const SiteTable table = read_site_input(args.sites);
   const std::vector<Vec3> points = site_points(table);
   BuildReport report;
-  const SphericalDelaunay dt = build_sites(points, table.weight_column >= 0 ? site_lifts(table) : std::vector<double>(),
+  const SphericalDelaunay dt = build_sites(points, table.weighted ? site_lifts(table) : std::vector<double>(),
                                            args.sites, report);
   if (!args.quiet) report_merges(table, report);  // merged rows stay in the counts
   report_hidden(table, report);                   // a hidden site is no vertex of any triangle

@@ -44,7 +44,7 @@ int run(InfoArgs& args) {
   const std::vector<Vec3> points = site_points(table);
   t0 = Clock::now();
   BuildReport report;
-  const SphericalDelaunay dt = build_sites(points, table.weight_column >= 0 ? site_lifts(table) : std::vector<double>(),
+  const SphericalDelaunay dt = build_sites(points, table.weighted ? site_lifts(table) : std::vector<double>(),
                                            args.sites, report);
   const double build_s = seconds_since(t0);
   if (!args.sites.quiet) report_merges(table, report);  // counted in `merged` either way
@@ -58,7 +58,7 @@ int run(InfoArgs& args) {
   std::printf("rows: %llu\n", static_cast<unsigned long long>(table.rows_read));
   std::printf("sites: %zu\n", dt.num_sites());
   std::printf("merged: %zu\n", report.merges.size());
-  if (table.weight_column >= 0) std::printf("hidden: %zu\n", report.hidden.size());
+  if (table.weighted) std::printf("hidden: %zu\n", report.hidden.size());
   std::printf("rejected: %zu\n", table.rejected.size());
   std::printf("triangles: %zu\n", dt.num_triangles());
   std::printf("ghost_triangles: %zu\n", dt.num_ghost_triangles());

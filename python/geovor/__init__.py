@@ -7,7 +7,7 @@
 """
 from ._spherical_voronoi import SphericalVoronoi
 from ._index import Index
-from ._layers import GeometryWarning, cells, delaunay, relax
+from ._layers import GeometryWarning, HiddenSiteWarning, cells, delaunay, relax
 
-__all__ = ["SphericalVoronoi", "Index", "cells", "delaunay", "relax", "GeometryWarning"]
+__all__ = ["SphericalVoronoi", "Index", "cells", "delaunay", "relax", "GeometryWarning", "HiddenSiteWarning"]
 __version__ = "0.1.0"

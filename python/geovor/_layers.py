@@ -6,11 +6,37 @@ import numpy as np
 from . import _geovor
 from ._frames import ID_NAMES, find_column, frame_coordinates
 
-__all__ = ["cells", "delaunay", "relax", "GeometryWarning"]
+__all__ = ["cells", "delaunay", "relax", "GeometryWarning", "HiddenSiteWarning"]
 
 
 class GeometryWarning(UserWarning):
     """Some features could not be written valid and have an empty geometry (listed)."""
+
+
+class HiddenSiteWarning(UserWarning):
+    """Some weighted sites own no cell: a larger circle hides them (listed with a site that
+    holds their position; their cells have an empty geometry)."""
+
+
+def _radii(data, weights):
+    """The sites' radii in metres (float64 array) from `weights`: an array, or with `data` a
+    column name; None for unweighted sites."""
+    if weights is None:
+        return None
+    if isinstance(weights, str):
+        if data is None:
+            raise ValueError("weights names a column: give the DataFrame as data")
+        if weights not in data.columns:
+            raise ValueError(f"no weight column {weights!r} (columns: {', '.join(map(str, data.columns))})")
+        weights = data[weights].to_numpy()
+    return np.asarray(weights, dtype=np.float64)
+
+
+def _warn_hidden(hidden):
+    if hidden:
+        listed = ", ".join(f"row {i} (held by row {by})" for i, by in hidden[:20])
+        warnings.warn(f"{len(hidden)} weighted sites are hidden (their power cell is empty): {listed}",
+                      HiddenSiteWarning, stacklevel=3)
 
 
 def _sites(data, lat, lon, ids):
@@ -54,7 +80,7 @@ def _warn_unwritten(unwritten, what):
                       GeometryWarning, stacklevel=3)
 
 
-def cells(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, merge_m=0.0, threads=None):
+def cells(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, merge_m=0.0, threads=None, weights=None):
     """The Voronoi cell of every site, as `geovor cells` writes them, in a GeoDataFrame.
 
     Parameters
@@ -74,34 +100,48 @@ def cells(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, merge_m=0
         Merge sites closer than this (metres); at least 0.38 m always.
     threads : int, optional
         Threads (default: one per core); the result does not depend on it.
+    weights : array_like or str, optional
+        Weighted sites (power cells, docs/weighted.md): each site's radius in metres,
+        0 <= r < 10,007,557 (a quarter of the circumference), or with `data` the column holding
+        it. Site i's cell is where cos(d(x, p_i)) / cos(r_i / R) is largest; equal radii give the
+        Voronoi cells. A radius out of range or NaN is a ValueError naming its index.
 
     Returns
     -------
     GeoDataFrame in EPSG:4326, one row per site, in site order: site_index, site_id, ids (JSON
     text: the ids of every row of the site), n_rows, area_m2 (WGS84 ellipsoid, of the polygon as
-    stored), area_sr (the exact cell on the unit sphere), n_vertices, neighbors (JSON text), the
-    carried columns, and geometry: MultiPolygons cut at +-180 (RFC 7946), valid for GEOS. A
-    cell that cannot be stored valid gets an empty geometry and a GeometryWarning lists it.
-    `attrs["merged"]` lists (input row, row it was merged into).
+    stored), area_sr (the exact cell on the unit sphere), n_vertices, neighbors (JSON text),
+    weight_m (with weights), the carried columns, and geometry: MultiPolygons cut at +-180 (RFC
+    7946), valid for GEOS. A cell that cannot be stored valid gets an empty geometry and a
+    GeometryWarning lists it. `attrs["merged"]` lists (input row, row it was merged into); with
+    weights, `attrs["hidden"]` lists (input row, row of a site holding its position) of the
+    sites whose power cell is empty (empty geometry; a HiddenSiteWarning lists them too).
     """
     lat_deg, lon_deg, id_list, carried = _sites(data, lat, lon, ids)
-    out = _geovor.cells(lat_deg, lon_deg, id_list, float(densify_m), float(merge_m), 0 if threads is None else int(threads))
+    out = _geovor.cells(lat_deg, lon_deg, id_list, float(densify_m), float(merge_m), 0 if threads is None else int(threads),
+                        _radii(data, weights))
     _warn_unwritten(out["unwritten"], "cells (by site index)")
+    _warn_hidden(list(out["hidden"]))
     frame = _frame(out, carried, out["site_first_row"])
     frame.attrs["merged"] = list(out["merged"])
+    frame.attrs["hidden"] = list(out["hidden"])
     return frame
 
 
-def delaunay(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, no_ghosts=False, merge_m=0.0):
+def delaunay(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, no_ghosts=False, merge_m=0.0, weights=None):
     """The Delaunay triangles and edges, as `geovor delaunay` writes them: a pair of
     GeoDataFrames (EPSG:4326), triangles (MultiPolygons with kind, ghost, areas, circumradius)
-    and edges (MultiLineStrings with their great-circle and WGS84 geodesic lengths). Sites as in
-    cells(). no_ghosts leaves out the outer faces and edges (sites in one hemisphere)."""
+    and edges (MultiLineStrings with their great-circle and WGS84 geodesic lengths). Sites (and
+    weights: the regular triangulation, of which hidden sites are no vertex) as in cells().
+    no_ghosts leaves out the outer faces and edges (sites in one hemisphere)."""
     lat_deg, lon_deg, id_list, _ = _sites(data, lat, lon, ids)
-    triangles, edges = _geovor.delaunay(lat_deg, lon_deg, id_list, float(densify_m), bool(no_ghosts), float(merge_m))
+    triangles, edges = _geovor.delaunay(lat_deg, lon_deg, id_list, float(densify_m), bool(no_ghosts), float(merge_m),
+                                        _radii(data, weights))
     _warn_unwritten(triangles["unwritten"], "triangles (by triangle id)")
+    _warn_hidden(list(triangles["hidden"]))
     t = _frame(triangles)
     t.attrs["merged"] = list(triangles["merged"])
+    t.attrs["hidden"] = list(triangles["hidden"])
     return t, _frame(edges)
 
 

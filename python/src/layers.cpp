@@ -15,6 +15,7 @@
 #include "geovor/delaunay/site_rows.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/geo/site_encoder.hpp"
+#include "geovor/geo/site_weights.hpp"
 #include "geovor/layers/cell_layer.hpp"
 #include "geovor/layers/delaunay_layers.hpp"
 #include "geovor/lonlat/delaunay_geometry.hpp"
@@ -36,15 +37,39 @@ struct Built {
   SphericalDelaunay dt;
 };
 
-Built build(const Doubles& lat, const Doubles& lon, Ids ids, double merge_m) {
+using Radii = std::optional<Doubles>;
+
+// The sites' radii (metres) into the table: weighted sites (docs/weighted.md).
+void set_radii(SiteTable& table, const Doubles& radii_m) {
+  std::size_t n = table.sites.size();
+  const double* r = column_data(radii_m, "weights", n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (std::string why = radius_problem(r[i]); !why.empty())
+      throw Error(ErrorCode::InvalidArgument, "weights[" + std::to_string(i) + "]: " + why);
+    table.sites[i].weight_m = r[i] + 0.0;
+  }
+  table.weighted = true;
+}
+
+Built build(const Doubles& lat, const Doubles& lon, Ids ids, double merge_m, const Radii& radii_m = std::nullopt) {
   Built b{site_table_from_arrays(lat, lon, std::move(ids)), {}, {}};
+  if (radii_m) set_radii(b.table, *radii_m);
   DelaunayOptions options;
   if (merge_m > 0) options.merge_distance = std::max(SphericalDelaunay::kMinSeparation, merge_m / SiteEncoder::kEarthRadiusM);
   std::vector<Vec3> points(b.table.sites.size());
   for (std::size_t i = 0; i < points.size(); ++i) points[i] = b.table.sites[i].unit;
+  const std::vector<double> lifts = b.table.weighted ? site_lifts(b.table) : std::vector<double>();
   py::gil_scoped_release unlocked;
-  b.dt = SphericalDelaunay::build(points, options, &b.report);
+  b.dt = lifts.empty() ? SphericalDelaunay::build(points, options, &b.report)
+                       : SphericalDelaunay::build(points, lifts, options, &b.report);
   return b;
+}
+
+// (hidden site's input row, the input row of a site holding its position) of weighted sites.
+py::list hidden_pairs(const Built& b, const SiteRows& rows) {
+  py::list out;
+  for (const Hidden& h : b.report.hidden) out.append(py::make_tuple(rows.first(h.site), rows.first(h.by)));
+  return out;
 }
 
 // Input index -> the input index of the site it went into (itself when not merged).
@@ -81,17 +106,20 @@ py::dict cell_layer(const Built& b, double densify_m, unsigned threads) {
   return out;
 }
 
-py::dict cells(const Doubles& lat, const Doubles& lon, Ids ids, double densify_m, double merge_m, unsigned threads) {
-  const Built b = build(lat, lon, std::move(ids), merge_m);
+py::dict cells(const Doubles& lat, const Doubles& lon, Ids ids, double densify_m, double merge_m, unsigned threads,
+               const Radii& weights_m) {
+  const Built b = build(lat, lon, std::move(ids), merge_m, weights_m);
   const SiteRows rows = rows_of_sites(b.report, b.dt.site_capacity());
   py::dict out = cell_layer(b, densify_m, threads);
   out["site_first_row"] = site_first_rows(b, rows);
   out["merged"] = merged_pairs(b, rows);
+  out["hidden"] = hidden_pairs(b, rows);
   return out;
 }
 
-py::tuple delaunay(const Doubles& lat, const Doubles& lon, Ids ids, double densify_m, bool no_ghosts, double merge_m) {
-  const Built b = build(lat, lon, std::move(ids), merge_m);
+py::tuple delaunay(const Doubles& lat, const Doubles& lon, Ids ids, double densify_m, bool no_ghosts, double merge_m,
+                   const Radii& weights_m) {
+  const Built b = build(lat, lon, std::move(ids), merge_m, weights_m);
   const SiteRows rows = rows_of_sites(b.report, b.dt.site_capacity());
   MemoryFeatureWriter triangles(triangle_layer_schema()), edges(edge_layer_schema());
   TriangleLayerReport triangle_report;
@@ -111,6 +139,7 @@ py::tuple delaunay(const Doubles& lat, const Doubles& lon, Ids ids, double densi
   for (const UnwrittenTriangle& u : triangle_report.unwritten) unwritten.append(py::make_tuple(u.triangle, to_string(u.status)));
   t["unwritten"] = unwritten;
   t["merged"] = merged_pairs(b, rows);
+  t["hidden"] = hidden_pairs(b, rows);
   return py::make_tuple(t, e);
 }
 
@@ -159,9 +188,9 @@ py::dict relax(const Doubles& lat, const Doubles& lon, Ids ids, int iterations, 
 
 void bind_layers(py::module_& m) {
   m.def("cells", &cells, py::arg("lat"), py::arg("lon"), py::arg("ids"), py::arg("densify_m"), py::arg("merge_m"),
-        py::arg("threads"));
+        py::arg("threads"), py::arg("weights_m") = py::none());
   m.def("delaunay", &delaunay, py::arg("lat"), py::arg("lon"), py::arg("ids"), py::arg("densify_m"),
-        py::arg("no_ghosts"), py::arg("merge_m"));
+        py::arg("no_ghosts"), py::arg("merge_m"), py::arg("weights_m") = py::none());
   m.def("relax", &relax, py::arg("lat"), py::arg("lon"), py::arg("ids"), py::arg("iterations"),
         py::arg("tolerance_rad"), py::arg("relocation"), py::arg("densify_m"), py::arg("merge_m"), py::arg("threads"));
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string_view>
 
@@ -23,9 +24,7 @@ std::string parse_radius(std::string_view text, bool decimal_comma, double& r_m)
   const char* end = s.data() + s.size();
   const auto [ptr, ec] = std::from_chars(s.data() + (s[0] == '+'), end, r_m);
   if (ec != std::errc() || ptr != end || !std::isfinite(r_m)) return "\"" + std::string(t) + "\" is not a number";
-  if (r_m < 0 || r_m >= max_site_radius_m())
-    return "radius " + std::string(t) + " m is outside [0, " + std::to_string(max_site_radius_m()) +
-           ") (a quarter of the circumference)";
+  if (std::string why = radius_problem(r_m); !why.empty()) return why;
   r_m += 0.0;  // -0 is 0
   return {};
 }
@@ -33,6 +32,14 @@ std::string parse_radius(std::string_view text, bool decimal_comma, double& r_m)
 }  // namespace
 
 double site_lift(double r_m) { return std::cos(r_m / SiteEncoder::kEarthRadiusM); }
+
+std::string radius_problem(double r_m) {
+  if (std::isfinite(r_m) && r_m >= 0 && r_m < max_site_radius_m()) return {};
+  char text[64];
+  std::snprintf(text, sizeof text, "%.17g", r_m);
+  return "radius " + std::string(text) + " m is outside [0, " + std::to_string(max_site_radius_m()) +
+         ") (a quarter of the circumference)";
+}
 
 double max_site_radius_m() { return std::numbers::pi / 2 * SiteEncoder::kEarthRadiusM; }
 
@@ -44,7 +51,7 @@ void read_site_weights(SiteTable& table, const std::string& field) {
     throw Error(ErrorCode::InvalidArgument,
                 table.source + ": no weight column '" + field + "' (columns: " + names + ")");
   }
-  table.weight_column = column;
+  table.weighted = true;
   const bool decimal_comma = table.delimiter != ',';
   std::vector<InputSite> kept;
   std::vector<RejectedRow> rejected;

@@ -31,11 +31,11 @@ constexpr std::array<FieldType, 8> kOurTypes = {FieldType::Integer64, FieldType:
                                                 FieldType::Integer64, FieldType::Real,   FieldType::Real,
                                                 FieldType::Integer64, FieldType::String};
 constexpr std::array<bool, 8> kOurJson = {false, false, true, false, false, false, false, true};
-// Weighted sites (table.weight_column >= 0): their radius follows the fields above.
+// Weighted sites (table.weighted): their radius follows the fields above.
 constexpr const char* kWeightField = "weight_m";
 
 // The number of our fields before the input columns.
-std::size_t our_fields(const SiteTable& table) { return kOurFields.size() + (table.weight_column >= 0); }
+std::size_t our_fields(const SiteTable& table) { return kOurFields.size() + (table.weighted); }
 
 // What the cells' properties need besides the geometry, made from the table, the report and the
 // triangulation only (so while the diagram and the cells' geometry are built).
@@ -204,7 +204,7 @@ class CellFeatures {
     }
     *p++ = ']';
     done();
-    if (table_.weight_column >= 0) {
+    if (table_.weighted) {
       put_real(first.weight_m);
       done();
     }
@@ -309,7 +309,7 @@ void compute_block(const CellFeatures& features, const std::vector<SiteId>& orde
 std::vector<Field> cell_layer_schema(const SiteTable& table) {
   std::vector<Field> schema;
   for (std::size_t i = 0; i < kOurFields.size(); ++i) schema.push_back({kOurFields[i], kOurTypes[i], kOurJson[i]});
-  if (table.weight_column >= 0) schema.push_back({kWeightField, FieldType::Real, false});
+  if (table.weighted) schema.push_back({kWeightField, FieldType::Real, false});
   std::vector<std::size_t> columns(table.columns.size());
   for (std::size_t c = 0; c < columns.size(); ++c) columns[c] = c;
   const std::vector<Field> inputs = input_column_fields(table, columns, schema);

@@ -110,7 +110,7 @@ struct SiteTable {
   int lon_column = -1;               ///< index into columns; -1 for ECEF input
   int id_column = -1;                ///< index into columns; -1: ids are row numbers
   std::vector<int> ecef_columns;     ///< X, Y, Z indices for ECEF input, else empty
-  int weight_column = -1;            ///< the sites' radii (site_weights.hpp); -1: unweighted
+  bool weighted = false;             ///< every site has its radius in weight_m (site_weights.hpp)
   std::uint64_t rows_read = 0;       ///< data rows seen == sites.size() + rejected.size()
   std::vector<InputSite> sites;
   std::vector<RejectedRow> rejected;

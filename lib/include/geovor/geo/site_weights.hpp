@@ -21,12 +21,15 @@ double site_lift(double r_m);
 double max_site_radius_m();
 
 /// Reads every accepted row's radius from the column `field` (name compared trimmed and
-/// case-insensitively) into InputSite::weight_m and sets table.weight_column. A row whose value is
+/// case-insensitively) into InputSite::weight_m and sets table.weighted. A row whose value is
 /// empty, not a number or outside [0, max_site_radius_m()) moves to table.rejected with the reason
 /// naming the column (rejected rows stay in row order; rows_read is unchanged). A decimal comma is
 /// read as in the coordinates when the delimiter is not a comma.
 /// @exception Error(InvalidArgument) naming the columns if none is `field`.
 void read_site_weights(SiteTable& table, const std::string& field);
+
+/// Why r_m is no radius (not finite, negative, or not below max_site_radius_m()); empty if it is.
+std::string radius_problem(double r_m);
 
 /// The lift cos(weight_m / R) of each site of a table read with read_site_weights, in order.
 std::vector<double> site_lifts(const SiteTable& table);  // site_lift(weight_m) of each

@@ -14,7 +14,7 @@
 /// - area_sr (Real): area of the exact cell on the unit sphere (steradians);
 /// - n_vertices (Integer): Voronoi vertices of the cell;
 /// - neighbors (String, JSON as ids): the ids of the neighbouring sites, in the cell's order;
-/// - weight_m (Real), weighted sites only (table.weight_column >= 0, site_weights.hpp): the site's
+/// - weight_m (Real), weighted sites only (table.weighted, site_weights.hpp): the site's
 ///   radius in metres; the cells are then power cells (docs/weighted.md);
 /// - then every input column, with its type and the value of the site's first row, named as in
 ///   the input or renamed by input_columns.hpp's rule (`fid` -> `src_fid`, `area_m2` ->

@@ -1,0 +1,97 @@
+"""geovor.cells / delaunay with weights (power cells, docs/weighted.md): equal radii give the
+Voronoi cells, every point lies in the cell of its largest power (brute force, numpy), hidden
+sites are listed and empty, bad radii raise ValueError naming their index."""
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import geovor
+
+gpd = pytest.importorskip("geopandas")
+shapely = pytest.importorskip("shapely")
+ROOT = Path(__file__).resolve().parents[2]
+STATIONS = ROOT / "datasets" / "weather_stations.csv"
+R = 6371008.771415
+_A, _F = 6378137.0, 1 / 298.257223563
+_E2 = _F * (2 - _F)
+
+
+def directions(lat_deg, lon_deg):
+    """Geocentric directions of WGS84 positions at height 0 (what a site stands for)."""
+    lat, lon = np.radians(lat_deg), np.radians(lon_deg)
+    n = _A / np.sqrt(1 - _E2 * np.sin(lat) ** 2)
+    xyz = np.stack([n * np.cos(lat) * np.cos(lon), n * np.cos(lat) * np.sin(lon), n * (1 - _E2) * np.sin(lat)], axis=-1)
+    return xyz / np.linalg.norm(xyz, axis=-1, keepdims=True)
+
+
+@pytest.fixture(scope="module")
+def stations():
+    return pd.read_csv(STATIONS)
+
+
+def test_equal_radii_give_the_voronoi_cells(stations):
+    sample = stations.iloc[::10].reset_index(drop=True)
+    plain = geovor.cells(sample)
+    weighted = geovor.cells(sample, weights=np.full(len(sample), 25_000.0))
+    assert (weighted["weight_m"] == 25_000.0).all()
+    assert plain.geometry.geom_equals_exact(weighted.geometry, 0).all()
+    assert np.array_equal(plain["area_m2"].to_numpy(), weighted["area_m2"].to_numpy())
+
+
+def test_every_point_lies_in_the_cell_of_its_largest_power(stations):
+    rng = np.random.default_rng(33)
+    sample = stations.iloc[::8].reset_index(drop=True)
+    radii = rng.choice([0.0, 20_000.0, 150_000.0, 400_000.0], size=len(sample))
+    with pytest.warns(geovor.HiddenSiteWarning):  # radii up to 400 km hide some of 700 stations
+        cells = geovor.cells(sample, weights=radii)
+    assert len(cells.attrs["hidden"]) > 0
+    assert len(cells) == len(sample) - len(cells.attrs["merged"])
+    sites = directions(sample["lat_deg"].to_numpy(), sample["lon_deg"].to_numpy())
+    lifts = np.cos(radii / R)
+    lat = np.degrees(np.arcsin(rng.uniform(-1, 1, 3000)))
+    lon = rng.uniform(-180, 180, 3000)
+    power = directions(lat, lon) @ sites.T / lifts
+    order = np.sort(power, axis=1)
+    clear = (order[:, -1] - order[:, -2]) > 1e-4  # away from the boundaries (densified edges)
+    best = np.argmax(power, axis=1)
+    merged_into = dict(cells.attrs["merged"])  # a merged row's site is that of the row it went into
+    checked = 0
+    for k in np.nonzero(clear)[0]:
+        # The cell holding the point is that of the site built from row best[k].
+        holders = cells[cells.geometry.contains(shapely.geometry.Point(lon[k], lat[k]))]
+        assert len(holders) == 1, (lat[k], lon[k])
+        row = merged_into.get(int(best[k]), int(best[k]))
+        assert holders.iloc[0]["site_id"] == str(sample.iloc[row]["icao"])
+        checked += 1
+    assert checked > 2500
+
+
+def test_hidden_sites_are_listed_and_empty():
+    frame = pd.DataFrame({"id": list("ABCDEFG"), "lat": [0, 0, 90, 0, 0, -90, 0], "lon": [0, 90, 0, 180, -90, 0, 0.05],
+                          "r": [600_000, 0, 0, 0, 0, 0, 0]})
+    with pytest.warns(geovor.HiddenSiteWarning, match="row 6 \\(held by row 0\\)"):
+        cells = geovor.cells(frame, weights="r")
+    assert cells.attrs["hidden"] == [(6, 0)]
+    g = cells[cells["site_id"] == "G"].iloc[0]
+    assert g.geometry.is_empty and g["area_m2"] == 0 and g["n_vertices"] == 0
+    assert not cells[cells["site_id"] != "G"].geometry.is_empty.any()
+    with pytest.warns(geovor.HiddenSiteWarning):
+        triangles, _ = geovor.delaunay(frame, weights="r")
+    assert triangles.attrs["hidden"] == [(6, 0)]
+
+
+@pytest.mark.parametrize("bad", [-1.0, np.nan, 1e7 + 8000, np.inf])
+def test_bad_radii_name_their_index(bad):
+    radii = np.array([0.0, 10.0, bad])
+    with pytest.raises(ValueError, match="weights\\[2\\]: radius"):
+        geovor.cells(lat=[0, 10, 20], lon=[0, 10, 20], weights=radii)
+
+
+def test_weight_column_errors(stations):
+    with pytest.raises(ValueError, match="no weight column 'reach'"):
+        geovor.cells(stations.iloc[:20], weights="reach")
+    with pytest.raises(ValueError, match="weights has 2 values"):
+        geovor.cells(lat=[0, 10, 20], lon=[0, 10, 20], weights=[1.0, 2.0])
