@@ -206,6 +206,27 @@ TEST(WeightedDelaunay, NearDuplicatesKeepTheLargerCircleInEitherOrder) {
   }
 }
 
+TEST(WeightedDelaunay, CirclesThroughOnePointOnTheEquator) {
+  // Sites on the equator at longitude l with radius |l| (radians): every circle passes through
+  // (0, 0) and the lifted points (1, tan l, 0) lie (up to rounding) on one line; with sites off
+  // the equator, the build must stay valid whatever the perturbation decides.
+  std::vector<Vec3> pts;
+  std::vector<double> lifts;
+  for (int k = -8; k <= 8; ++k) {
+    const double l = 0.15 * k;
+    pts.push_back({std::cos(l), std::sin(l), 0});
+    lifts.push_back(std::cos(std::fabs(l)));
+  }
+  for (const Vec3& p : testing::uniform_on_sphere(40, 17)) pts.push_back(p), lifts.push_back(1.0);
+  BuildReport report;
+  const SphericalDelaunay dt = SphericalDelaunay::build(pts, lifts, {}, &report);
+  const Validation v = dt.validate(&report, true);
+  EXPECT_TRUE(v.ok()) << v.errors.front();
+  DelaunayOptions in_order;
+  in_order.spatial_sort = false;
+  EXPECT_EQ(triangles_of(SphericalDelaunay::build(pts, lifts, in_order)), triangles_of(dt));
+}
+
 TEST(WeightedDelaunay, RejectsBadLiftsAndEdits) {
   const auto pts = testing::uniform_on_sphere(20, 1);
   std::vector<double> lifts(pts.size(), 1.0);

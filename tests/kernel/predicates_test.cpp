@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <set>
 #include <vector>
 
 #include "support/generators.hpp"
@@ -301,6 +302,63 @@ TEST(WeightedPredicates, ComparePowerMatchesExact) {
     const Q exact = xq[0] * (aq[0] - bq[0]) + xq[1] * (aq[1] - bq[1]) + xq[2] * (aq[2] - bq[2]);
     ASSERT_EQ(sgn(compare_power(x, a, ca, b, cb)), sgn(exact)) << trial;
   }
+}
+
+}  // namespace
+}  // namespace geovor::kernel
+
+namespace geovor::kernel {
+namespace {
+
+// The weighted perturbation's second stage with concrete infinitesimals e_m = e t^(2^m),
+// m = 4 family + rank, t = 2^-2 and e = t^(2^16) 2^-64 (smaller than every first-order term's
+// ratio to a second-order one): the exact sign of the moved lifted points.
+int collinear_oracle(const std::array<Vec3, 4>& pts, const std::array<double, 4>& c,
+                     const std::array<std::uint32_t, 4>& prio) {
+  std::array<int, 4> rank{};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) rank[i] += prio[j] < prio[i];
+  const Q e = pow2neg(2 << 16) * pow2neg(64);
+  auto em = [&](int m) { return e * pow2neg(2 << m); };  // e t^(2^m), t = 2^-2
+  std::array<std::array<Q, 3>, 4> moved;
+  for (int i = 0; i < 4; ++i) {
+    const auto q = lifted(pts[i], c[i]);
+    const Q er = em(0 + rank[i]), ez = em(4 + rank[i]), ey = em(8 + rank[i]), ex = em(12 + rank[i]);
+    moved[i] = {q[0] + q[0] * er + ex, q[1] + q[1] * er + ey, q[2] + q[2] * er + ez};
+  }
+  return exact_in_sphere(moved[0], moved[1], moved[2], moved[3]);
+}
+
+TEST(WeightedPredicates, CollinearLiftedPointsAreDecidedBySecondOrderTerms) {
+  // Sites on the equator at longitude l with radius |l|: the lifted points (1, tan l, 0) are
+  // collinear (cos l / cos |l| is exactly 1), so every first-order term vanishes.
+  std::mt19937_64 rng(3);
+  int checked = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    std::array<Vec3, 4> p;
+    std::array<double, 4> c;
+    std::array<std::uint32_t, 4> prio;
+    std::set<int> used;
+    for (int i = 0; i < 4; ++i) {
+      int k;
+      do k = static_cast<int>(rng() % 17) - 8; while (!used.insert(k).second);
+      const double l = 0.15 * k;
+      p[i] = {std::cos(l), std::sin(l), 0};
+      c[i] = std::cos(std::fabs(l));
+      prio[i] = static_cast<std::uint32_t>(k + 8);
+    }
+    ASSERT_EQ(in_sphere_weighted(p[0], c[0], p[1], c[1], p[2], c[2], p[3], c[3]), Sign::Zero);
+    const Sign got = perturbed_in_sphere_weighted(p[0], c[0], prio[0], p[1], c[1], prio[1], p[2], c[2], prio[2],
+                                                  p[3], c[3], prio[3]);
+    ASSERT_NE(got, Sign::Zero) << trial;
+    EXPECT_EQ(sgn(got), collinear_oracle(p, c, prio)) << trial;
+    // An odd permutation negates it.
+    EXPECT_EQ(perturbed_in_sphere_weighted(p[1], c[1], prio[1], p[0], c[0], prio[0], p[2], c[2], prio[2], p[3], c[3],
+                                           prio[3]),
+              got == Sign::Positive ? Sign::Negative : Sign::Positive);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 40);
 }
 
 }  // namespace

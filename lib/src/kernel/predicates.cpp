@@ -6,6 +6,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Mpzf.h>
 
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -131,6 +132,15 @@ Sign perturbed_in_sphere(const Vec3& p, std::uint32_t ip, const Vec3& q, std::ui
 namespace {
 using CGAL::Mpzf;
 
+// The determinant of a 4x4 matrix of exact numbers (cofactors along the first row).
+Mpzf det4(const std::array<std::array<Mpzf, 4>, 4>& a) {
+  auto det3 = [&](int c0, int c1, int c2) {
+    return a[1][c0] * (a[2][c1] * a[3][c2] - a[2][c2] * a[3][c1]) - a[1][c1] * (a[2][c0] * a[3][c2] - a[2][c2] * a[3][c0]) +
+           a[1][c2] * (a[2][c0] * a[3][c1] - a[2][c1] * a[3][c0]);
+  };
+  return a[0][0] * det3(1, 2, 3) - a[0][1] * det3(0, 2, 3) + a[0][2] * det3(0, 1, 3) - a[0][3] * det3(0, 1, 2);
+}
+
 // E of in_sphere_weighted_filter, exactly: Mpzf holds sums and products of doubles exactly.
 Sign in_sphere_weighted_exact(const Vec3& p, double cp, const Vec3& q, double cq, const Vec3& r, double cr,
                               const Vec3& s, double cs) {
@@ -201,7 +211,29 @@ Sign perturbed_in_sphere_weighted(const Vec3& p, double cp, std::uint32_t ip, co
       if (t != Sign::Zero) return finish(t, k);
     }
   }
-  return Sign::Zero;  // the four lifted points on one line: not decided by this perturbation
+  // The four lifted points on one line (circles through two common points): every first-order
+  // term vanishes. The infinitesimals are e_m = e t^(2^m), m = 4 family + rank, e << every power
+  // of t: all first-order terms come first, then the products e_m e_n (points apart) in the order
+  // of 2^m + 2^n. Their coefficient, the determinant with the two rows replaced by the motions,
+  // is det(motion_m, motion_n, direction of the line) up to a positive factor: some pair of axes
+  // gives a non-zero one.
+  auto motion = [&](int family, int k, std::array<Mpzf, 4>& row) {
+    row = {Mpzf(0.0), Mpzf(0.0), Mpzf(0.0), Mpzf(0.0)};
+    if (family == 0) row = {Mpzf(pts[k]->x), Mpzf(pts[k]->y), Mpzf(pts[k]->z), Mpzf(0.0)};
+    else row[3 - family] = Mpzf(lift[k]);  // z (family 1), y (2), x (3)
+  };
+  for (int n = 1; n < 16; ++n) {
+    for (int m = 0; m < n; ++m) {
+      if (m % 4 == n % 4) continue;
+      std::array<std::array<Mpzf, 4>, 4> rows;
+      for (int k = 0; k < 4; ++k) rows[k] = {Mpzf(pts[k]->x), Mpzf(pts[k]->y), Mpzf(pts[k]->z), Mpzf(lift[k])};
+      motion(m / 4, m % 4, rows[m % 4]);
+      motion(n / 4, n % 4, rows[n % 4]);
+      const int d = static_cast<int>(to_sign(CGAL::sign(det4(rows))));
+      if (d != 0) return negate(to_sign(d * parity));
+    }
+  }
+  return Sign::Zero;  // two lifted points equal: excluded by the merge of sites at one position
 }
 
 Sign compare_power(const Vec3& x, const Vec3& a, double ca, const Vec3& b, double cb) noexcept {

@@ -69,7 +69,9 @@ Sign in_sphere_weighted(const Vec3& p, double cp, const Vec3& q, double cq, cons
 /// to the lifted points (radial motion q_i (1 + e_i), then the axis motions): the first-order
 /// coefficients are those of the unweighted test times positive lifts (radial terms) or the
 /// orientations of the rows (x, y, c), (z, x, c), (y, z, c) (axis terms), so equal lifts break
-/// every tie as perturbed_in_sphere does.
+/// every tie as perturbed_in_sphere does. Four lifted points on one line (circles through two
+/// common points) are decided by the products of two points' motions (docs/weighted.md).
+/// Zero only for two equal lifted points.
 Sign perturbed_in_sphere_weighted(const Vec3& p, double cp, std::uint32_t ip, const Vec3& q, double cq,
                                   std::uint32_t iq, const Vec3& r, double cr, std::uint32_t ir,
                                   const Vec3& s, double cs, std::uint32_t is) noexcept;
