@@ -1,7 +1,8 @@
 // Fuzz target: the regular triangulation of weighted sites (issue 33, docs/weighted.md). The bytes
 // are a recipe of points (point_recipes.hpp) and each point's lift cos(r / R): unweighted, one
 // shared radius, radii from metres to near a quarter of the circumference, huge circles hiding
-// their neighbours, nested circles at one position, lifts a few ulps apart. After build(),
+// their neighbours, nested circles at one position, lifts a few ulps apart, circles through one
+// point (lifted points on one plane; on one line for sites on a great circle through it). After build(),
 // validate() must pass (with the global check, which tests every hidden site against every
 // triangle, on small inputs); every point is a live site, a hidden one or a listed merge; of points
 // closer than the merge distance the smallest lift is kept; without merges the triangles and the hidden sites do
@@ -61,6 +62,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   std::vector<double> lifts;
   for (std::size_t i = 0; i < pts.size(); ++i) lifts.push_back(lift(in, lifts.empty() ? 0.5 : lifts.back()));
+  if (flags & 8) {  // circles through one point X: the lifted points on the plane x . X = 1
+    const Vec3 x = any_lat_lon(in);
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      if (const double d = dot(pts[i], x); d > 0 && d <= 1 && (in.u8() & 1)) lifts[i] = d;
+  }
 
   BuildReport report;
   const SphericalDelaunay dt = SphericalDelaunay::build(pts, lifts, options, &report);
