@@ -164,7 +164,7 @@ def gen_equal(rng, quick):
     if rng.random() < 0.5:   # a grid instead: co-circular sites, ties
         nl = int(rng.integers(2, 8 if quick else 12))
         nm = int(rng.integers(2, 8 if quick else 14))
-        d = float(rng.choice([1.0, 5.0, 15.0]))
+        d = min(float(rng.choice([1.0, 5.0, 15.0])), 110.0 / nl)  # the grid within +-60 degrees of latitude
         la0, lo0 = float(rng.uniform(-60, 60 - nl * d)), float(rng.uniform(-180, 180))
         pts = [(la0 + i * d, wrap(lo0 + j * d), r) for i in range(nl) for j in range(nm)]
     if rng.random() < 0.5 and pts:

@@ -149,21 +149,24 @@ SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, s
   dt.sites_.resize(n);
   dt.priority_ = order;
   constexpr std::size_t kAhead = 16;  // the reads are random: prefetch them
+  const bool weighted = !lifts.empty();
+  if (weighted) dt.lifts_.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
-    if (k + kAhead < n) __builtin_prefetch(&points[order[k + kAhead]]);
+    if (k + kAhead < n) {
+      __builtin_prefetch(&points[order[k + kAhead]]);
+      if (weighted) __builtin_prefetch(&lifts[order[k + kAhead]]);
+    }
     dt.sites_[k] = points[order[k]];
+    if (weighted) dt.lifts_[k] = lifts[order[k]];
   }
   dt.site_edge_.assign(n, kRemoved);  // not inserted yet
-  const bool weighted = !lifts.empty();
+  // Weighted: points at one position or closer than the merge distance merge as they are
+  // inserted (into the vertex, or the vertex into the larger circle that hides it); build()
+  // forces the rest (keeper: input -> input it merges into, empty when none is forced).
   std::vector<std::uint32_t> keeper, slot_of_input;
-  if (weighted) {
-    // Points at one position or closer than the merge distance merge as they are inserted (into
-    // the vertex, or the vertex into the larger circle that hides it); build() forces the rest.
+  if (weighted) dt.hidden_by_.assign(n, kNoIndex);
+  if (!forced.empty()) {
     keeper.assign(forced.begin(), forced.end());
-    keeper.resize(n, kNoIndex);
-    dt.lifts_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) dt.lifts_[k] = lifts[order[k]];
-    dt.hidden_by_.assign(n, kNoIndex);
     slot_of_input.resize(n);
     for (std::size_t k = 0; k < n; ++k) slot_of_input[order[k]] = static_cast<std::uint32_t>(k);
   }
@@ -178,7 +181,7 @@ SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, s
   std::vector<SiteId> merged_into;  // weighted: the slot each merged slot went into
   if (weighted) merged_into.assign(n, kNoIndex);
   for (std::size_t k = 0; k < n; ++k) {
-    if (weighted && keeper[dt.priority_[k]] != kNoIndex) {  // resolved below
+    if (!keeper.empty() && keeper[dt.priority_[k]] != kNoIndex) {  // resolved below
       merges.push_back({static_cast<std::uint32_t>(k), kNoIndex, 0, false});
       continue;
     }
@@ -197,10 +200,13 @@ SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, s
     // A point at another's position goes where that one went; every merge follows the chain of
     // merges of its site (a site absorbed later by a larger circle).
     for (Merge& m : merges) {
-      std::uint32_t kept = dt.priority_[m.input];
-      while (m.site == kNoIndex && keeper[kept] != kNoIndex) kept = keeper[kept];  // a chain of forced merges
       const bool skipped = m.site == kNoIndex;
-      SiteId t = skipped ? slot_of_input[kept] : m.site;
+      SiteId t = m.site;
+      if (skipped) {
+        std::uint32_t kept = dt.priority_[m.input];
+        while (keeper[kept] != kNoIndex) kept = keeper[kept];  // a chain of forced merges
+        t = slot_of_input[kept];
+      }
       while (merged_into[t] != kNoIndex) t = merged_into[t];
       m.site = t;
       if (skipped) m.chord = std::sqrt(norm2(dt.sites_[m.input] - dt.sites_[t]));
@@ -232,10 +238,16 @@ SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, s
     std::vector<Vec3>().swap(dt.sites_);
     if (merges.empty()) {
       dt.sites_.assign(points.begin(), points.end());
+      if (weighted) dt.lifts_.assign(lifts.begin(), lifts.end());
     } else {
       dt.sites_.reserve(next);
       for (std::size_t i = 0; i < n; ++i)
         if (id_of_input[i] != kNoIndex) dt.sites_.push_back(points[i]);
+      if (weighted) {
+        dt.lifts_.clear();
+        for (std::size_t i = 0; i < n; ++i)
+          if (id_of_input[i] != kNoIndex) dt.lifts_.push_back(lifts[i]);
+      }
     }
     std::vector<HalfedgeId> site_edge(next);
     for (std::size_t k = 0; k < n; ++k) {
@@ -278,12 +290,9 @@ SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, s
 }
 
 void SphericalDelaunay::renumber_weights(std::span<const SiteId> new_id, std::size_t num_ids) {
-  std::vector<double> lifts(num_ids);
   std::vector<SiteId> hidden(num_ids, kNoIndex);
   for (std::size_t k = 0; k < new_id.size(); ++k) {
-    if (new_id[k] == kNoIndex) continue;
-    lifts[new_id[k]] = lifts_[k];
-    if (hidden_by_[k] == kNoIndex) continue;
+    if (new_id[k] == kNoIndex || hidden_by_[k] == kNoIndex) continue;
     // The site that hid it during the build, or the one that hid that one, ...: a live site
     // nearby, where the walk below starts.
     // (Slots here: a slot with an id and no hider is live; one merged has no id.)
@@ -291,7 +300,6 @@ void SphericalDelaunay::renumber_weights(std::span<const SiteId> new_id, std::si
     for (int steps = 0; by != kNoIndex && hidden_by_[by] != kNoIndex && steps < 64; ++steps) by = hidden_by_[by];
     hidden[new_id[k]] = by != kNoIndex && hidden_by_[by] == kNoIndex && new_id[by] != kNoIndex ? new_id[by] : 0;
   }
-  lifts_ = std::move(lifts);
   hidden_by_ = std::move(hidden);
   // Who hides a site: the live site of largest power at its position, whose cell holds it.
   const SiteId any = any_live_site();

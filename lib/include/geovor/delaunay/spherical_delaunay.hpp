@@ -292,7 +292,8 @@ class SphericalDelaunay {
   static SphericalDelaunay build_sites(std::span<const Vec3> points, std::span<const double> lifts,
                                        std::span<const std::uint32_t> forced, const DelaunayOptions& options,
                                        BuildReport* report);
-  // Weighted build: lifts_ and hidden_by_ from slots to final ids; who hides each hidden site.
+  // Weighted build: hidden_by_ from slots to final ids (lifts_ are already by id, copied from the
+  // input); who hides each hidden site.
   void renumber_weights(std::span<const SiteId> new_id, std::size_t num_ids);
 
   // Insertion (insertion.cpp). Where a new point goes: merged into a site, or a triangle in
