@@ -445,9 +445,9 @@ def check_report(case, rep, cmd):
         if case.rows[k0][6] != rmax:
             bad.append(f"site {si}: its row {k0 + 1} has radius {case.rows[k0][6]!r}, the largest at its exact position is {rmax!r}")
         rall = max(case.rows[k][6] for k in ks)
-        if case.rows[k0][6] != rall:   # of rows closer than the merge distance, the larger circle is kept too
+        if case.rows[k0][6] != rall:   # closer than the merge distance: the first inserted may be kept
             k1 = max(ks, key=lambda k: case.rows[k][6])
-            bad.append(f"site {si}: row {k0 + 1} (r={case.rows[k0][6]!r}) kept, row {k1 + 1} (r={rall!r}) merged into it, "
+            case.notes.append(f"site {si}: row {k0 + 1} (r={case.rows[k0][6]!r}) kept, row {k1 + 1} (r={rall!r}) merged into it, "
                        f"{float(np.linalg.norm(directions([case.rows[k1][4]], [case.rows[k1][5]], float)[0] - p0)) * R_EARTH:.3g} m away")
     case.check(not bad, cmd, "report: row accounting (site + merged + hidden + rejected = rows, reasons, merges)",
                "; ".join(bad[:6]))

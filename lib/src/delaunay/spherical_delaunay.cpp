@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <utility>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -74,6 +75,41 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
   return build_sites(points, {}, {}, options, report);
 }
 
+namespace {
+// For each point, the point at its position with the smallest lift (the first of them on ties)
+// when that is another one, else kNoIndex; empty when no two points share a position. Sorted by a
+// hash of the bits, then compared exactly within equal hashes (-0 is 0).
+std::vector<std::uint32_t> same_position_keeper(std::span<const Vec3> points, std::span<const double> lifts) {
+  auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v + 0.0); };
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    std::uint64_t h = bits(points[i].x) * 0x9e3779b97f4a7c15ULL;
+    h = (h ^ std::rotl(bits(points[i].y), 21)) * 0xbf58476d1ce4e5b9ULL;
+    h = (h ^ std::rotl(bits(points[i].z), 42)) * 0x94d049bb133111ebULL;
+    keyed[i] = {h ^ (h >> 31), i};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::uint32_t> keeper;
+  for (std::size_t a = 0, b; a < keyed.size(); a = b) {
+    for (b = a + 1; b < keyed.size() && keyed[b].first == keyed[a].first; ++b) {}
+    if (b - a == 1) continue;
+    // A run of one hash: group its points by exact position.
+    for (std::size_t i = a; i < b; ++i) {
+      const std::uint32_t p = keyed[i].second;
+      std::uint32_t best = p;
+      for (std::size_t j = a; j < b; ++j) {
+        const std::uint32_t q = keyed[j].second;
+        if (points[q] == points[p] && (lifts[q] < lifts[best] || (lifts[q] == lifts[best] && q < best))) best = q;
+      }
+      if (best == p) continue;
+      if (keeper.empty()) keeper.assign(points.size(), kNoIndex);
+      keeper[p] = best;
+    }
+  }
+  return keeper;
+}
+}  // namespace
+
 SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points, std::span<const double> lifts,
                                            const DelaunayOptions& options, BuildReport* report) {
   if (lifts.size() != points.size())
@@ -86,34 +122,10 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points, std::sp
   // Equal lifts: the same signs as no lifts (the determinant scales by the lift).
   const bool equal = std::all_of(lifts.begin(), lifts.end(), [&](double c) { return c == lifts[0]; });
   if (equal) return build_sites(points, {}, {}, options, report);
-  // Of points closer than the merge distance, the larger circle is kept: where a merged point has
-  // a smaller lift than its site's point, that point merges into it instead, and the build is
-  // done again (rare: near-duplicates of different radii, the smaller inserted first).
-  BuildReport own;
-  BuildReport& r = report ? *report : own;
-  std::vector<std::uint32_t> forced;
-  for (int round = 0;; ++round) {
-    SphericalDelaunay dt = build_sites(points, lifts, forced, options, &r);
-    if (round == 8) return dt;  // every round keeps a larger circle: never reached in practice
-    std::vector<std::uint32_t> site_input(dt.site_capacity(), kNoIndex), larger(dt.site_capacity(), kNoIndex);
-    std::vector<char> merged(points.size(), 0);
-    for (const Merge& m : r.merges) merged[m.input] = 1;
-    for (std::uint32_t i = 0; i < points.size(); ++i)
-      if (!merged[i]) site_input[r.site_of_input[i]] = i;
-    for (const Merge& m : r.merges) {
-      const std::uint32_t i = m.input, j = site_input[m.site];
-      const std::uint32_t best = larger[m.site] == kNoIndex ? j : larger[m.site];
-      if (lifts[i] < lifts[best] || (lifts[i] == lifts[best] && best != j && i < best)) larger[m.site] = i;
-    }
-    bool again = false;
-    for (SiteId s = 0; s < larger.size(); ++s) {
-      if (larger[s] == kNoIndex || lifts[larger[s]] >= lifts[site_input[s]]) continue;
-      if (forced.empty()) forced.assign(points.size(), kNoIndex);
-      forced[site_input[s]] = larger[s];
-      again = true;
-    }
-    if (!again) return dt;
-  }
+  // Points at one position keep the largest circle: the others are merged into it before the
+  // build. (Closer than the merge distance, the insertion merges them: a vertex hidden by the new
+  // circle goes into it, otherwise the new point into the vertex.)
+  return build_sites(points, lifts, same_position_keeper(points, lifts), options, report);
 }
 
 SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, std::span<const double> lifts,
@@ -160,9 +172,8 @@ SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, s
     if (weighted) dt.lifts_[k] = lifts[order[k]];
   }
   dt.site_edge_.assign(n, kRemoved);  // not inserted yet
-  // Weighted: points at one position or closer than the merge distance merge as they are
-  // inserted (into the vertex, or the vertex into the larger circle that hides it); build()
-  // forces the rest (keeper: input -> input it merges into, empty when none is forced).
+  // Weighted: points at one position are merged into the largest circle there (forced, from
+  // build()); closer than the merge distance, they merge as they are inserted.
   std::vector<std::uint32_t> keeper, slot_of_input;
   if (weighted) dt.hidden_by_.assign(n, kNoIndex);
   if (!forced.empty()) {

@@ -160,10 +160,11 @@ class SphericalDelaunay {
   /// points[i] / lifts[i], decided exactly with the lifts taken as the doubles they are.
   ///  - A site whose lifted point is inside the hull is hidden: it keeps its id but is no vertex
   ///    (is_hidden(), BuildReport::hidden with a site whose cell holds its position).
-  ///  - Points at one position or closer than merge_distance merge into the one with the
-  ///    smallest lift (the largest circle; ties: the first inserted, which at one position is the
-  ///    first in input order). A vertex that a new site hides within the merge distance is merged
-  ///    into it, not hidden; a hidden point is merged only into a vertex within that distance.
+  ///  - Points at one position (bit-identical vectors) merge into the one with the smallest lift
+  ///    (the largest circle; ties: the first in input order). Points closer than merge_distance
+  ///    merge as they are inserted: a vertex that the new site hides is merged into it, otherwise
+  ///    the new point into the vertex (the first inserted is kept); a point hidden at its
+  ///    insertion is merged only into a vertex it finds within that distance.
   ///  - Equal lifts give the triangulation of build(points) (the lifts are then dropped:
   ///    is_weighted() is false).
   /// Sites of a weighted triangulation cannot be inserted, removed or moved (InvalidArgument).
@@ -288,7 +289,7 @@ class SphericalDelaunay {
   static std::uint64_t next_revision();
   void touch() { revision_ = next_revision(); }  // every change of sites or triangles calls it
   // build() of either kind: lifts empty for unweighted sites; forced[i], if not empty and not
-  // kNoIndex, is an input point that point i merges into (weighted only).
+  // kNoIndex, is an input point that point i merges into (weighted only: same positions).
   static SphericalDelaunay build_sites(std::span<const Vec3> points, std::span<const double> lifts,
                                        std::span<const std::uint32_t> forced, const DelaunayOptions& options,
                                        BuildReport* report);
