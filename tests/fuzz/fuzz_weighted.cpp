@@ -6,7 +6,8 @@
 // validate() must pass (with the global check, which tests every hidden site against every
 // triangle, on small inputs); every point is a live site, a hidden one or a listed merge; of points
 // at one position the smallest lift is kept; without merges the triangles and the hidden sites do
-// not depend on the insertion order; equal lifts give the unweighted triangles.
+// not depend on the insertion order (when no order merges any); equal lifts give the unweighted
+// triangles.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -91,13 +92,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const SiteId s = m.site;
     FUZZ_CHECK(s < dt.site_capacity() && (dt.is_live(s) || dt.is_hidden(s)), "merge of point %u", m.input);
     FUZZ_CHECK(m.chord < options.merge_distance, "merge at chord %.17g", m.chord);
-    if (pts[m.input] == dt.site(s))
+    if (pts[m.input] == dt.site(s) && dt.is_weighted())  // (equal lifts build unweighted: lift() is 1)
       FUZZ_CHECK(dt.lift(s) <= lifts[m.input], "point %u at its site's position has a larger radius", m.input);
   }
   if (report.merges.empty()) {
     DelaunayOptions other = options;
     other.spatial_sort = !options.spatial_sort;
-    const SphericalDelaunay again = SphericalDelaunay::build(pts, lifts, other);
+    BuildReport again_report;
+    const SphericalDelaunay again = SphericalDelaunay::build(pts, lifts, other, &again_report);
+    // Near-duplicates merge as they are inserted: in another order a point may be merged rather
+    // than hidden (or into another site), and the ids shift; compare orders without merges only.
+    if (!again_report.merges.empty()) return 0;
     FUZZ_CHECK(triangle_set(again) == triangle_set(dt), "the triangles depend on the insertion order");
     for (SiteId s = 0; s < dt.site_capacity(); ++s)
       FUZZ_CHECK(again.is_hidden(s) == dt.is_hidden(s), "site %u hidden in one order only", s);
