@@ -70,7 +70,9 @@ struct DelaunayOptions {
 struct Merge {
   std::uint32_t input = 0;  ///< index of the input point in the span given to build()
   SiteId site = kNoIndex;   ///< the site it went into
-  double chord = 0;         ///< chord distance to that site on the unit sphere (0: exact duplicate)
+  double chord = 0;         ///< chord distance to that site on the unit sphere (0: exact duplicate);
+                            ///< weighted: to the site it went into, possibly through a chain of
+                            ///< merges each closer than the merge distance
   bool hidden = false;      ///< true if the exact hull test found it hidden (never expected)
 };
 
