@@ -11,6 +11,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
 #include "geovor/geo/site_encoder.hpp"
+#include "geovor/geo/site_weights.hpp"
 #include "geovor/voronoi/voronoi_diagram.hpp"
 
 namespace geovor {
@@ -21,13 +22,18 @@ using SparseMatrix = Eigen::SparseMatrix<double>;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+double radius_of_lift(double c) {
+  // 1 - c is exact for c >= 1/2, where acos(c) would lose half the digits.
+  return 2 * SiteEncoder::kEarthRadiusM * std::asin(std::sqrt(std::max(0.0, 0.5 * (1 - c))));
+}
+
 // Lifts below e^-30 (radii within 0.6 mm of a quarter circumference) would make the power
 // vertices products of underflowing terms; no balanced configuration needs them.
 constexpr double kMaxPsi = 30;
 
 // The cells of one psi: the triangulation of the lifts, its diagram and the masses.
 struct State {
-  std::vector<double> psi, lifts, mass;
+  std::vector<double> psi, radii_m, lifts, mass;
   VoronoiDiagram diagram;
   std::size_t hidden = 0;
   double norm = 0, max_relative = 0, min_mass = 0;
@@ -42,9 +48,13 @@ bool evaluate(std::span<const Vec3> sites, std::vector<double> psi, std::span<co
   if (!(hi - lo <= kMaxPsi)) return false;
   const std::size_t n = sites.size();
   state.lifts.resize(n);
+  state.radii_m.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     psi[i] -= lo;
-    state.lifts[i] = std::exp(-psi[i]);  // rounded once: the weight the predicates take exactly
+    // The lift of the radius of exp(-psi), so that the radius, written with 17 digits and read
+    // back (site_lift), gives this very double: `geovor cells --weight-field` rebuilds the cells.
+    state.radii_m[i] = radius_of_lift(std::exp(-psi[i]));
+    state.lifts[i] = site_lift(state.radii_m[i]);
   }
   state.psi = std::move(psi);
   BuildReport report;
@@ -107,11 +117,6 @@ std::vector<double> newton_step(const std::vector<HessianEntry>& entries, std::s
   std::vector<double> delta(rhs.size(), 0.0);
   for (Eigen::Index i = 1; i < n; ++i) delta[i] = x[i - 1];
   return delta;
-}
-
-double radius_of_lift(double c) {
-  // 1 - c is exact for c >= 1/2, where acos(c) would lose half the digits.
-  return 2 * SiteEncoder::kEarthRadiusM * std::asin(std::sqrt(std::max(0.0, 0.5 * (1 - c))));
 }
 
 }  // namespace
@@ -213,6 +218,7 @@ BalanceReport balance(std::span<const Vec3> points, std::span<const double> shar
     report.converged = state.max_relative <= options.tolerance;
   } else {
     state.lifts.assign(n, 1.0);
+    state.radii_m.assign(n, 0.0);
     state.mass.assign(n, measure.total());
     report.converged = true;
   }
@@ -223,7 +229,7 @@ BalanceReport balance(std::span<const Vec3> points, std::span<const double> shar
   for (std::size_t i = 0; i < points.size(); ++i) {
     const SiteId s = build.site_of_input[i];
     report.lifts[i] = state.lifts[s];
-    report.radii_m[i] = radius_of_lift(state.lifts[s]);
+    report.radii_m[i] = state.radii_m[s];
     report.masses[i] = state.mass[s];
     report.targets[i] = target[s];
   }

@@ -60,10 +60,11 @@ struct BalanceReport {
   std::vector<BalanceIteration> iterations;
   bool converged = false;           ///< the tolerance was met
   double initial_relative_error = 0; ///< max relative error of the unweighted cells
-  /// Per input point: the lift c = exp(-psi) rounded once, exactly the double the final cells
-  /// were built with (SphericalDelaunay::build(points, lifts)), and its radius
-  /// r = 2 R asin(sqrt((1 - c) / 2)) in metres (R = SiteEncoder::kEarthRadiusM). A point merged
-  /// into another has that site's lift and radius.
+  /// Per input point: its radius r = 2 R asin(sqrt((1 - c) / 2)) in metres for c = exp(-psi)
+  /// (R = SiteEncoder::kEarthRadiusM), and its lift site_lift(r): exactly the double the final
+  /// cells were built with (SphericalDelaunay::build(points, lifts)), and the one a reader of
+  /// the radius printed with 17 digits gets back (geo/site_weights.hpp). A point merged into
+  /// another has that site's lift and radius.
   std::vector<double> lifts, radii_m;
   /// Per input point: its cell's final mass (of the site it merged into, for a merged point) and
   /// its target (normalised shares; the merged points' shares summed into their site's).
