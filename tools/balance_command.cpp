@@ -25,6 +25,8 @@ namespace {
 
 // Not converged: nothing is written (the documented exit code of the command).
 constexpr int kNotConverged = 4;
+// The target area of each cell, a column of the cells.
+constexpr const char* kTargetField = "target_m2";
 
 struct BalanceArgs {
   SiteInputArgs sites;
@@ -113,6 +115,25 @@ void write_sites_csv(const std::string& path, bool overwrite, const SiteTable& t
   out.commit();
 }
 
+// Each site's target area as one more input column, target_m2 (Real), which the cell layer writes
+// after the input's own (unless the input has a column of that name already: then it is kept).
+void add_target_column(SiteTable& table, const BalanceReport& result) {
+  if (find_column(table.columns, kTargetField) >= 0) {
+    std::fprintf(stderr, "%s: has a column '%s' already: the targets are not written\n", table.source.c_str(), kTargetField);
+    return;
+  }
+  if (table.column_types.empty()) table.column_types.assign(table.columns.size(), FieldType::String);
+  table.columns.push_back(kTargetField);
+  table.column_types.push_back(FieldType::Real);
+  char text[32];
+  for (std::size_t i = 0; i < table.sites.size(); ++i) {
+    std::vector<std::string>& fields = table.sites[i].fields;
+    fields.resize(table.columns.size() - 1);  // a short row's missing values are empty
+    std::snprintf(text, sizeof text, "%.17g", result.targets[i]);
+    fields.push_back(text);
+  }
+}
+
 int run(BalanceArgs& args) {
   if (!args.sites.weight_field.empty())
     throw Error(ErrorCode::InvalidArgument, "--weight-field: balance computes the radii (use --capacity-field)");
@@ -153,6 +174,7 @@ int run(BalanceArgs& args) {
 
   // The cells of the exact lifts balance() ended with, through the path of `geovor cells`.
   for (std::size_t i = 0; i < table.sites.size(); ++i) table.sites[i].weight_m = result.radii_m[i];
+  add_target_column(table, result);
   table.weighted = true;
   BuildReport report;
   const SphericalDelaunay dt = build_sites(points, result.lifts, args.sites, report);
@@ -206,7 +228,8 @@ Command add_balance_command(CLI::App& app) {
       "Merigot and Thibert): each iteration prints on stderr the largest relative area error of a cell and\n"
       "the damping step taken. Areas are those of the exact power cells on the WGS84 ellipsoid (the\n"
       "area_m2 written is that of the densified ring, within the densification of it). The smallest radius\n"
-      "is 0. Points merged into one site pool their capacities.\n"
+      "is 0. Points merged into one site pool their capacities. The cells carry the fields of `geovor cells\n"
+      "--weight-field` (weight_m: the radius), then target_m2, the target area.\n"
       "Exit codes: 0 ok, 2 usage error, 3 bad input data, 4 not converged (nothing written) or I/O error.\n"
       "Examples:\n"
       "  geovor balance datasets/weather_stations.csv -o balanced.geojson\n"

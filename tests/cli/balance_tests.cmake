@@ -18,7 +18,7 @@ geovor_cli_expect(cli.balance.capacities 0
   STDERR "row 9 [^\n]*rejected: capacity: empty.*row 10 [^\n]*rejected: capacity: \"abc\" is not a number.*row 11 [^\n]*rejected: capacity: capacity 0 is not positive.*row 12 [^\n]*rejected: capacity: capacity -2 is not positive.*rows 12, sites 8, merged 0, rejected 4; 8 cells written"
   COMMAND balance ${balance_out}/capacities.csv -o ${balance_out}/capacities.geojson --capacity-field capacity
           --tolerance 1e-9 --overwrite)
-geovor_cli_expect(cli.balance.capacity_weight_m 0 STDOUT "\"weight_m\":0.0,"
+geovor_cli_expect(cli.balance.capacity_weight_m 0 STDOUT "\"weight_m\":0.0,\"name\":\"A\",\"lat\":0,\"lon\":0,\"capacity\":\"1\",\"target_m2\":25503281086204.4"
   SCRIPT "\"$0\" balance ${balance_out}/capacities.csv -o - --capacity-field capacity -q")
 geovor_cli_expect(cli.balance.unknown_capacity_column 2 STDERR "no capacity column 'trucks'"
   COMMAND balance ${balance_out}/capacities.csv -o ${balance_out}/unknown.geojson --capacity-field trucks --overwrite)
