@@ -43,7 +43,8 @@ struct BalanceOptions {
   /// Threads for the cells' masses and the Hessian (0: one per core). DEFAULT: 0. The result does
   /// not depend on it.
   unsigned threads = 0;
-  /// DEFAULT: BalanceSolver::Cholesky (faster than CG at 171k sites, see balance.cpp).
+  /// DEFAULT: BalanceSolver::Cholesky (on the 171,075 cities, CG made the first iteration
+  /// 29.7 s instead of 4.9 s).
   BalanceSolver solver = BalanceSolver::Cholesky;
 };
 
