@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iterator>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -99,13 +100,20 @@ std::vector<double> read_capacities(SiteTable& table, const std::string& field) 
   return capacities;
 }
 
-// The sites as CSV: site_id, lat_deg, lon_deg, weight_m (the radius), target_m2, every value with
-// 17 digits so that `geovor cells FILE --weight-field weight_m` reads back the same doubles.
-void write_sites_csv(const std::string& path, bool overwrite, const SiteTable& table, const BalanceReport& report) {
+// The sites as CSV, one row per site (the row it was built from: rows merged into it are not
+// repeated, since a weighted build would report an exact duplicate of a vertex lying outside its
+// own power cell as hidden rather than merged): site_id, lat_deg, lon_deg, weight_m (the radius),
+// target_m2, every value with 17 digits so that `geovor cells FILE --weight-field weight_m` reads
+// back the same doubles and builds the same cells.
+void write_sites_csv(const std::string& path, bool overwrite, const SiteTable& table, const BuildReport& build,
+                     const BalanceReport& report) {
+  std::vector<char> merged(table.sites.size(), 0);
+  for (const Merge& m : build.merges) merged[m.input] = 1;
   OutputFile out(path, overwrite);
   std::FILE* f = out.get();
   std::fprintf(f, "site_id,lat_deg,lon_deg,weight_m,target_m2\n");
   for (std::size_t i = 0; i < table.sites.size(); ++i) {
+    if (merged[i]) continue;
     const InputSite& s = table.sites[i];
     std::string id = "\"";
     for (const char ch : s.id) id += ch == '"' ? std::string("\"\"") : std::string(1, ch);
@@ -113,6 +121,24 @@ void write_sites_csv(const std::string& path, bool overwrite, const SiteTable& t
                  report.targets[i]);
   }
   out.commit();
+}
+
+// The triangulation of the balanced cells: the distinct sites of the unweighted build (the ones
+// balance() solved for, with its merges as the rows' report) with their exact lifts. Building all
+// the rows with their lifts instead would report an exact duplicate of a site whose position lies
+// outside its own power cell as hidden, not merged (SphericalDelaunay::build checks only the
+// vertex whose cell holds it).
+SphericalDelaunay build_balanced(std::span<const Vec3> points, const BalanceReport& result, const SiteInputArgs& args,
+                                 BuildReport& report) {
+  const DelaunayOptions options = delaunay_options(args);
+  const SphericalDelaunay plain = SphericalDelaunay::build(points, options, &report);
+  std::vector<double> lifts(plain.site_capacity(), 1.0);
+  for (std::size_t i = 0; i < points.size(); ++i) lifts[report.site_of_input[i]] = result.lifts[i];
+  BuildReport weighted;
+  SphericalDelaunay dt = SphericalDelaunay::build(plain.sites(), lifts, options, &weighted);
+  if (!weighted.merges.empty()) throw Error(ErrorCode::Internal, "balance: the distinct sites merged again");
+  report.hidden = std::move(weighted.hidden);  // none: every balanced cell has its area
+  return dt;
 }
 
 // Each site's target area as one more input column, target_m2 (Real), which the cell layer writes
@@ -177,11 +203,11 @@ int run(BalanceArgs& args) {
   add_target_column(table, result);
   table.weighted = true;
   BuildReport report;
-  const SphericalDelaunay dt = build_sites(points, result.lifts, args.sites, report);
+  const SphericalDelaunay dt = build_balanced(points, result, args.sites, report);
   if (!args.cells.quiet) report_merges(table, report);
   report_hidden(table, report);
   const std::size_t written = write_cells(args.cells, table, report, dt).cells_written;
-  if (!args.sites_output.empty()) write_sites_csv(args.sites_output, args.cells.overwrite, table, result);
+  if (!args.sites_output.empty()) write_sites_csv(args.sites_output, args.cells.overwrite, table, report, result);
   if (!args.cells.quiet)
     std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s%s%s\n",
                  table.source.c_str(), static_cast<unsigned long long>(table.rows_read), dt.num_sites(),
@@ -211,7 +237,7 @@ Command add_balance_command(CLI::App& app) {
   cmd->add_option("--max-iterations", args->max_iterations, "Newton iterations at most (default 50)")
       ->check(integer_in(0, 1000000));
   cmd->add_option("--sites-output", args->sites_output,
-                  "Also write the sites as CSV (site_id, lat_deg, lon_deg, weight_m: the radius in metres, target_m2) "
+                  "Also write the sites as CSV, one row per site (site_id, lat_deg, lon_deg, weight_m: the radius in metres, target_m2) "
                   "so that `geovor cells FILE --weight-field weight_m` gives the same cells");
   add_output_model_options(cmd, args->cells.format, args->cells.overwrite, args->cells.model, "cells");
   cmd->add_option("--densify-m", args->cells.densify_m,

@@ -7,12 +7,12 @@ file(WRITE ${balance_out}/capacities.csv
   "name,lat,lon,capacity\nA,0,0,1\nB,0,90,2\nC,0,180,3\nD,0,-90,4\nE,60,45,1\nF,-60,-135,2\nG,45,-100,3\nH,-45,120,4\n"
   "I,10,10,\nJ,20,20,abc\nK,30,30,0\nL,40,40,-2\n")
 
-geovor_cli_expect(cli.balance.stations 0 STDERR "rows 5634, sites 5631.*5634 cells written"
+geovor_cli_expect(cli.balance.stations 0 STDERR "rows 5634, sites 5631, merged 3, rejected 0; 5631 cells written"
   COMMAND balance datasets/weather_stations.csv -o ${balance_out}/stations.geojson --overwrite
           --sites-output ${balance_out}/stations_sites.csv)
 # The radii written with --sites-output rebuild the very cells (same geometry, feature by feature).
 geovor_cli_expect(cli.balance.sites_output_round_trip 0 SCRIPT
-  "d=${balance_out}/rt && \"$0\" balance datasets/weather_stations.csv -o $d.balanced.geojson --sites-output $d.sites.csv --overwrite -q && \"$0\" cells $d.sites.csv --weight-field weight_m -o $d.cells.geojson --overwrite -q && grep -o '\"geometry\":.*' $d.balanced.geojson > $d.a && grep -o '\"geometry\":.*' $d.cells.geojson > $d.b && test $(wc -l < $d.a) -eq 5634 && cmp $d.a $d.b && head -1 $d.sites.csv | grep -qx 'site_id,lat_deg,lon_deg,weight_m,target_m2'")
+  "d=${balance_out}/rt && \"$0\" balance datasets/weather_stations.csv -o $d.balanced.geojson --sites-output $d.sites.csv --overwrite -q && \"$0\" cells $d.sites.csv --weight-field weight_m -o $d.cells.geojson --overwrite -q && grep -o '\"geometry\":.*' $d.balanced.geojson > $d.a && grep -o '\"geometry\":.*' $d.cells.geojson > $d.b && test $(wc -l < $d.a) -eq 5631 && test $(wc -l < $d.sites.csv) -eq 5632 && cmp $d.a $d.b && head -1 $d.sites.csv | grep -qx 'site_id,lat_deg,lon_deg,weight_m,target_m2'")
 # Capacities: the bad rows are rejected with their reason, the others balanced; the cells carry weight_m.
 geovor_cli_expect(cli.balance.capacities 0
   STDERR "row 9 [^\n]*rejected: capacity: empty.*row 10 [^\n]*rejected: capacity: \"abc\" is not a number.*row 11 [^\n]*rejected: capacity: capacity 0 is not positive.*row 12 [^\n]*rejected: capacity: capacity -2 is not positive.*rows 12, sites 8, merged 0, rejected 4; 8 cells written"
