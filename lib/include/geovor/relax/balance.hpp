@@ -36,7 +36,10 @@ enum class BalanceSolver : std::uint8_t {
 /// Options of balance(); every default is documented.
 struct BalanceOptions {
   /// Stop when the largest relative mass error max_i |A_i - target_i| / target_i is at most this.
-  /// DEFAULT: 1e-6. REQUIRES: > 0.
+  /// DEFAULT: 1e-6. REQUIRES: > 0. The masses' rounding sets a floor that depends on the sites:
+  /// below 1e-9 for 200 random sites (tests), about 4e-7 for the 171,075 cities, whose pairs of sites a
+  /// metre apart have a shared edge that one ulp of a radius moves by ~1e-7 of their areas; below
+  /// it no step 2^-l (l <= 24) decreases the error, and balance() stops, not converged.
   double tolerance = 1e-6;
   /// Newton iterations at most. DEFAULT: 50. REQUIRES: >= 0.
   int max_iterations = 50;
