@@ -63,5 +63,7 @@ Command add_cells_command(CLI::App& app);
 Command add_delaunay_command(CLI::App& app);
 /// Adds `geovor relax` (tools/relax_command.cpp).
 Command add_relax_command(CLI::App& app);
+/// Adds `geovor balance` (tools/balance_command.cpp).
+Command add_balance_command(CLI::App& app);
 
 }  // namespace geovor::tools

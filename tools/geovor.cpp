@@ -133,6 +133,7 @@ int run_geovor(int argc, char** argv, bool has_gdal) {
       {"cells", add_cells_command(app)},
       {"delaunay", add_delaunay_command(app)},
       {"relax", add_relax_command(app)},
+      {"balance", add_balance_command(app)},
       {"index", add_index_command(app)},
       {"nearest", add_nearest_command(app)},
   };

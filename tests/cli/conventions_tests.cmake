@@ -11,7 +11,7 @@ geovor_cli_expect(cli.conventions.unknown_command 2 STDERR "^geovor: unknown com
 geovor_cli_expect(cli.conventions.unknown_command_prefix 2 STDERR "unknown command 'near'; did you mean 'nearest'\\?"
   COMMAND near --sites ${fixtures}/three_sites.csv)
 geovor_cli_expect(cli.conventions.unknown_command_far 2
-  STDERR "unknown command 'frobnicate'; the commands are info, cells, delaunay, relax, index, nearest"
+  STDERR "unknown command 'frobnicate'; the commands are info, cells, delaunay, relax, balance, index, nearest"
   COMMAND frobnicate)
 # `geovor help CMD` is `geovor CMD --help`; `geovor help` is `geovor --help`.
 geovor_cli_expect(cli.conventions.help_command 0 STDOUT "^Write the Voronoi cell[^\n]*\nUsage: geovor cells \\[OPTIONS\\] INPUT"
