@@ -101,8 +101,7 @@ std::vector<double> read_capacities(SiteTable& table, const std::string& field) 
 }
 
 // The sites as CSV, one row per site (the row it was built from: rows merged into it are not
-// repeated, since a weighted build would report an exact duplicate of a vertex lying outside its
-// own power cell as hidden rather than merged): site_id, lat_deg, lon_deg, weight_m (the radius),
+// repeated, so that the file reads back as the sites balanced): site_id, lat_deg, lon_deg, weight_m (the radius),
 // target_m2, every value with 17 digits so that `geovor cells FILE --weight-field weight_m` reads
 // back the same doubles and builds the same cells.
 void write_sites_csv(const std::string& path, bool overwrite, const SiteTable& table, const BuildReport& build,
@@ -124,10 +123,8 @@ void write_sites_csv(const std::string& path, bool overwrite, const SiteTable& t
 }
 
 // The triangulation of the balanced cells: the distinct sites of the unweighted build (the ones
-// balance() solved for, with its merges as the rows' report) with their exact lifts. Building all
-// the rows with their lifts instead would report an exact duplicate of a site whose position lies
-// outside its own power cell as hidden, not merged (SphericalDelaunay::build checks only the
-// vertex whose cell holds it).
+// balance() solved for, with its merges as the rows' report) with their exact lifts, so that the
+// rows merge exactly as balance() merged them.
 SphericalDelaunay build_balanced(std::span<const Vec3> points, const BalanceReport& result, const SiteInputArgs& args,
                                  BuildReport& report) {
   const DelaunayOptions options = delaunay_options(args);
