@@ -173,13 +173,12 @@ void SphericalDelaunay::fill_cavity(SiteId s) {
   // The last boundary edges found lie farthest from the seed, which faces the previous site: the
   // next site, further along the curve, is most often in conflict with the fan triangles there.
   site_edge[s] = 3 * slot[nb - 1] + 2;
-  if (nc > nb) remove_spare_slots(nb);
+  if (nc > nb)  // the cavity's slots past the fan
+    free_triangle_slots({cavity_.begin() + static_cast<std::ptrdiff_t>(nb), cavity_.begin() + static_cast<std::ptrdiff_t>(nc)});
 }
 
-void SphericalDelaunay::remove_spare_slots(std::size_t first_spare) {
-  // The cavity's slots past the fan are freed; the last triangles of the arrays move into them.
-  std::vector<TriId> spare(cavity_.begin() + static_cast<std::ptrdiff_t>(first_spare),
-                           cavity_.begin() + static_cast<std::ptrdiff_t>(num_cavity_));
+void SphericalDelaunay::free_triangle_slots(std::vector<TriId> spare) {
+  // The last triangles of the arrays move into the freed slots, the highest slot first.
   std::sort(spare.begin(), spare.end(), std::greater<>());
   for (const TriId t : spare) {
     const TriId last = static_cast<TriId>(num_triangles() - 1);

@@ -95,14 +95,7 @@ void SphericalDelaunay::remove_site(SiteId s) {
   last_site_ = link[0];
 
   // Two star slots are left over: fill them with the last triangles of the arrays.
-  std::vector<TriId> spare(star.begin() + static_cast<std::ptrdiff_t>(k - 2), star.end());
-  std::sort(spare.begin(), spare.end(), std::greater<>());
-  for (const TriId t : spare) {
-    const TriId last = static_cast<TriId>(num_triangles() - 1);
-    if (t != last) move_triangle(last, t);
-    triangles_.resize(triangles_.size() - 3);
-    halfedges_.resize(halfedges_.size() - 3);
-  }
+  free_triangle_slots({star.begin() + static_cast<std::ptrdiff_t>(k - 2), star.end()});
 }
 
 void SphericalDelaunay::move_triangle(TriId from, TriId to) {

@@ -30,6 +30,21 @@ Sign negate(Sign s) { return static_cast<Sign>(-static_cast<int>(s)); }
 
 Epick::Point_3 P3(const Vec3& v) { return {v.x, v.y, v.z}; }
 
+// Sorts the four points (and their lifts) by priority, smallest first (the largest perturbation);
+// returns the permutation's parity (+1 or -1).
+int sort_by_priority(std::array<std::uint32_t, 4> pri, const Vec3* (&pts)[4], double (&lift)[4]) {
+  int parity = 1;
+  for (int i = 1; i < 4; ++i) {
+    for (int j = i; j > 0 && pri[j] < pri[j - 1]; --j) {
+      std::swap(pri[j], pri[j - 1]);
+      std::swap(pts[j], pts[j - 1]);
+      std::swap(lift[j], lift[j - 1]);
+      parity = -parity;
+    }
+  }
+  return parity;
+}
+
 Sign orient_exact(const Vec3& p, const Vec3& q, const Vec3& r) {
   static const Epick::Point_3 origin(0, 0, 0);
   return to_sign(CGAL::orientation(origin, P3(p), P3(q), P3(r)));
@@ -83,17 +98,9 @@ Sign perturbed_in_sphere(const Vec3& p, std::uint32_t ip, const Vec3& q, std::ui
   if (exact != Sign::Zero) return exact;
   ++g_stats.in_sphere_perturbed;
 
-  // Sort by priority (smallest first = largest perturbation), tracking the permutation's parity.
   const Vec3* pts[4] = {&p, &q, &r, &s};
-  std::uint32_t pri[4] = {ip, iq, ir, is};
-  int parity = 1;
-  for (int i = 1; i < 4; ++i) {
-    for (int j = i; j > 0 && pri[j] < pri[j - 1]; --j) {
-      std::swap(pri[j], pri[j - 1]);
-      std::swap(pts[j], pts[j - 1]);
-      parity = -parity;
-    }
-  }
+  double unused[4] = {};
+  const int parity = sort_by_priority({ip, iq, ir, is}, pts, unused);
   // With D(a,b,c,d) = det[[a,1],[b,1],[c,1],[d,1]], in_sphere_sign = -sign(D). Moving point k by
   // eps*v adds eps * (-1)^k * det(v, b - a, c - a), (a, b, c) the other points in order. The
   // first non-zero term in the order of the infinitesimals decides (see the header).
@@ -176,16 +183,7 @@ Sign perturbed_in_sphere_weighted(const Vec3& p, double cp, std::uint32_t ip, co
   // As perturbed_in_sphere, with D the determinant of the rows (p_i, c_i).
   const Vec3* pts[4] = {&p, &q, &r, &s};
   double lift[4] = {cp, cq, cr, cs};
-  std::uint32_t pri[4] = {ip, iq, ir, is};
-  int parity = 1;
-  for (int i = 1; i < 4; ++i) {
-    for (int j = i; j > 0 && pri[j] < pri[j - 1]; --j) {
-      std::swap(pri[j], pri[j - 1]);
-      std::swap(pts[j], pts[j - 1]);
-      std::swap(lift[j], lift[j - 1]);
-      parity = -parity;
-    }
-  }
+  const int parity = sort_by_priority({ip, iq, ir, is}, pts, lift);
   auto finish = [&](Sign term, int k) {
     int d = static_cast<int>(term) * ((k % 2 == 0) ? 1 : -1) * parity;
     return negate(to_sign(d));

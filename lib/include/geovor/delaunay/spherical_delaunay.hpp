@@ -345,8 +345,9 @@ class SphericalDelaunay {
   bool find_cavity_filtered(const Vec3& p, double c, TriId seed);
   // Replaces the cavity found last by the fan of triangles joining its boundary to site s.
   void fill_cavity(SiteId s);
-  // Weighted: frees the cavity's slots from first_spare on (vertices were hidden).
-  void remove_spare_slots(std::size_t first_spare);
+  // Frees triangle slots (a removal's star, a weighted cavity that hid vertices): the last
+  // triangles of the arrays move into them.
+  void free_triangle_slots(std::vector<TriId> spare);
   // Gives up the cavity found last (p merges instead): clears its marks.
   void abandon_cavity();
 
