@@ -122,22 +122,6 @@ void write_sites_csv(const std::string& path, bool overwrite, const SiteTable& t
   out.commit();
 }
 
-// The triangulation of the balanced cells: the distinct sites of the unweighted build (the ones
-// balance() solved for, with its merges as the rows' report) with their exact lifts, so that the
-// rows merge exactly as balance() merged them.
-SphericalDelaunay build_balanced(std::span<const Vec3> points, const BalanceReport& result, const SiteInputArgs& args,
-                                 BuildReport& report) {
-  const DelaunayOptions options = delaunay_options(args);
-  const SphericalDelaunay plain = SphericalDelaunay::build(points, options, &report);
-  std::vector<double> lifts(plain.site_capacity(), 1.0);
-  for (std::size_t i = 0; i < points.size(); ++i) lifts[report.site_of_input[i]] = result.lifts[i];
-  BuildReport weighted;
-  SphericalDelaunay dt = SphericalDelaunay::build(plain.sites(), lifts, options, &weighted);
-  if (!weighted.merges.empty()) throw Error(ErrorCode::Internal, "balance: the distinct sites merged again");
-  report.hidden = std::move(weighted.hidden);  // none: every balanced cell has its area
-  return dt;
-}
-
 // Each site's target area as one more input column, target_m2 (Real), which the cell layer writes
 // after the input's own (unless the input has a column of that name already: then it is kept).
 void add_target_column(SiteTable& table, const BalanceReport& result) {
@@ -200,7 +184,7 @@ int run(BalanceArgs& args) {
   add_target_column(table, result);
   table.weighted = true;
   BuildReport report;
-  const SphericalDelaunay dt = build_balanced(points, result, args.sites, report);
+  const SphericalDelaunay dt = balanced_triangulation(points, result, delaunay_options(args.sites), report);
   if (!args.cells.quiet) report_merges(table, report);
   report_hidden(table, report);
   const std::size_t written = write_cells(args.cells, table, report, dt).cells_written;

@@ -7,7 +7,7 @@
 """
 from ._spherical_voronoi import SphericalVoronoi
 from ._index import Index
-from ._layers import GeometryWarning, HiddenSiteWarning, cells, delaunay, relax
+from ._layers import GeometryWarning, HiddenSiteWarning, balance, cells, delaunay, relax
 
-__all__ = ["SphericalVoronoi", "Index", "cells", "delaunay", "relax", "GeometryWarning", "HiddenSiteWarning"]
+__all__ = ["SphericalVoronoi", "Index", "cells", "delaunay", "relax", "balance", "GeometryWarning", "HiddenSiteWarning"]
 __version__ = "0.1.0"

@@ -6,7 +6,7 @@ import numpy as np
 from . import _geovor
 from ._frames import ID_NAMES, find_column, frame_coordinates
 
-__all__ = ["cells", "delaunay", "relax", "GeometryWarning", "HiddenSiteWarning"]
+__all__ = ["cells", "delaunay", "relax", "balance", "GeometryWarning", "HiddenSiteWarning"]
 
 
 class GeometryWarning(UserWarning):
@@ -18,18 +18,17 @@ class HiddenSiteWarning(UserWarning):
     holds their position; their cells have an empty geometry)."""
 
 
-def _radii(data, weights):
-    """The sites' radii in metres (float64 array) from `weights`: an array, or with `data` a
-    column name; None for unweighted sites."""
-    if weights is None:
+def _values(data, values, what="weight"):
+    """A float64 array from `values`: an array, or with `data` a column name; None for None."""
+    if values is None:
         return None
-    if isinstance(weights, str):
+    if isinstance(values, str):
         if data is None:
-            raise ValueError("weights names a column: give the DataFrame as data")
-        if weights not in data.columns:
-            raise ValueError(f"no weight column {weights!r} (columns: {', '.join(map(str, data.columns))})")
-        weights = data[weights].to_numpy()
-    return np.asarray(weights, dtype=np.float64)
+            raise ValueError(f"{what} names a column: give the DataFrame as data")
+        if values not in data.columns:
+            raise ValueError(f"no {what} column {values!r} (columns: {', '.join(map(str, data.columns))})")
+        values = data[values].to_numpy()
+    return np.asarray(values, dtype=np.float64)
 
 
 def _warn_hidden(hidden):
@@ -119,7 +118,7 @@ def cells(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, merge_m=0
     """
     lat_deg, lon_deg, id_list, carried = _sites(data, lat, lon, ids)
     out = _geovor.cells(lat_deg, lon_deg, id_list, float(densify_m), float(merge_m), 0 if threads is None else int(threads),
-                        _radii(data, weights))
+                        _values(data, weights))
     _warn_unwritten(out["unwritten"], "cells (by site index)")
     _warn_hidden(list(out["hidden"]))
     frame = _frame(out, carried, out["site_first_row"])
@@ -136,13 +135,39 @@ def delaunay(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, no_gho
     no_ghosts leaves out the outer faces and edges (sites in one hemisphere)."""
     lat_deg, lon_deg, id_list, _ = _sites(data, lat, lon, ids)
     triangles, edges = _geovor.delaunay(lat_deg, lon_deg, id_list, float(densify_m), bool(no_ghosts), float(merge_m),
-                                        _radii(data, weights))
+                                        _values(data, weights))
     _warn_unwritten(triangles["unwritten"], "triangles (by triangle id)")
     _warn_hidden(list(triangles["hidden"]))
     t = _frame(triangles)
     t.attrs["merged"] = list(triangles["merged"])
     t.attrs["hidden"] = list(triangles["hidden"])
     return t, _frame(edges)
+
+
+def balance(data=None, *, lat=None, lon=None, ids=None, capacity=None, tolerance=1e-6, max_iterations=50,
+            densify_m=100.0, merge_m=0.0, threads=None):
+    """Balanced power cells (`geovor balance`): the radii for which every site's power cell on the
+    WGS84 ellipsoid has its capacity's share of the Earth's area (equal shares without
+    `capacity`), by damped Newton on the exact cells (docs/weighted.md).
+
+    Sites as in cells(); `capacity` is an array of positive numbers or, with `data`, a column name
+    (rows merged into one site pool theirs). Returns the cells as cells(weights=radii) gives them,
+    with `weight_m` (the radius) and `target_m2` (the cell's target area; `area_m2` is that of the
+    polygon as stored, within the densification of it); `attrs["radii_m"]` holds every row's
+    radius, `attrs["iterations"]` (largest relative area error, damping step) per Newton step.
+    Raises ValueError when the tolerance is not reached (e.g. sites all in one hemisphere: some
+    region is then more than 90 degrees from every site), or for a capacity that is not positive.
+    """
+    lat_deg, lon_deg, id_list, carried = _sites(data, lat, lon, ids)
+    shares = _values(data, capacity, "capacity")
+    out = _geovor.balance(lat_deg, lon_deg, id_list, shares, float(tolerance), int(max_iterations), float(densify_m),
+                          float(merge_m), 0 if threads is None else int(threads))
+    _warn_unwritten(out["unwritten"], "cells (by site index)")
+    frame = _frame(out, carried, out["site_first_row"])
+    first = out["site_first_row"][frame["site_index"].to_numpy()]
+    frame.insert(frame.columns.get_loc("weight_m") + 1, "target_m2", out["target_m2"][first])
+    frame.attrs.update(merged=list(out["merged"]), radii_m=out["radii_m"], iterations=list(out["iterations"]))
+    return frame
 
 
 def relax(data=None, *, lat=None, lon=None, ids=None, iterations=10, tolerance_rad=0.0, relocation="filtered",

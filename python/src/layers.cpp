@@ -19,7 +19,9 @@
 #include "geovor/layers/cell_layer.hpp"
 #include "geovor/layers/delaunay_layers.hpp"
 #include "geovor/lonlat/delaunay_geometry.hpp"
+#include "geovor/relax/balance.hpp"
 #include "geovor/relax/lloyd.hpp"
+#include "geovor/relax/measure.hpp"
 #include "memory_writer.hpp"
 #include "site_arrays.hpp"
 
@@ -143,6 +145,56 @@ py::tuple delaunay(const Doubles& lat, const Doubles& lon, Ids ids, double densi
   return py::make_tuple(t, e);
 }
 
+// geovor balance: the radii of equal (or given) shares of the WGS84 ellipsoid's area, then the
+// balanced cells through the cells' layer.
+py::dict balance(const Doubles& lat, const Doubles& lon, Ids ids, const Radii& shares, double tolerance,
+                 int max_iterations, double densify_m, double merge_m, unsigned threads) {
+  Built b{site_table_from_arrays(lat, lon, std::move(ids)), {}, {}};
+  DelaunayOptions delaunay;
+  if (merge_m > 0) delaunay.merge_distance = std::max(SphericalDelaunay::kMinSeparation, merge_m / SiteEncoder::kEarthRadiusM);
+  std::vector<Vec3> points(b.table.sites.size());
+  for (std::size_t i = 0; i < points.size(); ++i) points[i] = b.table.sites[i].unit;
+  std::vector<double> share(points.size(), 1.0);
+  if (shares) {
+    std::size_t n = points.size();
+    const double* s = column_data(*shares, "capacity", n);
+    share.assign(s, s + n);
+  }
+  BalanceOptions options;
+  options.tolerance = tolerance;
+  options.max_iterations = max_iterations;
+  options.threads = threads;
+  BalanceReport result;
+  {
+    py::gil_scoped_release unlocked;
+    result = geovor::balance(points, share, EllipsoidAreaMeasure(), options, delaunay);
+    if (result.converged) b.dt = balanced_triangulation(points, result, delaunay, b.report);
+  }
+  if (!result.converged) {
+    const double last = result.iterations.empty() ? result.initial_relative_error : result.iterations.back().max_relative_error;
+    throw Error(ErrorCode::BadData, "balance: not converged after " + std::to_string(result.iterations.size()) +
+                                        " iterations: largest relative area error " + std::to_string(last) +
+                                        " above the tolerance (docs/user-guide.md, geovor balance: when there is no solution)");
+  }
+  for (std::size_t i = 0; i < points.size(); ++i) b.table.sites[i].weight_m = result.radii_m[i];
+  b.table.weighted = true;
+  const SiteRows rows = rows_of_sites(b.report, b.dt.site_capacity());
+  py::dict out = cell_layer(b, densify_m, threads);
+  out["site_first_row"] = site_first_rows(b, rows);
+  out["merged"] = merged_pairs(b, rows);
+  py::array_t<double> radii(static_cast<py::ssize_t>(points.size())), targets(static_cast<py::ssize_t>(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    radii.mutable_data()[i] = result.radii_m[i];
+    targets.mutable_data()[i] = result.targets[i];
+  }
+  out["radii_m"] = radii;
+  out["target_m2"] = targets;
+  py::list iterations;
+  for (const BalanceIteration& it : result.iterations) iterations.append(py::make_tuple(it.max_relative_error, it.step));
+  out["iterations"] = iterations;
+  return out;
+}
+
 py::dict relax(const Doubles& lat, const Doubles& lon, Ids ids, int iterations, double tolerance_rad,
                const std::string& relocation, double densify_m, double merge_m, unsigned threads) {
   Built b = build(lat, lon, std::move(ids), merge_m);
@@ -191,6 +243,8 @@ void bind_layers(py::module_& m) {
         py::arg("threads"), py::arg("weights_m") = py::none());
   m.def("delaunay", &delaunay, py::arg("lat"), py::arg("lon"), py::arg("ids"), py::arg("densify_m"),
         py::arg("no_ghosts"), py::arg("merge_m"), py::arg("weights_m") = py::none());
+  m.def("balance", &balance, py::arg("lat"), py::arg("lon"), py::arg("ids"), py::arg("shares"), py::arg("tolerance"),
+        py::arg("max_iterations"), py::arg("densify_m"), py::arg("merge_m"), py::arg("threads"));
   m.def("relax", &relax, py::arg("lat"), py::arg("lon"), py::arg("ids"), py::arg("iterations"),
         py::arg("tolerance_rad"), py::arg("relocation"), py::arg("densify_m"), py::arg("merge_m"), py::arg("threads"));
 }

@@ -95,3 +95,24 @@ def test_weight_column_errors(stations):
         geovor.cells(stations.iloc[:20], weights="reach")
     with pytest.raises(ValueError, match="weights has 2 values"):
         geovor.cells(lat=[0, 10, 20], lon=[0, 10, 20], weights=[1.0, 2.0])
+
+
+def test_balance_gives_every_cell_its_share(stations):
+    cells = geovor.balance(stations)
+    assert len(cells) == 5631 and cells.attrs["iterations"][-1][0] < 1e-6
+    assert np.allclose(cells["area_m2"] / cells["target_m2"], 1, atol=1e-5)  # as written (densified)
+    # The same cells as cells() with those radii.
+    again = geovor.cells(stations, weights=cells.attrs["radii_m"])
+    assert cells.geometry.geom_equals_exact(again.geometry, 0).all()
+    # Capacities: twice the share for the US stations.
+    capacity = np.where(stations["icao"].str.startswith("K"), 2.0, 1.0)
+    weighted = geovor.balance(stations, capacity=capacity)
+    us = weighted["icao"].str.startswith("K")
+    assert np.allclose(weighted.loc[us, "target_m2"].mean() / weighted.loc[~us, "target_m2"].median(), 2, rtol=1e-3)
+
+
+def test_balance_not_converged_raises(stations):
+    with pytest.raises(ValueError, match="not converged after 1 iterations"):
+        geovor.balance(stations, max_iterations=1)
+    with pytest.raises(ValueError, match="share|capacity"):
+        geovor.balance(lat=[0, 10, 20, -30], lon=[0, 100, -120, 50], capacity=[1, 0, 1, 1])

@@ -241,4 +241,18 @@ BalanceReport balance(std::span<const Vec3> points, std::span<const double> shar
   return report;
 }
 
+SphericalDelaunay balanced_triangulation(std::span<const Vec3> points, const BalanceReport& result,
+                                         const DelaunayOptions& delaunay, BuildReport& report) {
+  if (result.lifts.size() != points.size())
+    throw Error(ErrorCode::InvalidArgument, "balanced_triangulation: the result is not of these points");
+  const SphericalDelaunay plain = SphericalDelaunay::build(points, delaunay, &report);
+  std::vector<double> lifts(plain.site_capacity(), 1.0);
+  for (std::size_t i = 0; i < points.size(); ++i) lifts[report.site_of_input[i]] = result.lifts[i];
+  BuildReport weighted;
+  SphericalDelaunay dt = SphericalDelaunay::build(plain.sites(), lifts, delaunay, &weighted);
+  if (!weighted.merges.empty()) throw Error(ErrorCode::Internal, "balance: the distinct sites merged again");
+  report.hidden = std::move(weighted.hidden);  // none when converged: every balanced cell has its area
+  return dt;
+}
+
 }  // namespace geovor

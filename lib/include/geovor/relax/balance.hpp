@@ -87,6 +87,14 @@ BalanceReport balance(std::span<const Vec3> points, std::span<const double> targ
                       const DelaunayOptions& delaunay = {},
                       const std::function<void(const BalanceIteration&)>& on_iteration = {});
 
+/// The triangulation of the balanced cells of `result` (balance() of the same points and
+/// `delaunay` options): the distinct sites balance() solved for, with their exact lifts, so that the
+/// points merge exactly as balance() merged them; `report` gets those merges (site ids as a build
+/// of `points` gives them) and the hidden sites (none when converged). What `geovor balance` and
+/// Python's geovor.balance write.
+SphericalDelaunay balanced_triangulation(std::span<const Vec3> points, const BalanceReport& result,
+                                         const DelaunayOptions& delaunay, BuildReport& report);
+
 /// The Hessian dA_i / dpsi_j of the cells of `diagram` (a weighted or unweighted diagram of sites
 /// without removed ones), as triplets (i, j, value) with i != j, each pair once with i < j, in
 /// order of i; the diagonal is minus the row's sum. For tests and tools; balance() uses it.
