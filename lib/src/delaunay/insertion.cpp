@@ -123,24 +123,13 @@ SiteId SphericalDelaunay::any_live_site() const {
 // on the hull's vertex graph, so a local maximum is the global one. Plain doubles are enough:
 // the result only seeds the exact conflict search. Weighted: the same for dot(p, site / lift).
 SiteId SphericalDelaunay::walk_to_nearest(const Vec3& p, SiteId v) const {
-  if (!lifts_.empty()) {
-    // d / c > best_d / best_c, both lifts positive, without a division.
-    double best_d = dot(p, sites_[v]), best_c = lifts_[v];
-    for (;;) {
-      const HalfedgeId e0 = site_edge_[v];
-      HalfedgeId e = e0;
-      SiteId next = v;
-      do {
-        const SiteId w = triangles_[next_halfedge(e)];
-        const double d = dot(p, sites_[w]), c = lifts_[w];
-        if (d * best_c > best_d * c) best_d = d, best_c = c, next = w;
-        e = next_around_site(e);
-      } while (e != e0);
-      if (next == v) return v;
-      v = next;
-    }
-  }
-  double best = dot(p, sites_[v]);
+  return lifts_.empty() ? walk_to_largest<false>(p, v) : walk_to_largest<true>(p, v);
+}
+
+template <bool kWeighted>
+SiteId SphericalDelaunay::walk_to_largest(const Vec3& p, SiteId v) const {
+  // Weighted: d / c > best_d / best_c, both lifts positive, without a division.
+  double best_d = dot(p, sites_[v]), best_c = kWeighted ? lifts_[v] : 1.0;
   for (;;) {
     const HalfedgeId e0 = site_edge_[v];
     HalfedgeId e = e0;
@@ -148,7 +137,12 @@ SiteId SphericalDelaunay::walk_to_nearest(const Vec3& p, SiteId v) const {
     do {
       const SiteId w = triangles_[next_halfedge(e)];
       const double d = dot(p, sites_[w]);
-      if (d > best) best = d, next = w;
+      if constexpr (kWeighted) {
+        const double c = lifts_[w];
+        if (d * best_c > best_d * c) best_d = d, best_c = c, next = w;
+      } else if (d > best_d) {
+        best_d = d, next = w;
+      }
       e = next_around_site(e);
     } while (e != e0);
     if (next == v) return v;

@@ -313,6 +313,8 @@ class SphericalDelaunay {
   bool in_conflict_exact(TriId t, const Vec3& p, double c, std::uint32_t prio) const;
   // Unweighted: the site nearest p (largest dot); weighted: of largest power dot(p, site) / lift.
   SiteId walk_to_nearest(const Vec3& p, SiteId start) const;
+  template <bool kWeighted>
+  SiteId walk_to_largest(const Vec3& p, SiteId start) const;  // walk_to_nearest's two loops
   TriId find_conflict(const Vec3& p, double c, std::uint32_t prio, SiteId near) const;
   // Weighted: a triangle in conflict with p, kNoIndex when p is hidden: the face of the hull
   // whose cone holds p when the centre is inside the hull, else breadth first from `near`.
