@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 
 namespace geovor {
@@ -51,6 +52,7 @@ Command add_nearest_command(CLI::App& app);
 struct TableBuild {
   std::string source;
   std::uint64_t rows = 0, sites = 0, merged = 0, rejected = 0;
+  std::optional<std::uint64_t> hidden;  // weighted sites only
   double read_seconds = 0, build_seconds = 0;
 };
 struct SiteInputArgs;  // site_input.hpp

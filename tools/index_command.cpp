@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "commands.hpp"
@@ -42,6 +43,7 @@ int run(IndexArgs& args) {
   std::printf("sites: %llu\n", static_cast<unsigned long long>(summary.sites));
   std::printf("merged: %llu\n", static_cast<unsigned long long>(summary.merged));
   std::printf("rejected: %llu\n", static_cast<unsigned long long>(summary.rejected));
+  if (summary.hidden) std::printf("hidden: %llu\n", static_cast<unsigned long long>(*summary.hidden));
   std::printf("levels: %d\n", index.hierarchy.num_levels());
   std::printf("bytes: %lld\n", static_cast<long long>(st.st_size));
   std::printf("read_seconds: %.3f\n", summary.read_seconds);
@@ -55,8 +57,6 @@ int run(IndexArgs& args) {
 SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary) {
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
-  if (!args.weight_field.empty())
-    throw Error(ErrorCode::InvalidArgument, "--weight-field: an index of weighted sites is not supported yet (cells, delaunay and info take weights)");
   const SiteTable table = read_site_input(args);  // lists the rejected rows
   const double read_s = seconds_since(t0);
   if (table.sites.empty())
@@ -67,11 +67,13 @@ SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary) {
   SiteIndex index = build_site_index(table, delaunay_options(args), {}, &report);
   const double build_s = seconds_since(t0);
   if (!args.quiet) report_merges(table, report);  // the merges stay in the index and its counts
+  report_hidden(table, report);                   // listed even with --quiet, as rejected rows
   if (summary) {
     summary->source = table.source;
     summary->rows = table.rows_read;
     summary->sites = index.hierarchy.base().num_sites();
     summary->merged = report.merges.size();
+    summary->hidden = table.weighted ? std::optional<std::uint64_t>(report.hidden.size()) : std::nullopt;
     summary->rejected = table.rejected.size();
     summary->read_seconds = read_s;
     summary->build_seconds = build_s;
@@ -90,8 +92,10 @@ Command add_index_command(CLI::App& app) {
   cmd->footer(
       "Reads the sites as `geovor info` does and saves the hierarchy and every row's attributes\n"
       "(id, fields, merged rows) in a checksummed binary file, written to a temporary file and\n"
-      "renamed. Prints input, output, rows, sites, merged, rejected, levels, bytes and timings;\n"
-      "rejected rows and merged sites are listed on stderr with their row numbers.\n"
+      "renamed. Prints input, output, rows, sites, merged, rejected, hidden (with --weight-field),\n"
+      "levels, bytes and timings; rejected rows, merged and hidden sites are listed on stderr with\n"
+      "their row numbers. With --weight-field, geovor nearest answers the site whose power cell\n"
+      "holds each query, as geovor cells --weight-field draws it (--metric power).\n"
       "Example: geovor index datasets/weather_stations.csv -o stations.gvi");
   return {[args] { return run(*args); },
           [args] { return site_input_needs_gdal(args->sites); }};

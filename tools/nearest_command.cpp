@@ -38,7 +38,7 @@ struct NearestArgs {
   std::string locator = "keep-jump-climb";
   std::size_t k = 1;
   CLI::Option* k_option = nullptr;
-  std::string metric = "sphere";
+  std::string metric;  // "": the index's default (power for weighted sites, else sphere)
   int threads = 1;
   bool strict = false;
   QueryColumns query_columns;
@@ -105,8 +105,8 @@ int run(NearestArgs& args) {
   apply_output_model(args.model, writer_options);
   if (!csv)  // a format that cannot hold the points (GPX without extensions, ...): before any work
     check_writer_options(args.output, GeometryType::Point, writer_options);
-  if (args.metric != "sphere" && args.metric != "geodesic")
-    throw Error(ErrorCode::InvalidArgument, "--metric must be sphere or geodesic, not '" + args.metric + "'");
+  if (!args.metric.empty() && args.metric != "sphere" && args.metric != "geodesic" && args.metric != "power")
+    throw Error(ErrorCode::InvalidArgument, "--metric must be sphere, geodesic or power, not '" + args.metric + "'");
   LocatorOptions locator_options;
   locator_options.strategy = parse_strategy(args.locator);
   struct stat st;
@@ -130,7 +130,7 @@ int run(NearestArgs& args) {
   NearestJoinOptions options;
   options.k = args.k;
   options.rank_column = args.k_option->count() > 0;
-  options.metric = parse_metric(args.metric);
+  if (!args.metric.empty()) options.metric = parse_metric(args.metric);
   options.locator = locator_options;
   options.threads = static_cast<unsigned>(args.threads);
   options.strict = args.strict;
@@ -221,7 +221,9 @@ Command add_nearest_command(CLI::App& app) {
                   "Strategy: walk, jump-walk, keep-jump-walk, hierarchy, climb or keep-jump-climb (default)");
   args->k_option = cmd->add_option("--k", args->k, "The k nearest sites, one row each with a rank column")
                       ->check(integer_in(1, 2147483647));
-  cmd->add_option("--metric", args->metric, "sphere (great circle on the mean-radius sphere, default) or geodesic (WGS84)");
+  cmd->add_option("--metric", args->metric,
+                  "sphere (great circle on the mean-radius sphere; the default), geodesic (WGS84), or power: the "
+                  "site whose power cell holds the query (weighted sites: the default and their only metric)");
   cmd->add_option("--threads", args->threads, "Threads (default 1); the output order is the input order")
       ->check(integer_in(1, kMaxThreads));
   cmd->add_flag("--strict", args->strict, "Stop at the first malformed query line (exit 3)");
@@ -229,6 +231,9 @@ Command add_nearest_command(CLI::App& app) {
   args->site_options = add_site_table_options(cmd, args->sites);  // of a site table, not an index
   args->site_options.push_back(cmd->add_option("--merge-m", args->sites.merge_m, "Merge sites closer than this many metres")
                                                    ->check(finite_above(0, true)));
+  args->site_options.push_back(cmd->add_option("--weight-field", args->sites.weight_field,
+                                               "Weighted sites: the column of each site's radius in metres (as geovor "
+                                               "cells --weight-field); each query gets the site whose power cell holds it"));
   cmd->footer(
       "Writes query_id,site_index,site_id,distance_m (with --k: query_id,rank,site_index,site_id,\n"
       "distance_m, one row per neighbour, nearest first), then every column of the queries (src_NAME\n"
@@ -236,7 +241,10 @@ Command add_nearest_command(CLI::App& app) {
       "in an OGR format. query_id is the query's id column (query_id, id, icao, code or name) or its\n"
       "line (feature) number. Every query gets at least one row: without a site within\n"
       "--max-distance-m, or malformed (reported on stderr with its line number and reason; --strict:\n"
-      "exit 3), a row with an empty match (a null point for a malformed one).\n"
+      "exit 3), a row with an empty match (a null point for a malformed one). On weighted sites (an\n"
+      "index built with --weight-field, or --weight-field here) the answer is the site whose power\n"
+      "cell holds the query, the cell geovor cells --weight-field writes; --k ranks by power, and\n"
+      "distance_m stays the distance to the site.\n"
       "Examples: geovor nearest --sites stations.gvi --queries points.csv -o nearest.csv\n"
       "  geovor nearest --sites stations.gvi --queries trips.csv --query-lat-field pickup_latitude \\\n"
       "    --query-lon-field pickup_longitude --site-fields name --max-distance-m 5000 -o trips.gpkg");

@@ -40,3 +40,18 @@ geovor_cli_expect(cli.weighted.unknown_column 2 STDERR "no weight column 'radius
   COMMAND cells ${fixtures}/weighted_bad_radii.csv -o ${weighted_out}/unknown.geojson --weight-field radius --overwrite)
 geovor_cli_expect(cli.weighted.relax_refuses 2 STDERR "weight-field"
   COMMAND relax ${fixtures}/weighted_bad_radii.csv -o ${weighted_out}/relax.geojson -n 1 --weight-field radius_m --overwrite)
+
+# An index of weighted sites (version 2): nearest answers the site whose power cell holds the
+# query (--metric power, the default), never a hidden one; the sphere metric is refused; a table
+# with --weight-field gives the same answers as its index. G at (0, 0.05) is hidden by A's 600 km
+# circle; at (0, 45) A's power cos(45)/cos(600 km / R) beats B's cos(45); at (0, 50) B's wins.
+geovor_cli_expect(cli.weighted.index_hidden 0 STDOUT "sites: 6\nmerged: 0\nrejected: 0\nhidden: 1\n" STDERR "id 'G'.*is hidden"
+  COMMAND index ${fixtures}/weighted_hidden.csv --weight-field radius_m -o ${weighted_out}/hidden.gvi --overwrite)
+geovor_cli_expect(cli.weighted.nearest_power 0 STDOUT "query_id,site_index,site_id,distance_m,lat,lon\n2,0,A,5559.75[0-9]*,0,0.05\n3,0,A,5003778.5[0-9]*,0,45\n4,1,B,4447803.1[0-9]*,0,50\n$"
+  SCRIPT "\"$0\" index ${fixtures}/weighted_hidden.csv --weight-field radius_m -o ${weighted_out}/power.gvi --overwrite -q > /dev/null && printf 'lat,lon\\n0,0.05\\n0,45\\n0,50\\n' | \"$0\" nearest --sites ${weighted_out}/power.gvi")
+geovor_cli_expect(cli.weighted.nearest_table_same 0
+  SCRIPT "\"$0\" index ${fixtures}/weighted_hidden.csv --weight-field radius_m -o ${weighted_out}/same.gvi --overwrite -q > /dev/null && printf 'lat,lon\\n0,0.05\\n0,45\\n0,50\\n10,10\\n-89,3\\n' > ${weighted_out}/q.csv && \"$0\" nearest --sites ${weighted_out}/same.gvi --queries ${weighted_out}/q.csv --k 3 -o ${weighted_out}/a.csv --overwrite && \"$0\" nearest --sites ${fixtures}/weighted_hidden.csv --weight-field radius_m --queries ${weighted_out}/q.csv --k 3 --metric power -o ${weighted_out}/b.csv --overwrite -q && cmp ${weighted_out}/a.csv ${weighted_out}/b.csv")
+geovor_cli_expect(cli.weighted.nearest_sphere_refused 2 STDERR "metric sphere: the sites are weighted, their metric is power"
+  SCRIPT "\"$0\" index ${fixtures}/weighted_hidden.csv --weight-field radius_m -o ${weighted_out}/sphere.gvi --overwrite -q > /dev/null && printf 'lat,lon\\n0,0\\n' | \"$0\" nearest --sites ${weighted_out}/sphere.gvi --metric sphere -o ${weighted_out}/sphere.csv")
+geovor_cli_expect(cli.weighted.nearest_weight_field_on_index 2 STDERR "--weight-field applies to a site table"
+  SCRIPT "\"$0\" index ${fixtures}/weighted_hidden.csv --weight-field radius_m -o ${weighted_out}/twice.gvi --overwrite -q > /dev/null && printf 'lat,lon\\n0,0\\n' | \"$0\" nearest --sites ${weighted_out}/twice.gvi --weight-field radius_m")

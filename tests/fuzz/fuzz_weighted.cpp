@@ -7,18 +7,23 @@
 // triangle, on small inputs); every point is a live site, a hidden one or a listed merge; of points
 // at one position the smallest lift is kept; without merges the triangles and the hidden sites do
 // not depend on the insertion order (when no order merges any); equal lifts give the unweighted
-// triangles.
+// triangles. The Locator over the weighted hierarchy answers, at every site, every edge's
+// midpoint and points from the bytes, the live site of largest power (exactly, ties to the
+// lowest id), packed or not.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstddef>
 #include <cstdint>
 #include <iterator>
+#include <span>
 #include <vector>
 
 #include "fuzz_check.hpp"
 #include "point_recipes.hpp"
 #include "geovor/delaunay/spherical_delaunay.hpp"
+#include "geovor/kernel/predicates.hpp"
+#include "geovor/locate/locator.hpp"
 
 namespace {
 
@@ -44,6 +49,35 @@ double lift(Bytes& in, double previous) {
       return c > 0 ? c : previous;
     }
     default: return std::ldexp(1.0, -static_cast<int>(kind >> 3) % 40);    // powers of two
+  }
+}
+
+// The Locator's answers against every live site, exactly.
+void check_locator(Bytes& in, std::span<const Vec3> pts, std::span<const double> lifts, const DelaunayOptions& options) {
+  HierarchyOptions levels;
+  levels.ratio = 2 + in.u8() % 4;  // small inputs still get levels above
+  const DelaunayHierarchy h = DelaunayHierarchy::build(pts, lifts, options, levels);
+  const SphericalDelaunay& dt = h.base();
+  std::vector<Vec3> queries(pts.begin(), pts.end());
+  for (std::size_t i = 0; i + 1 < pts.size(); ++i) queries.push_back(normalized(pts[i] + pts[i + 1]));
+  for (int k = 0; k < 8 && !in.empty(); ++k) queries.push_back(any_lat_lon(in));
+  for (const bool packed : {true, false}) {
+    LocatorOptions o;
+    o.packed = packed;
+    o.strategy = packed ? LocateStrategy::KeepJumpClimb : LocateStrategy::Hierarchy;
+    Locator locator(h, o);
+    if (packed) locator.prepare();
+    for (const Vec3& q : queries) {
+      if (!(norm2(q) > 0.5)) continue;
+      const SiteId got = locator.nearest(q).site;
+      FUZZ_CHECK(dt.is_live(got), "the answer %u is no vertex", got);
+      for (SiteId s = 0; s < dt.site_capacity(); ++s) {
+        if (!dt.is_live(s) || s == got) continue;
+        const Sign c = kernel::compare_power(q, dt.site(s), dt.lift(s), dt.site(got), dt.lift(got));
+        FUZZ_CHECK(c == Sign::Negative || (c == Sign::Zero && s > got),
+                   "locator: site %u has %s power than the answer %u", s, c == Sign::Zero ? "equal" : "larger", got);
+      }
+    }
   }
 }
 
@@ -98,6 +132,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (pts[m.input] == dt.site(s) && dt.is_weighted())  // (equal lifts build unweighted: lift() is 1)
       FUZZ_CHECK(dt.lift(s) <= lifts[m.input], "point %u at its site's position has a larger radius", m.input);
   }
+  if (dt.num_sites() > 0) check_locator(in, pts, lifts, options);
   if (report.merges.empty()) {
     DelaunayOptions other = options;
     other.spatial_sort = !options.spatial_sort;

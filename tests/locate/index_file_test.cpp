@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <bit>
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
@@ -192,6 +193,8 @@ void expect_same_hierarchy(const DelaunayHierarchy& a, const DelaunayHierarchy& 
     EXPECT_EQ(x.triangles, y.triangles) << "level " << l;
     EXPECT_EQ(x.halfedges, y.halfedges) << "level " << l;
     EXPECT_EQ(x.site_edge, y.site_edge) << "level " << l;
+    EXPECT_EQ(x.lifts, y.lifts) << "level " << l;
+    EXPECT_EQ(x.hidden_by, y.hidden_by) << "level " << l;
     EXPECT_TRUE(std::ranges::equal(a.up_links(l), b.up_links(l))) << "level " << l;
     EXPECT_TRUE(std::ranges::equal(a.down_links(l), b.down_links(l))) << "level " << l;
   }
@@ -466,7 +469,7 @@ TEST_F(IndexFile, UnsupportedVersion) {
   set32(b, 8, 7);
   const std::string path = temp_path("version.gvi");
   write_bytes(path, b);
-  EXPECT_NE(load_error(path).find("unsupported version 7, this geovor reads 1"), std::string::npos);
+  EXPECT_NE(load_error(path).find("unsupported version 7, this geovor reads 1 and 2"), std::string::npos);
 }
 
 TEST_F(IndexFile, HugeSizesAllocateNothingLarge) {
@@ -588,6 +591,68 @@ TEST_F(IndexFile, RehashedRandomEditsNeverCrash) {
   }
   // Some edits (a text byte, a low mantissa bit of a site) leave a loadable index.
   EXPECT_GT(loaded, 0);
+}
+
+// Weighted sites (version 2): the lifts of every weighted level and the hidden sites round-trip,
+// the answers are the same, and inconsistent weights are refused.
+TEST(IndexFileWeighted, RoundTripAndRefusedEdits) {
+  SiteTable table = make_table(4000, 21);
+  table.weighted = true;
+  for (std::size_t i = 0; i < table.sites.size(); ++i) table.sites[i].weight_m = 2000.0 * static_cast<double>(i % 97);
+  const SiteIndex index = build_site_index(table);
+  ASSERT_TRUE(index.hierarchy.is_weighted());
+  ASSERT_GT(index.hierarchy.base().num_hidden(), 0u);
+  const std::string path = temp_path("weighted.gvi");
+  std::remove(path.c_str());
+  save_index(path, index.hierarchy, index.attributes);
+  const Bytes bytes = read_bytes(path);
+  EXPECT_EQ(get32(bytes, 8), 2u);  // a version-1 reader refuses it rather than ignore the weights
+  const SiteIndex loaded = load_index(path);
+  expect_same_hierarchy(index.hierarchy, loaded.hierarchy);
+  expect_same_attributes(index.attributes, loaded.attributes);
+  EXPECT_TRUE(loaded.hierarchy.validate().ok());
+  expect_same_answers(index.hierarchy, loaded.hierarchy, 5000);
+  const std::string again = temp_path("weighted_again.gvi");
+  std::remove(again.c_str());
+  save_index(again, loaded.hierarchy, loaded.attributes);
+  EXPECT_EQ(read_bytes(again), bytes);
+
+  const std::string edited = temp_path("weighted_edited.gvi");
+  auto expect_bad = [&](Bytes b, const std::string& expect) {
+    rehash(b);
+    write_bytes(edited, b);
+    const std::string msg = load_error(edited);
+    EXPECT_NE(msg.find(expect), std::string::npos) << msg;
+  };
+  const SectionRef lifts0 = find_section(bytes, 16, 0);
+  Bytes b = bytes;
+  set64(b, lifts0.offset + 8 * 3, std::bit_cast<std::uint64_t>(1.5));
+  expect_bad(b, "lift out of (0, 1]");
+  const SectionRef hidden = find_section(bytes, 17, 0);
+  SiteId first_hidden = kNoIndex, a_vertex = kNoIndex;
+  for (SiteId s = 0; s < index.hierarchy.base().site_capacity(); ++s) {
+    if (index.hierarchy.base().is_hidden(s) && first_hidden == kNoIndex) first_hidden = s;
+    if (index.hierarchy.base().is_live(s) && a_vertex == kNoIndex) a_vertex = s;
+  }
+  b = bytes;
+  set32(b, hidden.offset + 4 * a_vertex, first_hidden == 0 ? 1 : 0);  // a vertex said hidden
+  expect_bad(b, "both hidden and a vertex");
+  b = bytes;
+  set32(b, hidden.offset + 4 * first_hidden, first_hidden == 0 ? 1 : 0);
+  if (!index.hierarchy.base().is_live(first_hidden == 0 ? 1 : 0)) expect_bad(b, "its hider is no vertex");
+  const SectionRef meta = find_section(bytes, 1);
+  b = bytes;
+  set32(b, meta.offset + 12, get32(b, meta.offset + 12) & ~4u);  // weights without the flag
+  expect_bad(b, "version 2 without weighted sites");
+  b = bytes;
+  set32(b, 8, 1);
+  expect_bad(b, "weighted sites in a version 1 file");
+  if (index.hierarchy.num_levels() > 1 && index.hierarchy.level(1).is_weighted()) {
+    const SectionRef lifts1 = find_section(bytes, 16, 1);
+    b = bytes;
+    set64(b, lifts1.offset, std::bit_cast<std::uint64_t>(std::bit_cast<double>(get64(b, lifts1.offset)) * 0.5));
+    expect_bad(b, "another lift");
+  }
 }
 
 }  // namespace

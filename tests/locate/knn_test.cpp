@@ -183,7 +183,46 @@ TEST(Knn, MetricNames) {
   EXPECT_EQ(parse_metric("sphere"), Metric::Sphere);
   EXPECT_EQ(parse_metric("geodesic"), Metric::Geodesic);
   EXPECT_STREQ(to_string(Metric::Geodesic), "geodesic");
+  EXPECT_EQ(parse_metric("power"), Metric::Power);
+  EXPECT_STREQ(to_string(Metric::Power), "power");
   EXPECT_THROW(parse_metric("manhattan"), Error);
+}
+
+TEST(Knn, PowerIsTheMetricOfWeightedSitesAndSphereOfOthers) {
+  const auto pts = testing::uniform_on_sphere(1500, 11);
+  std::vector<double> lifts(pts.size());
+  for (std::size_t i = 0; i < lifts.size(); ++i) lifts[i] = std::cos(0.001 * static_cast<double>(i % 30));
+  const DelaunayHierarchy weighted = DelaunayHierarchy::build(pts, lifts);
+  const DelaunayHierarchy plain = DelaunayHierarchy::build(pts);
+  EXPECT_EQ(default_metric(weighted), Metric::Power);
+  EXPECT_EQ(default_metric(plain), Metric::Sphere);
+  EXPECT_NO_THROW(check_metric(weighted, Metric::Power));
+  EXPECT_NO_THROW(check_metric(plain, Metric::Power));
+  for (const Metric m : {Metric::Sphere, Metric::Geodesic}) {
+    try {
+      check_metric(weighted, m);
+      ADD_FAILURE() << to_string(m) << " accepted on weighted sites";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("power"), std::string::npos) << e.what();
+    }
+  }
+  Locator wl(weighted), pl(plain), pl2(plain);
+  std::vector<NearestResult> got, want;
+  EXPECT_THROW(k_nearest(wl, 10, 20, 3, Metric::Sphere, got), Error);
+  EXPECT_THROW(within(wl, 10, 20, 1e6, Metric::Geodesic, got), Error);
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(-1, 1), lon(-180, 180);
+  for (int i = 0; i < 300; ++i) {
+    const double lat = std::asin(u(rng)) * 180 / M_PI, lo = lon(rng);
+    // Power on unweighted sites is the sphere metric.
+    k_nearest(pl, lat, lo, 5, Metric::Power, got);
+    k_nearest(pl2, lat, lo, 5, Metric::Sphere, want);
+    ASSERT_EQ(got.size(), want.size());
+    for (std::size_t j = 0; j < got.size(); ++j) EXPECT_EQ(got[j].site, want[j].site);
+    // On weighted sites the first is the Locator's answer.
+    k_nearest(wl, lat, lo, 8, Metric::Power, got);
+    EXPECT_EQ(got.front().site, wl.nearest(SiteEncoder::from_lat_lon(lat, lo)).site);
+  }
 }
 
 }  // namespace

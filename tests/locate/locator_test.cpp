@@ -332,3 +332,158 @@ TEST(Locator, TopLevelEmptiedByRemovals) {
 
 }  // namespace
 }  // namespace geovor
+
+// Weighted sites: every strategy answers the site whose power cell holds q (never a hidden
+// site); k_nearest and within take the sites by decreasing power.
+namespace geovor {
+namespace {
+
+// Brute force: the largest power dot(q, p) / c in long double over the vertices, then the exact
+// order among those within rounding of it, ties to the lowest id.
+SiteId brute_power(const SphericalDelaunay& dt, const Vec3& q) {
+  auto power = [&](SiteId s) {
+    const Vec3& p = dt.site(s);
+    return (static_cast<long double>(q.x) * p.x + static_cast<long double>(q.y) * p.y +
+            static_cast<long double>(q.z) * p.z) / dt.lift(s);
+  };
+  long double best = -1e30L;
+  for (SiteId s = 0; s < dt.site_capacity(); ++s)
+    if (dt.is_live(s)) best = std::max(best, power(s));
+  SiteId win = kNoIndex;
+  for (SiteId s = 0; s < dt.site_capacity(); ++s) {
+    if (!dt.is_live(s) || power(s) < best - 1e-12L * std::fabs(best)) continue;
+    if (win == kNoIndex ||
+        kernel::compare_power(q, dt.site(s), dt.lift(s), dt.site(win), dt.lift(win)) == Sign::Positive)
+      win = s;
+  }
+  return win;
+}
+
+// Every vertex in the exact order of power at q, ties to the lower id.
+std::vector<SiteId> by_power(const SphericalDelaunay& dt, const Vec3& q) {
+  std::vector<SiteId> all;
+  for (SiteId s = 0; s < dt.site_capacity(); ++s)
+    if (dt.is_live(s)) all.push_back(s);
+  std::sort(all.begin(), all.end(), [&](SiteId a, SiteId b) {
+    const Sign c = kernel::compare_power(q, dt.site(a), dt.lift(a), dt.site(b), dt.lift(b));
+    return c == Sign::Positive || (c == Sign::Zero && a < b);
+  });
+  return all;
+}
+
+std::vector<double> lifts_for(std::size_t n, double max_rad, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> r(0, max_rad);
+  std::vector<double> lifts(n);
+  for (double& c : lifts) c = std::cos(r(rng));
+  return lifts;
+}
+
+void expect_power_answers(const DelaunayHierarchy& h, const std::vector<Vec3>& queries, const char* what) {
+  ASSERT_TRUE(h.is_weighted()) << what;
+  ASSERT_TRUE(h.validate().ok()) << what;
+  const SphericalDelaunay& base = h.base();
+  std::vector<SiteId> truth(queries.size());
+  for (std::size_t i = 0; i < queries.size(); ++i) truth[i] = brute_power(base, queries[i]);
+  for (const LocateStrategy strategy : kAll) {
+    Locator packed(h, {strategy});
+    packed.prepare();
+    LocatorOptions direct{strategy};
+    direct.packed = false;
+    Locator plain(h, direct);
+    std::size_t wrong = 0, wrong_plain = 0, bad_distance = 0;
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      const NearestResult r = packed.nearest(queries[i]);
+      wrong += r.site != truth[i];
+      bad_distance += r.site < base.site_capacity() && r.dist_m != great_circle_m(queries[i], base.site(r.site));
+      wrong_plain += plain.nearest(queries[i]).site != truth[i];
+    }
+    EXPECT_EQ(wrong, 0u) << what << ": " << to_string(strategy);
+    EXPECT_EQ(wrong_plain, 0u) << what << ": " << to_string(strategy) << " on the hierarchy itself";
+    EXPECT_EQ(bad_distance, 0u) << what << ": distance_m is the distance to the site's centre";
+  }
+}
+
+std::vector<Vec3> weighted_queries(const SphericalDelaunay& dt, std::uint64_t seed) {
+  std::vector<Vec3> q = testing::uniform_on_sphere(4000 / kQueryDivisor, seed);
+  // On every site, hidden ones included (a hidden site's position is in another's cell), at
+  // midpoints of edges and triangle normals (where power bisectors meet).
+  for (SiteId s = 0; s < std::min<std::size_t>(dt.site_capacity(), 1500); ++s) q.push_back(dt.site(s));
+  for (TriId t = 0; t < std::min<std::size_t>(dt.num_triangles(), 1500); ++t) {
+    const Vec3 a = dt.site(dt.tri_site(t, 0)), b = dt.site(dt.tri_site(t, 1)), c = dt.site(dt.tri_site(t, 2));
+    q.push_back(testing::normalized(a + b));
+    q.push_back(testing::normalized(cross(b - a, c - a)));
+  }
+  return q;
+}
+
+TEST(WeightedLocator, EveryStrategyAnswersTheSiteOfLargestPower) {
+  const auto pts = testing::uniform_on_sphere(6000, 61);
+  const DelaunayHierarchy h = DelaunayHierarchy::build(pts, lifts_for(pts.size(), 0.05, 62));
+  EXPECT_GT(h.base().num_hidden(), 0u);  // radii up to 2.5 times the spacing hide some sites
+  expect_power_answers(h, weighted_queries(h.base(), 63), "uniform, random radii");
+}
+
+TEST(WeightedLocator, HugeCirclesNestedCirclesAndGridTies) {
+  {
+    const auto pts = testing::uniform_on_sphere(4000, 64);
+    std::vector<double> lifts(pts.size(), 1.0);
+    for (std::size_t i = 0; i < pts.size(); i += 53) lifts[i] = std::cos(1.2);  // 69 degrees: each hides many
+    const DelaunayHierarchy h = DelaunayHierarchy::build(pts, lifts);
+    EXPECT_GT(h.base().num_hidden(), 1000u);
+    expect_power_answers(h, weighted_queries(h.base(), 65), "huge circles");
+  }
+  {
+    const auto pts = testing::clustered(5000, 8, 0.02, 66);
+    std::vector<double> lifts(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) lifts[i] = std::cos(0.0005 * static_cast<double>(i % 40));
+    const DelaunayHierarchy h = DelaunayHierarchy::build(pts, lifts);
+    expect_power_answers(h, weighted_queries(h.base(), 67), "clusters of nested circles");
+  }
+  {
+    // Sites sharing latitudes and meridians with two radii: exact ties of power everywhere.
+    const auto pts = testing::lat_lon_grid(3);
+    std::vector<double> lifts(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) lifts[i] = i % 3 ? 1.0 : std::cos(0.01);
+    const DelaunayHierarchy h = DelaunayHierarchy::build(pts, lifts);
+    expect_power_answers(h, weighted_queries(h.base(), 68), "grid with two radii");
+  }
+}
+
+TEST(WeightedLocator, KNearestAndWithinGoByPower) {
+  const auto pts = testing::uniform_on_sphere(3000, 69);
+  const DelaunayHierarchy h = DelaunayHierarchy::build(pts, lifts_for(pts.size(), 0.06, 70));
+  const SphericalDelaunay& base = h.base();
+  Locator locator(h);
+  for (const Vec3& q : testing::uniform_on_sphere(150, 71)) {
+    const std::vector<SiteId> order = by_power(base, q);
+    const std::vector<NearestResult> k = locator.k_nearest(q, 12);
+    ASSERT_EQ(k.size(), 12u);
+    for (std::size_t i = 0; i < k.size(); ++i) {
+      EXPECT_EQ(k[i].site, order[i]);
+      EXPECT_FALSE(base.is_hidden(k[i].site));
+    }
+    const double radius_m = 600e3;
+    std::vector<SiteId> want;
+    for (const SiteId s : order)
+      if (great_circle_m(q, base.site(s)) <= radius_m) want.push_back(s);
+    std::vector<SiteId> got;
+    for (const NearestResult& r : locator.within(q, radius_m)) got.push_back(r.site);
+    EXPECT_EQ(got, want);
+  }
+}
+
+TEST(WeightedLocator, GeodesicAnswersNeedUnweightedSites) {
+  const auto pts = testing::uniform_on_sphere(500, 72);
+  const DelaunayHierarchy h = DelaunayHierarchy::build(pts, lifts_for(pts.size(), 0.05, 73));
+  Locator locator(h);
+  EXPECT_THROW(locator.nearest_geodesic(10, 20), Error);
+  // Equal radii are no weights: the ordinary index, every metric.
+  const DelaunayHierarchy equal = DelaunayHierarchy::build(pts, std::vector<double>(pts.size(), std::cos(0.01)));
+  EXPECT_FALSE(equal.is_weighted());
+  Locator plain(equal);
+  EXPECT_NO_THROW(plain.nearest_geodesic(10, 20));
+}
+
+}  // namespace
+}  // namespace geovor

@@ -9,7 +9,8 @@ with two radii, one parallel, the poles, the antimeridian, clusters) plus a few 
 radius, runs geovor and checks its output against oracles that share no code with geovor:
 GEOS validity (shapely), brute-force argmax of the power (numpy, long double), an LP for whether
 a cell is empty (scipy's HiGHS: the hidden sites), WGS84 polygon areas (pyproj's GeographicLib),
-byte identity with the unweighted cells for equal radii, row accounting, `geovor info`.
+byte identity with the unweighted cells for equal radii, row accounting, `geovor info`; and
+`geovor index --weight-field` + `geovor nearest` against the same brute force and the cells.
 
 Usage: /usr/bin/python3 weighted_oracle.py --geovor build/tools/geovor --seed 1 [--cases K] [--quick] [--tmp DIR]
 Exit 0 when every check passes, 1 otherwise (each failure listed with its seed, case, recipe and
@@ -686,6 +687,111 @@ def check_cells(case, feats, cmd, prec, densify_m, sites, stderr, hidden_set, ho
     return won
 
 
+def read_csv_rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def check_nearest(case, geovor, sites, hidden, counts, cells_path):
+    """`geovor index --weight-field` + `geovor nearest`: the site of largest power (brute force,
+    long double, hidden sites excluded from the ranking), the polygon of `geovor cells` holding the
+    query, --k by decreasing power, distance_m the great-circle distance, the same answers from the
+    table as from the index, and the sphere metric refused on weighted sites."""
+    d = case.dir
+    n = len(sites["lat"])
+    idx = os.path.join(d, "sites.gvi")
+    p, cmd = case.run(geovor, ["index", case.csv, "--weight-field", case.col, "-o", idx, "--overwrite"])
+    if p is None:
+        return
+    m = re.search(r"^hidden: (\d+)$", p.stdout, re.M)
+    case.check(m is not None and int(m.group(1)) == counts.get("hidden", 0), cmd, "index --weight-field prints hidden: N (= the report's)",
+               f"{m.group(0) if m else 'no hidden line'} vs {counts.get('hidden', 0)}")
+    rng = np.random.default_rng([case.seed, case.index, 4242])
+    m_uniform = 400 if case.quick else 1500
+    V = rng.normal(size=(m_uniform, 3))
+    k_near = min(n, 100) * 3
+    near = rng.integers(0, n, size=k_near)
+    scale = np.where(rng.random(k_near) < 0.5, 0.002, 0.03)
+    V = np.vstack([V, sites["p"][near].astype(float) + rng.normal(size=(k_near, 3)) * scale[:, None]])
+    V /= np.linalg.norm(V, axis=1)[:, None]
+    qlon, qlat = lonlat_of(V)
+    qcsv = os.path.join(d, "queries.csv")
+    with open(qcsv, "w") as f:
+        f.write("id,lat,lon\n")
+        for i in range(len(V)):
+            f.write(f"q{i},{fmt(qlat[i])},{fmt(qlon[i])}\n")
+    X = directions(qlat, qlon)          # the queries as written, in long double
+    P = X @ sites["q"].T
+    visible = np.array([i not in hidden for i in range(n)])
+    Pv = np.where(visible[None, :], P, -np.inf)
+    order = np.argsort(-Pv, axis=1, kind="stable")[:, :4]
+    top = np.take_along_axis(Pv, order, axis=1)
+    out = os.path.join(d, "nearest.csv")
+    p, cmd = case.run(geovor, ["nearest", "--sites", idx, "--queries", qcsv, "-o", out, "--overwrite"])
+    if p is None:
+        return
+    rows = read_csv_rows(out)
+    case.check(len(rows) == len(V), cmd, "nearest: one row per query", f"{len(rows)} rows for {len(V)} queries")
+    bad, dist_bad, cell_bad, checked = [], [], [], 0
+    cells = {}
+    for pr, gj in read_geojson(cells_path):
+        if not is_empty_geom(gj):
+            cells[int(pr["site_index"])] = prep(shape(gj))
+    gap_rel = 1e-9
+    for i, r in enumerate(rows[:len(V)]):
+        want = int(order[i, 0])
+        sep = (top[i, 0] - top[i, 1]) / abs(top[i, 0]) if n > 1 else np.inf
+        if not sep > gap_rel:
+            continue   # a near tie: either answer is right up to the oracle's precision
+        checked += 1
+        got = int(r["site_index"]) if r["site_index"] else -1
+        if got != want:
+            bad.append(f"query {r['query_id']} ({qlat[i]!r},{qlon[i]!r}): site {got}, largest power site {want} (gap {float(sep):.3g})")
+            continue
+        dd = float(np.arctan2(np.linalg.norm(np.cross(X[i].astype(float), sites["p"][want].astype(float))),
+                              float(X[i] @ sites["p"][want]))) * R_EARTH
+        if abs(float(r["distance_m"]) - dd) > 1e-6 + 1e-9 * dd:
+            dist_bad.append(f"query {r['query_id']}: distance_m {r['distance_m']} vs {dd!r}")
+        if sep > 1e-6 and want in cells and not cells[want].contains(Point(float(qlon[i]), float(qlat[i]))):
+            cell_bad.append(f"query {r['query_id']} ({qlat[i]!r},{qlon[i]!r}) answered site {want}, not in its cell polygon")
+    case.check(not bad, cmd, "nearest on a weighted index = the site of largest power (brute force)",
+               f"{len(bad)} of {checked}: " + "; ".join(bad[:4]))
+    case.check(not dist_bad, cmd, "nearest: distance_m is the great-circle distance to the site", "; ".join(dist_bad[:4]))
+    case.check(not cell_bad, cmd, "cells and nearest agree: the answer's polygon holds the query", "; ".join(cell_bad[:4]))
+    # --k 3: the three largest powers, in order
+    outk = os.path.join(d, "nearest_k3.csv")
+    p, cmd = case.run(geovor, ["nearest", "--sites", idx, "--queries", qcsv, "-o", outk, "--overwrite", "--k", "3"])
+    if p is not None:
+        got = {}
+        for r in read_csv_rows(outk):
+            got.setdefault(r["query_id"], []).append(int(r["site_index"]))
+        kbad = []
+        for i in range(len(V)):
+            kk = min(3, int(visible.sum()))
+            if kk < 1 or any(not (top[i, j] - top[i, j + 1]) / abs(top[i, 0]) > gap_rel for j in range(min(kk, 3))
+                             if j + 1 < top.shape[1] and np.isfinite(top[i, j + 1])):
+                continue
+            want = [int(x) for x in order[i, :kk]]
+            if got.get(f"q{i}") != want:
+                kbad.append(f"q{i}: {got.get(f'q{i}')} vs {want}")
+        case.check(not kbad, cmd, "nearest --k 3 on a weighted index: the three largest powers, in order",
+                   f"{len(kbad)}: " + "; ".join(kbad[:4]))
+    # the table gives what the index gives; the sphere metric is refused
+    outt = os.path.join(d, "nearest_table.csv")
+    p, cmd = case.run(geovor, ["nearest", "--sites", case.csv, "--weight-field", case.col, "--queries", qcsv, "-o", outt,
+                               "--overwrite", "-q"])
+    if p is not None:
+        with open(out, "rb") as f1, open(outt, "rb") as f2:
+            case.check(f1.read() == f2.read(), cmd, "nearest --weight-field on the table = on its index (cmp)")
+    if len(set(np.cos(sites["r"].astype(float) / R_EARTH).tolist())) < 2:
+        return   # equal radii are no weights: the ordinary index, whose metrics all apply
+    cmd = [geovor, "nearest", "--sites", idx, "--queries", qcsv, "--metric", "sphere", "-o", os.path.join(d, "sphere.csv")]
+    pr = subprocess.run(cmd, capture_output=True, text=True, timeout=TIMEOUT_S)
+    case.check(pr.returncode == 2 and "power" in pr.stderr and not os.path.exists(os.path.join(d, "sphere.csv")),
+               " ".join(cmd), "nearest --metric sphere on weighted sites: exit 2 naming the power metric, no output",
+               f"exit {pr.returncode}: {pr.stderr.strip()[:200]}")
+
+
 def run_case_body(case, geovor):
     d = case.dir
     densify = 100.0
@@ -731,6 +837,7 @@ def run_case_body(case, geovor):
     for prec in (17, 7):
         out, rep, cmd, err = results[prec]
         check_cells(case, read_geojson(out), cmd, prec, densify, sites, err, hidden, holder)
+    check_nearest(case, geovor, sites, hidden, counts, out17)
     # geovor info
     p, cmd = case.run(geovor, ["info", case.csv, "--weight-field", case.col])
     if p is not None:

@@ -347,7 +347,31 @@ std::size_t SphericalDelaunay::memory_bytes() const {
 }
 
 SphericalDelaunay::Arrays SphericalDelaunay::arrays() const {
-  return {sites_, triangles_, halfedges_, site_edge_};
+  return {sites_, triangles_, halfedges_, site_edge_, lifts_, hidden_by_};
+}
+
+// The weights of from_arrays' input: sized as the sites, lifts in (0, 1] and not all equal (equal
+// lifts are dropped by build()), hidden sites no vertices, each hidden by a vertex.
+void SphericalDelaunay::check_weights(const Arrays& arrays) {
+  auto fail = [](const std::string& why) { throw Error(ErrorCode::BadData, "triangulation: " + why); };
+  const std::size_t n = arrays.sites.size();
+  if (arrays.lifts.empty()) {
+    if (!arrays.hidden_by.empty()) fail("hidden sites without weights");
+    return;
+  }
+  if (arrays.lifts.size() != n || arrays.hidden_by.size() != n) fail("weight arrays differ in size from the sites");
+  bool all_equal = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(arrays.lifts[i] > 0 && arrays.lifts[i] <= 1)) fail("site " + std::to_string(i) + ": lift out of (0, 1]");
+    all_equal = all_equal && arrays.lifts[i] == arrays.lifts[0];
+  }
+  if (all_equal) fail("weighted sites with equal lifts");
+  for (std::size_t i = 0; i < n; ++i) {
+    const SiteId by = arrays.hidden_by[i];
+    if (by == kNoIndex) continue;
+    if (arrays.site_edge[i] != kRemoved) fail("site " + std::to_string(i) + " is both hidden and a vertex");
+    if (by >= n || arrays.site_edge[by] == kRemoved) fail("hidden site " + std::to_string(i) + ": its hider is no vertex");
+  }
 }
 
 SphericalDelaunay SphericalDelaunay::from_arrays(Arrays arrays, const DelaunayOptions& options) {
@@ -370,7 +394,11 @@ SphericalDelaunay SphericalDelaunay::from_arrays(Arrays arrays, const DelaunayOp
     ++live;
     if (e != kNoIndex && e >= arrays.halfedges.size()) fail("a site's half-edge is out of range");
   }
+  if (!arrays.lifts.empty() && arrays.hidden_by.empty()) arrays.hidden_by.assign(arrays.sites.size(), kNoIndex);
+  check_weights(arrays);
   dt.sites_ = std::move(arrays.sites);
+  dt.lifts_ = std::move(arrays.lifts);
+  dt.hidden_by_ = std::move(arrays.hidden_by);
   dt.triangles_ = std::move(arrays.triangles);
   dt.halfedges_ = std::move(arrays.halfedges);
   dt.site_edge_ = std::move(arrays.site_edge);

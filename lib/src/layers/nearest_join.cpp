@@ -108,6 +108,7 @@ struct Worker {
 struct Context {
   const SiteIndex* index = nullptr;
   const NearestJoinOptions* options = nullptr;
+  Metric metric = Metric::Sphere;  // options->metric, or the index's default
   QueryFormat format;
   bool features = false;  // rows as FeatureRow, not CSV text
   std::vector<FieldType> query_types;  // an OGR query layer's column types; empty: text
@@ -258,13 +259,13 @@ void write_feature_row(const Context& ctx, FeatureWriter& writer, const FeatureR
 constexpr std::size_t kBatch = 256;
 
 // Locates one query into w.results: its answers within max_distance_m, nearest first.
-void locate(const NearestJoinOptions& o, Worker& w, double lat, double lon) {
-  if (o.k == 1) {
-    const NearestResult r = o.metric == Metric::Geodesic ? w.locator.nearest_geodesic(lat, lon)
-                                                         : w.locator.nearest(SiteEncoder::from_lat_lon(lat, lon));
+void locate(const NearestJoinOptions& o, Metric metric, Worker& w, double lat, double lon) {
+  if (o.k == 1) {  // the Locator's own answer: the nearest site, or of largest power
+    const NearestResult r = metric == Metric::Geodesic ? w.locator.nearest_geodesic(lat, lon)
+                                                       : w.locator.nearest(SiteEncoder::from_lat_lon(lat, lon));
     if (r.dist_m <= o.max_distance_m) w.results.push_back(r);
   } else {
-    k_nearest(w.locator, lat, lon, o.k, o.metric, w.k_results);
+    k_nearest(w.locator, lat, lon, o.k, metric, w.k_results);
     for (const NearestResult& r : w.k_results)
       if (r.dist_m <= o.max_distance_m) w.results.push_back(r);
   }
@@ -292,7 +293,7 @@ void answer_batch(const Context& ctx, Worker& w, Block& b) {
   w.results.clear();
   for (Query& q : w.batch) {
     q.first = static_cast<std::uint32_t>(w.results.size());
-    if (!q.malformed) locate(o, w, q.lat, q.lon);
+    if (!q.malformed) locate(o, ctx.metric, w, q.lat, q.lon);
     q.count = static_cast<std::uint32_t>(w.results.size() - q.first);
     if (q.count == 0 && !q.malformed) ++b.unmatched;
     if (!q.malformed) ++b.answered;
@@ -566,12 +567,20 @@ void declare_query_types(Context& ctx, const std::string& source) {
   ctx.source = source;
 }
 
+// The metric asked, or the index's; an error where it does not apply to the index's sites.
+Metric join_metric(const SiteIndex& index, const NearestJoinOptions& options) {
+  const Metric metric = options.metric.value_or(default_metric(index.hierarchy));
+  check_metric(index.hierarchy, metric);
+  return metric;
+}
+
 NearestJoinReport join_stream(const SiteIndex& index, std::FILE* queries, const std::string& source,
                               const NearestJoinOptions& options, Sink& sink,
                               const std::function<void(const MalformedQuery&)>& on_malformed) {
   Context ctx;
   ctx.index = &index;
   ctx.options = &options;
+  ctx.metric = join_metric(index, options);
   ctx.features = sink.open != nullptr;
   prepare_site_fields(ctx);  // an unknown site field before anything is read
   if (!ctx.features) prepare_site_ids(ctx);
@@ -661,6 +670,7 @@ NearestJoinReport join_table(const SiteIndex& index, const SiteTable& queries, c
   Context ctx;
   ctx.index = &index;
   ctx.options = &options;
+  ctx.metric = join_metric(index, options);
   ctx.features = true;  // rows are made as FeatureRow; CSV text is made from them below
   prepare_site_fields(ctx);
   ctx.format.header = true;
@@ -723,7 +733,7 @@ NearestJoinReport join_table(const SiteIndex& index, const SiteTable& queries, c
       row.query_id = query_id_column >= 0 ? q.fields[static_cast<std::size_t>(query_id_column)] : q.id;
       row.fields = q.fields;
       w.results.clear();
-      locate(options, w, q.lat_deg, q.lon_deg);
+      locate(options, ctx.metric, w, q.lat_deg, q.lon_deg);
       row.results = w.results;
       ++report.answered;
       if (row.results.empty()) ++report.unmatched;
@@ -748,6 +758,7 @@ NearestJoinReport join_table(const SiteIndex& index, const SiteTable& queries, c
 
 std::vector<Field> nearest_join_fields(const SiteIndex& index, const std::vector<std::string>& query_columns,
                                        const NearestJoinOptions& options) {
+  join_metric(index, options);
   return fields_of(field_names(index, query_columns, options, site_columns(index, options)), options.rank_column);
 }
 

@@ -29,32 +29,71 @@ int DelaunayHierarchy::drawn_level(SiteId s) const {
   return l;
 }
 
-DelaunayHierarchy DelaunayHierarchy::build(std::span<const Vec3> points, const DelaunayOptions& options,
-                                           const HierarchyOptions& hierarchy, BuildReport* report) {
+namespace {
+
+void check_options(const HierarchyOptions& hierarchy) {
   if (hierarchy.ratio < 2 || hierarchy.max_levels < 1 || hierarchy.max_levels > 16)
     throw Error(ErrorCode::InvalidArgument, "hierarchy: ratio must be >= 2 and max_levels in 1..16");
+}
+
+}  // namespace
+
+DelaunayHierarchy DelaunayHierarchy::build(std::span<const Vec3> points, const DelaunayOptions& options,
+                                           const HierarchyOptions& hierarchy, BuildReport* report) {
+  check_options(hierarchy);
   DelaunayHierarchy h;
   h.options_ = hierarchy;
   h.levels_.push_back(SphericalDelaunay::build(points, options, report));
+  h.build_levels({}, options);
+  return h;
+}
+
+DelaunayHierarchy DelaunayHierarchy::build(std::span<const Vec3> points, std::span<const double> lifts,
+                                           const DelaunayOptions& options, const HierarchyOptions& hierarchy,
+                                           BuildReport* report) {
+  check_options(hierarchy);
+  DelaunayHierarchy h;
+  h.options_ = hierarchy;
+  h.levels_.push_back(SphericalDelaunay::build(points, lifts, options, report));
+  h.build_levels(h.base().lifts(), options);
+  h.set_lifted_norm_bound();
+  return h;
+}
+
+void DelaunayHierarchy::set_lifted_norm_bound() {
+  double smallest = 1;
+  for (const double c : base().lifts()) smallest = std::min(smallest, c);
+  // 1 / c rounded, times 1 + 2^-50: an upper bound of the exact 1 / c and of |p| / c.
+  lifted_norm_bound_ = smallest == 1 ? 1.0 : (1 / smallest) * (1 + 0x1p-50);
+}
+
+void DelaunayHierarchy::build_levels(std::span<const double> lifts, const DelaunayOptions& options) {
   // Level l+1 holds the level-l sites drawn that high, in level-0 id order, so that its
-  // perturbation priorities follow the level-0 ids.
+  // perturbation priorities follow the level-0 ids. Hidden sites are not live: they stay below.
   std::vector<SiteId> base_of;  // level-l site -> level-0 id
-  base_of.resize(h.base().site_capacity());
+  base_of.resize(base().site_capacity());
   for (SiteId s = 0; s < base_of.size(); ++s) base_of[s] = s;
-  h.down_.emplace_back();
-  for (int l = 0; l + 1 < static_cast<int>(hierarchy.max_levels); ++l) {
+  down_.emplace_back();
+  for (int l = 0; l + 1 < static_cast<int>(options_.max_levels); ++l) {
     std::vector<Vec3> pts;
+    std::vector<double> pts_lifts;
     std::vector<SiteId> picked;  // level-l ids going up
-    const std::size_t below_capacity = h.levels_.back().site_capacity();
+    const std::size_t below_capacity = levels_.back().site_capacity();
     {
-      const SphericalDelaunay& below = h.levels_.back();  // not used past the push_back below
-      for (SiteId s = 0; s < below_capacity; ++s)
-        if (below.is_live(s) && h.drawn_level(base_of[s]) > l) picked.push_back(s), pts.push_back(below.site(s));
+      const SphericalDelaunay& below = levels_.back();  // not used past the push_back below
+      for (SiteId s = 0; s < below_capacity; ++s) {
+        if (!below.is_live(s) || drawn_level(base_of[s]) <= l) continue;
+        picked.push_back(s);
+        pts.push_back(below.site(s));
+        if (!lifts.empty()) pts_lifts.push_back(lifts[base_of[s]]);
+      }
     }
     if (pts.empty()) break;
     BuildReport level_report;
-    h.levels_.push_back(SphericalDelaunay::build(pts, options, &level_report));
+    levels_.push_back(lifts.empty() ? SphericalDelaunay::build(pts, options, &level_report)
+                                    : SphericalDelaunay::build(pts, pts_lifts, options, &level_report));
     GEOVOR_ASSERT(level_report.merges.empty());  // a subset of separated sites stays separated
+    GEOVOR_ASSERT(level_report.hidden.empty());  // a vertex of the hull of all is one of any subset's
     std::vector<SiteId> up(below_capacity, kNoIndex), down(pts.size());
     std::vector<SiteId> next_base(pts.size());
     for (SiteId i = 0; i < pts.size(); ++i) {
@@ -62,12 +101,11 @@ DelaunayHierarchy DelaunayHierarchy::build(std::span<const Vec3> points, const D
       down[i] = picked[i];
       next_base[i] = base_of[picked[i]];
     }
-    h.up_.push_back(std::move(up));
-    h.down_.push_back(std::move(down));
+    up_.push_back(std::move(up));
+    down_.push_back(std::move(down));
     base_of = std::move(next_base);
   }
-  h.up_.emplace_back(h.levels_.back().site_capacity(), kNoIndex);
-  return h;
+  up_.emplace_back(levels_.back().site_capacity(), kNoIndex);
 }
 
 DelaunayHierarchy DelaunayHierarchy::from_parts(const HierarchyOptions& options, std::vector<SphericalDelaunay> levels,
@@ -93,12 +131,18 @@ DelaunayHierarchy DelaunayHierarchy::from_parts(const HierarchyOptions& options,
   for (std::size_t l = 0; l + 1 < n; ++l) {
     const SphericalDelaunay& lo = levels[l];
     const SphericalDelaunay& hi = levels[l + 1];
+    if (hi.num_hidden() > 0) fail("level " + std::to_string(l + 1) + " has hidden sites");
+    double common_lift = -1;  // of the copies on a level above without weights
     for (SiteId s = 0; s < lo.site_capacity(); ++s) {
       const SiteId u = up[l][s];
       if (u == kNoIndex) continue;
       if (!lo.is_live(s) || u >= hi.site_capacity() || !hi.is_live(u) || down[l + 1][u] != s ||
           !(hi.site(u) == lo.site(s)))
         fail(at(l, s) + ": bad up link");
+      // Copies keep their lift; a level without weights holds copies of one lift.
+      if (!hi.is_weighted() && common_lift < 0) common_lift = lo.lift(s);
+      if (hi.is_weighted() ? !lo.is_weighted() || hi.lift(u) != lo.lift(s) : lo.lift(s) != common_lift)
+        fail(at(l, s) + ": its copy above has another lift");
     }
     for (SiteId u = 0; u < hi.site_capacity(); ++u) {
       const SiteId d = down[l + 1][u];
@@ -111,6 +155,7 @@ DelaunayHierarchy DelaunayHierarchy::from_parts(const HierarchyOptions& options,
   h.levels_ = std::move(levels);
   h.up_ = std::move(up);
   h.down_ = std::move(down);
+  h.set_lifted_norm_bound();
   const SphericalDelaunay& base = h.base();
   for (SiteId s = 0; s < base.site_capacity(); ++s) {
     if (!base.is_live(s)) continue;

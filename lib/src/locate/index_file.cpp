@@ -21,6 +21,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
 #include "geovor/delaunay/site_rows.hpp"
+#include "geovor/geo/site_weights.hpp"
 #include "geovor/core/output_target.hpp"
 
 namespace geovor {
@@ -67,6 +68,8 @@ enum SectionKind : std::uint32_t {
   kSiteEdge = 13,
   kUp = 14,
   kDown = 15,
+  kLifts = 16,
+  kHidden = 17,
   kSiteRows = 20,
   kRows = 21,
   kTextOffsets = 22,
@@ -83,6 +86,8 @@ const char* kind_name(std::uint32_t kind) {
     case kSiteEdge: return "site edges";
     case kUp: return "up links";
     case kDown: return "down links";
+    case kLifts: return "lifts";
+    case kHidden: return "hidden sites";
     case kSiteRows: return "site rows";
     case kRows: return "rows";
     case kTextOffsets: return "text offsets";
@@ -90,7 +95,10 @@ const char* kind_name(std::uint32_t kind) {
   }
   return "unknown";
 }
-bool per_level(std::uint32_t kind) { return kind >= kSites && kind <= kDown; }
+bool per_level(std::uint32_t kind) { return kind >= kSites && kind <= kLifts; }
+
+constexpr std::uint32_t kFlagWeighted = 4;  // meta flags: the base's sites are weighted (version 2)
+constexpr std::uint32_t kWeightedVersion = 2;
 
 constexpr std::size_t kHeaderBytes = 32, kEntryBytes = 32, kMetaBytes = 80;
 constexpr std::uint32_t kMaxSections = 1024;
@@ -214,9 +222,10 @@ class Reader {
     if (std::memcmp(head, kIndexMagic, std::min<std::size_t>(have, 8)) != 0 || have == 0)
       bad("not a geovor index file (it does not start with GEOVORIX)");
     if (have < 12) bad("truncated: expected at least " + std::to_string(kHeaderBytes) + " bytes, found " + std::to_string(have));
-    const std::uint32_t version = load32(head + 8);
-    if (version != kIndexVersion)
-      bad("unsupported version " + std::to_string(version) + ", this geovor reads " + std::to_string(kIndexVersion));
+    version_ = load32(head + 8);
+    if (version_ != kIndexVersion && version_ != kWeightedVersion)
+      bad("unsupported version " + std::to_string(version_) + ", this geovor reads " + std::to_string(kIndexVersion) +
+          " and " + std::to_string(kWeightedVersion));
     if (have < kHeaderBytes)
       bad("truncated: expected at least " + std::to_string(kHeaderBytes) + " bytes, found " + std::to_string(have));
     const std::uint32_t count = load32(head + 12);
@@ -258,6 +267,15 @@ class Reader {
       pos = entries_[i].offset + entries_[i].size;
     }
   }
+
+  // The number of sections of this kind.
+  std::size_t count(std::uint32_t kind) const {
+    return static_cast<std::size_t>(std::count_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.kind == kind; }));
+  }
+  bool has(std::uint32_t kind, std::uint32_t level) const {
+    return std::any_of(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.kind == kind && e.level == level; });
+  }
+  std::uint32_t version() const { return version_; }
 
   // The index of the one section of this kind and level (an error if there is none or several).
   std::size_t find(std::uint32_t kind, std::uint32_t level) const {
@@ -312,6 +330,7 @@ class Reader {
   std::string path_;
   File file_;
   std::uint64_t actual_size_ = 0;
+  std::uint32_t version_ = 0;
   std::vector<Entry> entries_;
 };
 
@@ -418,7 +437,8 @@ SiteIndex build_site_index(const SiteTable& table, const DelaunayOptions& option
   BuildReport local;
   BuildReport& r = report ? *report : local;
   SiteIndex index;
-  index.hierarchy = DelaunayHierarchy::build(points, options, hierarchy, &r);
+  index.hierarchy = table.weighted ? DelaunayHierarchy::build(points, site_lifts(table), options, hierarchy, &r)
+                                   : DelaunayHierarchy::build(points, options, hierarchy, &r);
   index.attributes = make_site_attributes(table, r, index.hierarchy.base().site_capacity());
   return index;
 }
@@ -445,7 +465,8 @@ void save_index(const std::string& path, const DelaunayHierarchy& h, const SiteA
   put32(meta, static_cast<std::uint32_t>(levels));
   put32(meta, hopt.ratio);
   put32(meta, hopt.max_levels);
-  put32(meta, (dopt.spatial_sort ? 1u : 0u) | (dopt.brio ? 2u : 0u));
+  const bool weighted = h.is_weighted();
+  put32(meta, (dopt.spatial_sort ? 1u : 0u) | (dopt.brio ? 2u : 0u) | (weighted ? kFlagWeighted : 0u));
   put64(meta, hopt.seed);
   put64(meta, dopt.seed);
   put_f64(meta, dopt.merge_distance);
@@ -482,7 +503,9 @@ void save_index(const std::string& path, const DelaunayHierarchy& h, const SiteA
     }
     sections.push_back(array_section<SiteId>(kUp, lv, up));
     if (l > 0) sections.push_back(array_section<SiteId>(kDown, lv, h.down_links(l)));
+    if (!ar.lifts.empty()) sections.push_back(array_section<double>(kLifts, lv, ar.lifts));
   }
+  if (weighted) sections.push_back(array_section<SiteId>(kHidden, 0, arrays[0].hidden_by));
   sections.push_back(array_section<std::uint64_t>(kSiteRows, 0, a.site_rows));
   sections.push_back(array_section<SiteAttributes::Row>(kRows, 0, a.rows));
   sections.push_back(array_section<std::uint64_t>(kTextOffsets, 0, a.text_offsets));
@@ -490,7 +513,7 @@ void save_index(const std::string& path, const DelaunayHierarchy& h, const SiteA
 
   std::string head;
   head.append(kIndexMagic, 8);
-  put32(head, kIndexVersion);
+  put32(head, weighted ? kWeightedVersion : kIndexVersion);  // an older geovor refuses weights
   put32(head, static_cast<std::uint32_t>(sections.size()));
   put64(head, 0);  // file size, below
   put64(head, 0);  // checksum, below
@@ -597,13 +620,21 @@ SiteIndex load_index(const std::string& path, unsigned threads) {
   const std::uint64_t num_rows = load64(m + 64);
   const std::uint64_t num_sites = load64(m + 72);
   if (levels < 1 || levels > 16) in.bad("meta: " + std::to_string(levels) + " levels (1 to 16 expected)");
-  if ((flags & ~3u) != 0) in.bad("meta: unknown flags");
+  if ((flags & ~7u) != 0) in.bad("meta: unknown flags");
+  const bool weighted = (flags & kFlagWeighted) != 0;
+  if (weighted != (in.version() == kWeightedVersion))
+    in.bad(weighted ? "meta: weighted sites in a version 1 file" : "version 2 without weighted sites");
   if (!(dopt.merge_distance >= SphericalDelaunay::kMinSeparation) || !std::isfinite(dopt.merge_distance))
     in.bad("meta: merge distance out of range");
   if (a.id_column < -1 || (a.id_column >= 0 && static_cast<std::uint32_t>(a.id_column) >= num_columns))
     in.bad("meta: id column out of range");
-  // Every section is accounted for: meta, names, 5 or 6 per level, 4 of attributes.
-  const std::size_t expected_sections = 2 + 6 * std::size_t{levels} - 1 + 4;
+  // Every section is accounted for: meta, names, 5 or 6 per level, 4 of attributes; weighted:
+  // the lifts of level 0 and of the levels above that have weights, and the hidden sites.
+  const std::size_t lift_sections = in.count(kLifts);
+  if (weighted ? !in.has(kLifts, 0) || in.count(kHidden) != 1 : lift_sections + in.count(kHidden) > 0)
+    in.bad(weighted ? "weighted sites without their lifts and hidden sites" : "lifts or hidden sites without weights");
+  if (lift_sections > levels) in.bad(std::to_string(lift_sections) + " lifts sections for " + std::to_string(levels) + " levels");
+  const std::size_t expected_sections = 2 + 6 * std::size_t{levels} - 1 + 4 + lift_sections + (weighted ? 1 : 0);
   if (in.num_sections() != expected_sections)
     in.bad(std::to_string(in.num_sections()) + " sections, expected " + std::to_string(expected_sections) + " for " +
            std::to_string(levels) + " levels");
@@ -647,6 +678,7 @@ SiteIndex load_index(const std::string& path, unsigned threads) {
   try {
     std::vector<SphericalDelaunay> dts;
     std::vector<std::vector<SiteId>> up(levels), down(levels);
+    std::size_t lifts_read = 0;
     for (std::uint32_t l = 0; l < levels; ++l) {
       SphericalDelaunay::Arrays ar;
       ar.sites = in.read_array<Vec3>(in.find(kSites, l));
@@ -656,12 +688,15 @@ SiteIndex load_index(const std::string& path, unsigned threads) {
       ar.site_edge = in.read_array<HalfedgeId>(in.find(kSiteEdge, l), n);
       up[l] = in.read_array<SiteId>(in.find(kUp, l), n);
       if (l > 0) down[l] = in.read_array<SiteId>(in.find(kDown, l), n);
+      if (in.has(kLifts, l)) ar.lifts = in.read_array<double>(in.find(kLifts, l), n), ++lifts_read;
+      if (weighted && l == 0) ar.hidden_by = in.read_array<SiteId>(in.find(kHidden, 0), n);
       try {
         dts.push_back(SphericalDelaunay::from_arrays(std::move(ar), dopt));
       } catch (const Error& e) {
         in.bad("level " + std::to_string(l) + ": " + e.what());
       }
     }
+    if (lifts_read != lift_sections) in.bad("a lifts section for a level that does not exist");
     if (dts[0].site_capacity() != num_sites)
       in.bad("meta: " + std::to_string(num_sites) + " sites, level 0 has " + std::to_string(dts[0].site_capacity()));
     try {

@@ -36,20 +36,39 @@ double geodesic_m(double lat_deg, double lon_deg, const Vec3& p) {
 
 }  // namespace
 
-const char* to_string(Metric m) { return m == Metric::Sphere ? "sphere" : "geodesic"; }
+const char* to_string(Metric m) {
+  switch (m) {
+    case Metric::Sphere: return "sphere";
+    case Metric::Geodesic: return "geodesic";
+    case Metric::Power: return "power";
+  }
+  return "?";
+}
 
 Metric parse_metric(const std::string& name) {
-  if (name == "sphere") return Metric::Sphere;
-  if (name == "geodesic") return Metric::Geodesic;
-  throw Error(ErrorCode::InvalidArgument, "unknown metric '" + name + "'; use sphere or geodesic");
+  for (const Metric m : {Metric::Sphere, Metric::Geodesic, Metric::Power})
+    if (name == to_string(m)) return m;
+  throw Error(ErrorCode::InvalidArgument, "unknown metric '" + name + "'; use sphere, geodesic or power");
+}
+
+Metric default_metric(const DelaunayHierarchy& hierarchy) {
+  return hierarchy.is_weighted() ? Metric::Power : Metric::Sphere;
+}
+
+void check_metric(const DelaunayHierarchy& hierarchy, Metric metric) {
+  if (metric != Metric::Power && hierarchy.is_weighted())
+    throw Error(ErrorCode::InvalidArgument, std::string("metric ") + to_string(metric) +
+                                                ": the sites are weighted, their metric is power (the site whose power "
+                                                "cell holds the query); index them without weights for distances alone");
 }
 
 void k_nearest(Locator& locator, double lat_deg, double lon_deg, std::size_t k, Metric metric,
                std::vector<NearestResult>& out) {
+  check_metric(locator.hierarchy(), metric);
   out.clear();
   const Vec3 q = SiteEncoder::from_lat_lon(lat_deg, lon_deg);
   if (k == 0) return;
-  if (metric == Metric::Sphere) {
+  if (metric != Metric::Geodesic) {  // the Locator's order: nearness, or power
     locator.nearest_first(q, [&](SiteId s, const Vec3& p) {
       out.push_back({s, great_circle_m(q, p)});
       return out.size() < k;
@@ -75,16 +94,12 @@ void k_nearest(Locator& locator, double lat_deg, double lon_deg, std::size_t k, 
 
 void within(Locator& locator, double lat_deg, double lon_deg, double max_distance_m, Metric metric,
             std::vector<NearestResult>& out) {
+  check_metric(locator.hierarchy(), metric);
   out.clear();
   if (!(max_distance_m >= 0)) return;
   const Vec3 q = SiteEncoder::from_lat_lon(lat_deg, lon_deg);
-  if (metric == Metric::Sphere) {
-    locator.nearest_first(q, [&](SiteId s, const Vec3& p) {
-      const double d = great_circle_m(q, p);
-      if (d > max_distance_m) return false;  // the sites come nearest first
-      out.push_back({s, d});
-      return true;
-    });
+  if (metric != Metric::Geodesic) {
+    out = locator.within(q, max_distance_m);
     return;
   }
   locator.nearest_first(q, [&](SiteId s, const Vec3& p) {

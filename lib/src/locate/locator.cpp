@@ -25,9 +25,16 @@ std::uint64_t mix(std::uint64_t z) {
   return z ^ (z >> 31);
 }
 
-// Exact order of sites by nearness to q, ties to the lower id: true if a comes before b.
+// Exact order of the sites at q: by nearness, or by power for weighted sites (equal to nearness
+// for equal lifts). Sign of a's power minus b's.
+Sign compare_at(const Vec3& q, const SphericalDelaunay& dt, SiteId a, SiteId b) {
+  if (!dt.is_weighted()) return kernel::compare_dot(q, dt.site(a), dt.site(b));
+  return kernel::compare_power(q, dt.site(a), dt.lift(a), dt.site(b), dt.lift(b));
+}
+
+// True if a comes before b in that order, ties to the lower id.
 bool nearer(const Vec3& q, const SphericalDelaunay& dt, SiteId a, SiteId b) {
-  const Sign s = kernel::compare_dot(q, dt.site(a), dt.site(b));
+  const Sign s = compare_at(q, dt, a, b);
   return s == Sign::Positive || (s == Sign::Zero && a < b);
 }
 
@@ -120,7 +127,7 @@ struct HierarchyView {
       if (dt.is_live(s)) return s;
     return kNoIndex;
   }
-  Vec3 point(int l, std::uint32_t v) const { return h.level(l).site(v); }
+  Vec3 point(int l, std::uint32_t v) const { return h.level(l).lifted_site(v); }
   std::uint32_t up(int l, std::uint32_t v) const { return l + 1 < h.num_levels() ? h.up(l, v) : kNoIndex; }
   std::uint32_t down(int l, std::uint32_t v) const { return h.down(l, v); }
   SiteId site_of(std::uint32_t v) const { return v; }
@@ -131,7 +138,7 @@ struct HierarchyView {
     const SphericalDelaunay& dt = h.level(l);
     if (dt.num_triangles() == 0) {  // fewer than 3 sites: each is the others' neighbour
       for (SiteId s = 0; s < dt.site_capacity(); ++s)
-        if (s != v && dt.is_live(s)) f(s, dt.site(s));
+        if (s != v && dt.is_live(s)) f(s, dt.lifted_site(s));
       return;
     }
     const SiteId* tri = dt.triangles().data();
@@ -139,7 +146,7 @@ struct HierarchyView {
     HalfedgeId e = e0;
     do {
       const SiteId w = tri[next_halfedge(e)];
-      f(w, dt.site(w));
+      f(w, dt.lifted_site(w));
       e = dt.next_around_site(e);
     } while (e != e0);
   }
@@ -317,7 +324,7 @@ SiteId Locator::certify(const Vec3& q, SiteId v) {
     HalfedgeId e = e0;
     do {
       const SiteId w = dt.triangles()[next_halfedge(e)];
-      const Sign c = kernel::compare_dot(q, dt.site(w), dt.site(next));
+      const Sign c = compare_at(q, dt, w, next);
       if (c == Sign::Positive) {
         next = w;
       } else if (c == Sign::Zero && next == v) {
@@ -341,7 +348,7 @@ SiteId Locator::certify(const Vec3& q, SiteId v) {
     do {
       const SiteId w = dt.triangles()[next_halfedge(e)];
       if (std::find(tied.begin(), tied.end(), w) == tied.end() &&
-          kernel::compare_dot(q, dt.site(w), dt.site(v)) == Sign::Zero) {
+          compare_at(q, dt, w, v) == Sign::Zero) {
         tied.push_back(w);
         stack.push_back(w);
         best = std::min(best, w);
@@ -356,7 +363,7 @@ template <class G>
 SiteId Locator::locate(const G& g, const Vec3& q) {
   if (!landmarks_ready_) {
     for (const SiteId s : sample_) {
-      Landmark l{h_->base().site(s), {}};
+      Landmark l{h_->base().lifted_site(s), {}};
       l.nodes.fill(kNoIndex);
       l.nodes[0] = g.node_of(s);
       landmarks_.push_back(l);
@@ -414,10 +421,11 @@ SiteId Locator::locate(const G& g, const Vec3& q) {
     }
   }
   // Every neighbour of v is farther by more than twice the rounding bound of a dot product
-  // (gamma_3 sum |q_i p_i| <= 3.4e-16 |q|_1 for |p| <= 1 + 2^-50): v is exactly the unique
-  // nearest. Otherwise the exact walk decides, ties included.
+  // (gamma_3 sum |q_i p_i| <= 3.4e-16 |q|_1 for |p| <= 1 + 2^-50; with the rounding of a lifted
+  // point, <= 4.5e-16 |q|_1 B for |p / c| <= B): v is exactly the unique nearest (of largest
+  // power). Otherwise the exact walk decides, ties included.
   SiteId s = g.site_of(v);
-  const double bound = 1e-15 * (std::fabs(q.x) + std::fabs(q.y) + std::fabs(q.z)) + 1e-300;
+  const double bound = 1e-15 * (std::fabs(q.x) + std::fabs(q.y) + std::fabs(q.z)) * h_->lifted_norm_bound() + 1e-300;
   if (!(margin > bound)) {
     s = certify(q, s);
     v = g.node_of(s);
@@ -441,7 +449,8 @@ NearestResult Locator::nearest(const Vec3& q) {
   sync();
   ++stats_.queries;
   const SiteId s = graph_ != nullptr ? locate(PackedView{*graph_}, q) : locate(HierarchyView{*h_}, q);
-  return {s, great_circle_m(q, last_.p)};  // last_.p: the answer's coordinates, already in cache
+  // last_.p: the answer's coordinates, already in cache (its lifted point when weighted).
+  return {s, great_circle_m(q, base.is_weighted() ? base.site(s) : last_.p)};
 }
 
 std::vector<NearestResult> Locator::k_nearest(const Vec3& q, std::size_t k) {
@@ -457,13 +466,26 @@ std::vector<NearestResult> Locator::k_nearest(const Vec3& q, std::size_t k) {
 std::vector<NearestResult> Locator::within(const Vec3& q, double radius_m) {
   std::vector<NearestResult> out;
   if (!(radius_m >= 0)) return out;
+  const SphericalDelaunay& base = h_->base();
   nearest_first(q, [&](SiteId s, const Vec3& p) {
     const double d = great_circle_m(q, p);
+    if (base.is_weighted()) {  // sites come by power: stop where no later one can be near
+      if (power_lower_bound_m(q, p, base.lift(s)) > radius_m) return false;
+      if (d <= radius_m) out.push_back({s, d});
+      return true;
+    }
     if (d > radius_m) return false;  // sites come nearest first: all the others are farther
     out.push_back({s, d});
     return true;
   });
   return out;
+}
+
+double power_lower_bound_m(const Vec3& q, const Vec3& p, double lift) {
+  // Every later site t has power dot(q, p_t) / c_t <= this one's, so cos d_t <= that power
+  // (c_t <= 1); margins for the rounding of the power and of acos.
+  const double power = dot(q, p) / lift * (1 + 1e-12) + 1e-15;
+  return SiteEncoder::kEarthRadiusM * std::acos(std::min(1.0, power)) - 1e-6;
 }
 
 void Locator::nearest_first(const Vec3& q, const std::function<bool(SiteId, const Vec3&)>& visit) {
@@ -479,6 +501,8 @@ void Locator::nearest_first(const Vec3& q, const std::function<bool(SiteId, cons
 }
 
 NearestResult Locator::nearest_geodesic(double lat_deg, double lon_deg) {
+  if (h_->is_weighted())
+    throw Error(ErrorCode::InvalidArgument, "the geodesic metric needs unweighted sites; these are weighted (metric power)");
   const Vec3 q = SiteEncoder::from_lat_lon(lat_deg, lon_deg);
   const NearestResult first = nearest(q);
   if (first.site == kNoIndex) return first;

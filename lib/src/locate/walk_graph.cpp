@@ -116,7 +116,7 @@ WalkGraph::WalkGraph(const DelaunayHierarchy& h, unsigned threads) : source_(&h)
     for (std::size_t k = begin; k < end; ++k) {
       const SiteId s = sites[k];
       unsigned char* rec = words + 8 * std::size_t{nodes[s]};
-      const Vec3 p = dt.site(s);
+      const Vec3 p = dt.lifted_site(s);
       std::memcpy(rec, &p.x, 8);
       std::memcpy(rec + 8, &p.y, 8);
       std::memcpy(rec + 16, &p.z, 8);

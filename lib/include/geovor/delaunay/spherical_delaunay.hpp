@@ -180,13 +180,17 @@ class SphericalDelaunay {
     std::vector<Vec3> sites;
     std::vector<SiteId> triangles;
     std::vector<HalfedgeId> halfedges;
-    std::vector<HalfedgeId> site_edge;  ///< kNoIndex - 1 marks a removed site
+    std::vector<HalfedgeId> site_edge;  ///< kNoIndex - 1 marks a removed (or hidden) site
+    std::vector<double> lifts;          ///< weighted: each site's lift; empty when unweighted
+    std::vector<SiteId> hidden_by;      ///< weighted: who hides each site (kNoIndex: none; empty: no site hidden)
   };
   /// A copy of the arrays (site_edge with removed sites marked).
   Arrays arrays() const;
   /// Rebuilds a triangulation from arrays() output. Checks every index and the structure
-  /// (everything validate() checks but the geometric predicates, in O(n)), so a corrupted input
-  /// is an error and never a crash. @exception Error(BadData) naming the first broken invariant.
+  /// (everything validate() checks but the geometric predicates, in O(n)), and for weighted arrays
+  /// each lift in (0, 1], not all equal, and each hidden site no vertex and hidden by a live one,
+  /// so a corrupted input is an error and never a crash.
+  /// @exception Error(BadData) naming the first broken invariant.
   static SphericalDelaunay from_arrays(Arrays arrays, const DelaunayOptions& options = {});
 
   /// Inserts one site (stations going online). A point closer than merge_distance to a site is
@@ -251,6 +255,13 @@ class SphericalDelaunay {
   SiteId hidden_by(SiteId s) const { return is_hidden(s) ? hidden_by_[s] : kNoIndex; }
   std::size_t num_hidden() const;
   const Vec3& site(SiteId s) const { return sites_[s]; }
+  /// The lifted point site(s) / lift(s), each coordinate rounded once (site(s) when unweighted):
+  /// a site's power at a unit vector q is dot(q, lifted_site(s)) up to that rounding.
+  Vec3 lifted_site(SiteId s) const {
+    if (lifts_.empty()) return sites_[s];
+    const double c = lifts_[s];
+    return {sites_[s].x / c, sites_[s].y / c, sites_[s].z / c};
+  }
   std::span<const Vec3> sites() const { return sites_; }
   std::size_t num_triangles() const { return triangles_.size() / 3; }
   std::span<const SiteId> triangles() const { return triangles_; }
@@ -290,6 +301,7 @@ class SphericalDelaunay {
   std::uint32_t priority(SiteId s) const { return priority_.empty() ? s : priority_[s]; }
   static std::uint64_t next_revision();
   void touch() { revision_ = next_revision(); }  // every change of sites or triangles calls it
+  static void check_weights(const Arrays& arrays);  // from_arrays' checks of the weights
   // build() of either kind: lifts empty for unweighted sites; forced[i], if not empty and not
   // kNoIndex, is an input point that point i merges into (weighted only: same positions).
   static SphericalDelaunay build_sites(std::span<const Vec3> points, std::span<const double> lifts,

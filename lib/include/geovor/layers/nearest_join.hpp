@@ -41,6 +41,7 @@
 #include <string_view>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "geovor/geo/query_line.hpp"
@@ -59,8 +60,9 @@ struct NearestJoinOptions {
   /// Write a rank column (1 for the nearest). DEFAULT: false (geovor nearest sets it when --k is
   /// given, even --k 1).
   bool rank_column = false;
-  /// DEFAULT: Metric::Sphere.
-  Metric metric = Metric::Sphere;
+  /// The metric (locate/knn.hpp). DEFAULT: none, meaning default_metric(index): Power for an
+  /// index of weighted sites (the site whose power cell holds the query), else Sphere.
+  std::optional<Metric> metric;
   /// The locators' options (strategy). DEFAULT: LocatorOptions{} (Keep, Jump & Climb).
   LocatorOptions locator;
   /// Worker threads; 0 means one per core. At most 4 per core are started (more would only
@@ -106,7 +108,7 @@ struct NearestJoinReport {
 /// The join's fields (the file comment) for queries with the header `query_columns`, their types:
 /// site_index and rank Integer, distance_m Real, the others String.
 /// @exception Error(InvalidArgument) when a site field is not a column of index.attributes,
-///   naming it and the columns.
+///   naming it and the columns, or the metric does not apply to the index (check_metric).
 std::vector<Field> nearest_join_fields(const SiteIndex& index, const std::vector<std::string>& query_columns,
                                        const NearestJoinOptions& options);
 

@@ -42,11 +42,20 @@ class DelaunayHierarchy {
   static DelaunayHierarchy build(std::span<const Vec3> points, const DelaunayOptions& options = {},
                                  const HierarchyOptions& hierarchy = {}, BuildReport* report = nullptr);
 
+  /// The hierarchy of weighted sites: level 0 is SphericalDelaunay::build(points, lifts) (its
+  /// hidden sites are on no level above), each level above the regular triangulation of its
+  /// sample with the same lifts (a level whose sample has equal lifts is unweighted).
+  /// @exception Error(InvalidArgument) as SphericalDelaunay::build, or for invalid options.
+  static DelaunayHierarchy build(std::span<const Vec3> points, std::span<const double> lifts,
+                                 const DelaunayOptions& options = {}, const HierarchyOptions& hierarchy = {},
+                                 BuildReport* report = nullptr);
+
   /// Reassembles a hierarchy from saved parts (locate/index_file.hpp): the levels, up[l] (one
   /// link per site of level l, kNoIndex for none; the last level's all kNoIndex) and down[l]
   /// (one per site of level l; down[0] empty). Checks in O(n), so that a corrupted input is an
   /// error and never a crash: the options, every level but the base has a live site, the links
-  /// are in range, up and down are inverse on live sites, every copy is the same point, every
+  /// are in range, up and down are inverse on live sites, every copy is the same point (with the
+  /// same lift; a level above without weights has copies of equal lifts), every
   /// live site above the base has a copy below, and every live base site is on the levels its
   /// draw gives. The levels' own structure is from_arrays()'s to check.
   /// @exception Error(BadData) naming the first broken invariant.
@@ -84,6 +93,11 @@ class DelaunayHierarchy {
   /// The highest level of a level-0 site with this id, from its draw.
   int drawn_level(SiteId s) const;
   const HierarchyOptions& options() const { return options_; }
+  /// True iff the sites are weighted (base().is_weighted()).
+  bool is_weighted() const { return !levels_.empty() && base().is_weighted(); }
+  /// The largest 1 / lift of the base's sites, rounded up (1 for unweighted sites): |p / lift| of
+  /// every lifted point is at most this (the Locator's rounding bound).
+  double lifted_norm_bound() const { return lifted_norm_bound_; }
   /// Bytes held by the levels and links (not the walk graph: see walk_graph()).
   std::size_t memory_bytes() const;
   /// The packed copy of the hierarchy as it is now, for the Locators' walks: built at the first
@@ -99,7 +113,12 @@ class DelaunayHierarchy {
   Validation validate() const;
 
  private:
+  // Levels 1.. above a built base, each the sample of the one below (lifts: by base id, or empty).
+  void build_levels(std::span<const double> lifts, const DelaunayOptions& options);
+  void set_lifted_norm_bound();
+
   HierarchyOptions options_;
+  double lifted_norm_bound_ = 1;
   std::vector<SphericalDelaunay> levels_;
   std::vector<std::vector<SiteId>> up_;    // up_[l][s]: level l -> level l+1 (last level: none)
   std::vector<std::vector<SiteId>> down_;  // down_[l][s]: level l -> level l-1 (down_[0] empty)

@@ -2,11 +2,13 @@
 /// \brief A built nearest-site index (the DelaunayHierarchy and the attributes of its sites),
 /// saved to and loaded from a binary file (`geovor index`, `geovor nearest --sites FILE.gvi`).
 ///
-/// File format, version 1. Every integer and double is little-endian (IEEE 754 doubles).
+/// File format, version 1, and version 2 for weighted sites (docs/weighted.md: version 1 plus
+/// the lifts and the hidden sites, so that a geovor reading only version 1 refuses weights rather
+/// than answer without them). Every integer and double is little-endian (IEEE 754 doubles).
 ///
 ///     offset  size  field
 ///          0     8  magic "GEOVORIX"
-///          8     4  u32 format version (1)
+///          8     4  u32 format version (1; 2 with weighted sites)
 ///         12     4  u32 number of sections S
 ///         16     8  u64 file size in bytes
 ///         24     8  u64 header checksum: XXH64 (seed 0) of bytes 0..32 + 32 S with this field
@@ -18,7 +20,7 @@
 /// (zero padding), the last one ending at the file size. Kinds (level is 0 unless said):
 ///
 ///     1  meta, 80 bytes: u32 levels, u32 ratio, u32 max_levels, u32 flags (bit 0 spatial_sort,
-///        bit 1 brio), u64 hierarchy seed, u64 delaunay seed, f64 merge distance (unit sphere),
+///        bit 1 brio, bit 2 weighted sites: version 2), u64 hierarchy seed, u64 delaunay seed, f64 merge distance (unit sphere),
 ///        u64 rows read, u64 rows rejected, i32 id column (-1: row numbers), u32 columns,
 ///        u64 rows, u64 sites (level-0 site capacity)
 ///     2  names: the source, then each column name; each as u64 length and the bytes
@@ -28,6 +30,9 @@
 ///    13  site_edge of a level: u32 per site                      }
 ///    14  up links of a level: u32 per site (kNoIndex: none)      }
 ///    15  down links of a level >= 1: u32 per site                }
+///    16  lifts of a level with weights: f64 per site (weighted: level 0, and each level above
+///        whose sample has unequal lifts)
+///    17  hidden sites (weighted, level 0): u32 per site, the site hiding it or kNoIndex
 ///    20  site rows: u64 per level-0 site + 1 (the rows of site s are [v[s], v[s+1]))
 ///    21  rows: per row u64 row number, u64 line, f64 lat_deg, f64 lon_deg, f64 height_m
 ///    22  text offsets: u64 per row and field + 1 (row r: its id, then each column's field)
@@ -40,7 +45,7 @@
 /// checks) and DelaunayHierarchy::from_parts() (links), and the attributes' offsets. Any failure
 /// is Error(BadData) naming the file and the problem, e.g. "index.gvi: truncated: expected 1200
 /// bytes, found 1000", "index.gvi: section 3 (triangles, level 0): checksum mismatch",
-/// "index.gvi: unsupported version 7, this geovor reads 1"; never a crash, and never an
+/// "index.gvi: unsupported version 7, this geovor reads 1 and 2"; never a crash, and never an
 /// allocation larger than the file.
 #pragma once
 
@@ -113,8 +118,8 @@ struct SiteIndex {
   SiteAttributes attributes;
 };
 
-/// Builds the index of a site table: DelaunayHierarchy::build over table.sites' unit vectors,
-/// then make_site_attributes. `report` (optional) receives level 0's BuildReport.
+/// Builds the index of a site table: DelaunayHierarchy::build over table.sites' unit vectors
+/// (with their lifts site_lifts(table) when table.weighted), then make_site_attributes. `report` (optional) receives level 0's BuildReport.
 /// @exception Error as DelaunayHierarchy::build.
 SiteIndex build_site_index(const SiteTable& table, const DelaunayOptions& options = {},
                            const HierarchyOptions& hierarchy = {}, BuildReport* report = nullptr);

@@ -8,6 +8,11 @@
 /// seen (b: the polar radius; every site is at least b from the centre and a geodesic is no
 /// shorter than the chord; less a margin for rounding and GeographicLib's 15 nm accuracy) exceeds
 /// the k-th geodesic distance found, or the radius. Ties go to the lower site index.
+///
+/// Weighted sites (docs/weighted.md) have one metric, power: the sites in order of decreasing
+/// power, the first being the one whose power cell holds the query; distance_m stays the
+/// great-circle distance to the site's centre. The sphere and geodesic metrics need unweighted
+/// sites; on unweighted sites power is the sphere metric.
 #pragma once
 
 #include <cstddef>
@@ -22,20 +27,29 @@ namespace geovor {
 enum class Metric {
   Sphere,    ///< great-circle metres between the geocentric directions, radius SiteEncoder::kEarthRadiusM
   Geodesic,  ///< WGS84 geodesic metres between the geodetic positions (GeographicLib)
+  Power,     ///< weighted sites by decreasing power (unweighted: as Sphere); great-circle metres
 };
 
-/// "sphere" or "geodesic".
+/// "sphere", "geodesic" or "power".
 const char* to_string(Metric m);
 /// Parses a name of to_string(); @exception Error(InvalidArgument) for any other name.
 Metric parse_metric(const std::string& name);
 
+/// The metric of `hierarchy` when none is asked: Power for weighted sites, else Sphere.
+Metric default_metric(const DelaunayHierarchy& hierarchy);
+/// @exception Error(InvalidArgument) naming the metric when `metric` does not apply to the sites
+///   of `hierarchy` (sphere or geodesic on weighted sites).
+void check_metric(const DelaunayHierarchy& hierarchy, Metric metric);
+
 /// The k nearest sites to (lat_deg, lon_deg) under `metric`, nearest first (ties to the lower
 /// site index), into `out` (replaced; fewer than k when there are fewer sites).
+/// @exception Error(InvalidArgument) as check_metric.
 void k_nearest(Locator& locator, double lat_deg, double lon_deg, std::size_t k, Metric metric,
                std::vector<NearestResult>& out);
 
 /// Every site at most max_distance_m metres from (lat_deg, lon_deg) under `metric`, nearest first
-/// (ties to the lower site index), into `out` (replaced; empty for a negative or NaN distance).
+/// (ties to the lower site index; Power: by decreasing power), into `out` (replaced; empty for a
+/// negative or NaN distance). @exception Error(InvalidArgument) as check_metric.
 void within(Locator& locator, double lat_deg, double lon_deg, double max_distance_m, Metric metric,
             std::vector<NearestResult>& out);
 

@@ -31,6 +31,14 @@
 /// strictly nearer than every neighbour, hence the unique nearest site. Otherwise the exact walk
 /// (kernel::compare_dot, ties to the lowest id) decides.
 ///
+/// Weighted sites (DelaunayHierarchy::build with lifts; docs/weighted.md): the answer is the site
+/// whose power cell holds q, the site of largest power dot(q, p) / c, found by the same walks on
+/// the lifted points p / c (the hull's vertex graph again), certified with the margin above
+/// times DelaunayHierarchy::lifted_norm_bound() (the lifted points' rounding included), else by
+/// kernel::compare_power. Hidden sites own no cell and are never an answer. k_nearest,
+/// nearest_first and within take the sites by decreasing power; distances stay great-circle
+/// metres to the sites' centres; nearest_geodesic refuses weighted sites.
+///
 /// A Locator is not thread-safe (it keeps its landmarks); use one per thread, or
 /// nearest_batch(). It refers to the hierarchy, which must outlive it. It notices any change of
 /// the hierarchy (insert, remove, moves: SphericalDelaunay::revision()) at the next query: it
@@ -121,7 +129,7 @@ class Locator {
   NearestResult nearest(const Vec3& q);
   /// The k nearest sites, nearest first (exact order, ties to the lower id).
   std::vector<NearestResult> k_nearest(const Vec3& q, std::size_t k);
-  /// Every site within radius_m metres (great circle), nearest first.
+  /// Every site within radius_m metres (great circle), nearest first (weighted: by power).
   std::vector<NearestResult> within(const Vec3& q, double radius_m);
   /// Visits the sites in order of nearness to q (the exact order, ties to the lower id), from
   /// nearest(q) on, until visit(site, its unit vector) returns false or every site was visited:
@@ -129,7 +137,7 @@ class Locator {
   /// connected part of it). What k_nearest, within and locate/knn.hpp are made of.
   void nearest_first(const Vec3& q, const std::function<bool(SiteId, const Vec3&)>& visit);
   /// The nearest site on the WGS84 ellipsoid (geodesic distance, GeographicLib), ties to the
-  /// lowest id. Sites are taken in order of their spherical angle to q until the lower bound
+  /// lowest id. @exception Error(InvalidArgument) for weighted sites. Sites are taken in order of their spherical angle to q until the lower bound
   /// 2 b sin(angle / 2) of the geodesic distance of every site not yet seen (b: polar radius;
   /// every site is at least b from the centre, a geodesic is no shorter than the chord) exceeds
   /// the best geodesic distance found.
@@ -144,6 +152,7 @@ class Locator {
   /// options().packed is false).
   const WalkGraph* walk_graph() const { return graph_.get(); }
   const LocatorStats& stats() const { return stats_; }
+  const DelaunayHierarchy& hierarchy() const { return *h_; }
   const LocatorOptions& options() const { return options_; }
 
  private:
@@ -193,5 +202,10 @@ void nearest_batch(const DelaunayHierarchy& hierarchy, std::span<const Vec3> que
 
 /// Great-circle distance in metres between two unit vectors (atan2 form, accurate at all angles).
 double great_circle_m(const Vec3& a, const Vec3& b);
+
+/// A lower bound of the great-circle distance (metres) from q of every site whose power at q is
+/// at most that of the weighted site (p, lift): cos d <= power for lifts <= 1. What ends a
+/// search by power for the sites within a distance.
+double power_lower_bound_m(const Vec3& q, const Vec3& p, double lift);
 
 }  // namespace geovor

@@ -16,7 +16,9 @@
 /// each site), + 0.75 for the curve sample; the levels above add about 1/29 of that (68 bytes
 /// per site measured at 2^20 uniform sites). The coordinates are copies of the
 /// triangulation's doubles (bit for bit), so any comparison made on them is the one the
-/// triangulation would make.
+/// triangulation would make; on a level of weighted sites they are the lifted points
+/// SphericalDelaunay::lifted_site() (site / lift, rounded once), whose dot product with q orders
+/// the sites by power.
 ///
 /// A WalkGraph is immutable; when the hierarchy changes (any level's revision() changes) it is
 /// stale, and matches() says so. The hierarchy owns the graph of its current state
@@ -55,6 +57,7 @@ class WalkGraph {
   std::uint32_t num_nodes(int l) const { return level_(l).num_nodes; }
   /// A node of level l (REQUIRES: num_nodes(l) > 0).
   static constexpr std::uint32_t any_node() { return 0; }
+  /// The site's unit vector, or its lifted point on a weighted level.
   Vec3 point(int l, std::uint32_t v) const { return point_at(level_(l).words.data() + v); }
   /// The node of the same site on level l + 1, or kNoIndex (always on the top level).
   std::uint32_t up(int l, std::uint32_t v) const { return field(level_(l).words.data() + v, 0); }
