@@ -34,8 +34,10 @@ void normalize(double& lat_deg, double& lon_deg, std::size_t row) {
 
 class Index {
  public:
-  Index(const Doubles& lat, const Doubles& lon, std::optional<std::vector<std::string>> ids) {
-    const SiteTable table = site_table_from_arrays(lat, lon, std::move(ids));
+  Index(const Doubles& lat, const Doubles& lon, std::optional<std::vector<std::string>> ids,
+        const std::optional<Doubles>& weights_m) {
+    SiteTable table = site_table_from_arrays(lat, lon, std::move(ids));
+    if (weights_m) set_radii(table, *weights_m);
     py::gil_scoped_release unlocked;
     index_ = build_site_index(table);
     index_.hierarchy.walk_graph(0);  // the packed copy the queries walk, now, on every core
@@ -54,6 +56,20 @@ class Index {
   }
 
   std::size_t num_sites() const { return index_.attributes.num_sites(); }
+  bool weighted() const { return index_.hierarchy.is_weighted(); }
+
+  // Per site: its lift cos(r / R) (1 for unweighted sites) and whether it is hidden.
+  py::tuple weights() const {
+    const SphericalDelaunay& base = index_.hierarchy.base();
+    const std::size_t n = base.site_capacity();
+    py::array_t<double> lift(static_cast<py::ssize_t>(n));
+    py::array_t<bool> hidden(static_cast<py::ssize_t>(n));
+    for (SiteId s = 0; s < n; ++s) {
+      lift.mutable_data()[s] = base.lift(s);
+      hidden.mutable_data()[s] = base.is_hidden(s);
+    }
+    return py::make_tuple(lift, hidden);
+  }
 
   // Per site: its id, its first row's position, and the rows merged into it (0-based input rows).
   py::dict sites() const {
@@ -100,11 +116,13 @@ class Index {
   py::tuple nearest(const Doubles& lat, const Doubles& lon, std::size_t k, const std::string& metric,
                     std::optional<double> max_distance_m, unsigned threads) const {
     if (k == 0) throw Error(ErrorCode::InvalidArgument, "k must be at least 1");
-    if (metric != "sphere" && metric != "geodesic")
-      throw Error(ErrorCode::InvalidArgument, "metric must be 'sphere' or 'geodesic', not '" + metric + "'");
+    if (!metric.empty() && metric != "sphere" && metric != "geodesic" && metric != "power")
+      throw Error(ErrorCode::InvalidArgument, "metric must be 'sphere', 'geodesic' or 'power', not '" + metric + "'");
     if (max_distance_m && !(*max_distance_m >= 0))
       throw Error(ErrorCode::InvalidArgument, "max_distance_m must be a number >= 0");
-    const bool geodesic = metric == "geodesic";
+    const Metric m = metric.empty() ? default_metric(index_.hierarchy) : parse_metric(metric);
+    check_metric(index_.hierarchy, m);
+    const bool geodesic = m == Metric::Geodesic;
     std::size_t n = static_cast<std::size_t>(-1);
     const double* la = column_data(lat, "lat", n);
     const double* lo = column_data(lon, "lon", n);
@@ -133,7 +151,7 @@ class Index {
           if (!geodesic && k == 1) {
             found.assign(1, locator.nearest(unit[i]));  // the fast path: Keep, Jump & Climb
           } else {
-            k_nearest(locator, lat_deg[i], lon_deg[i], k, geodesic ? Metric::Geodesic : Metric::Sphere, found);
+            k_nearest(locator, lat_deg[i], lon_deg[i], k, m, found);
           }
           for (std::size_t j = 0; j < k; ++j) {
             const bool ok = j < found.size() && found[j].site != kNoIndex && found[j].dist_m <= limit;
@@ -154,14 +172,16 @@ class Index {
 
 void bind_index(py::module_& m) {
   py::class_<Index>(m, "Index")
-      .def(py::init<const Doubles&, const Doubles&, std::optional<std::vector<std::string>>>(), py::arg("lat"),
-           py::arg("lon"), py::arg("ids") = py::none())
+      .def(py::init<const Doubles&, const Doubles&, std::optional<std::vector<std::string>>, const std::optional<Doubles>&>(),
+           py::arg("lat"), py::arg("lon"), py::arg("ids") = py::none(), py::arg("weights_m") = py::none())
       .def_static("load", &Index::load, py::arg("path"))
       .def("save", &Index::save, py::arg("path"), py::arg("overwrite") = false)
       .def_property_readonly("num_sites", &Index::num_sites)
+      .def_property_readonly("weighted", &Index::weighted)
+      .def("weights", &Index::weights)
       .def("sites", &Index::sites)
       .def("nearest", &Index::nearest, py::arg("lat"), py::arg("lon"), py::arg("k") = 1,
-           py::arg("metric") = "sphere", py::arg("max_distance_m") = py::none(), py::arg("threads") = 0);
+           py::arg("metric") = "", py::arg("max_distance_m") = py::none(), py::arg("threads") = 0);
 }
 
 }  // namespace geovor::python

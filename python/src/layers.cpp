@@ -41,18 +41,6 @@ struct Built {
 
 using Radii = std::optional<Doubles>;
 
-// The sites' radii (metres) into the table: weighted sites (docs/weighted.md).
-void set_radii(SiteTable& table, const Doubles& radii_m) {
-  std::size_t n = table.sites.size();
-  const double* r = column_data(radii_m, "weights", n);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (std::string why = radius_problem(r[i]); !why.empty())
-      throw Error(ErrorCode::InvalidArgument, "weights[" + std::to_string(i) + "]: " + why);
-    table.sites[i].weight_m = r[i] + 0.0;
-  }
-  table.weighted = true;
-}
-
 Built build(const Doubles& lat, const Doubles& lon, Ids ids, double merge_m, const Radii& radii_m = std::nullopt) {
   Built b{site_table_from_arrays(lat, lon, std::move(ids)), {}, {}};
   if (radii_m) set_radii(b.table, *radii_m);

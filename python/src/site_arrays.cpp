@@ -3,6 +3,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/geo/site_encoder.hpp"
+#include "geovor/geo/site_weights.hpp"
 
 namespace geovor::python {
 
@@ -36,6 +37,17 @@ SiteTable site_table_from_arrays(const Doubles& lat, const Doubles& lon, std::op
     s.id = ids ? std::move((*ids)[i]) : std::to_string(i);
   }
   return table;
+}
+
+void set_radii(SiteTable& table, const Doubles& radii_m) {
+  std::size_t n = table.sites.size();
+  const double* r = column_data(radii_m, "weights", n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (std::string why = radius_problem(r[i]); !why.empty())
+      throw Error(ErrorCode::InvalidArgument, "weights[" + std::to_string(i) + "]: " + why);
+    table.sites[i].weight_m = r[i] + 0.0;  // -0 as 0
+  }
+  table.weighted = true;
 }
 
 }  // namespace geovor::python

@@ -22,4 +22,8 @@ const double* column_data(const Doubles& a, const char* name, std::size_t& n);
 /// @exception Error(BadData) naming the first site whose position is invalid ("site 3: ...").
 SiteTable site_table_from_arrays(const Doubles& lat, const Doubles& lon, std::optional<std::vector<std::string>> ids);
 
+/// The sites' radii in metres (weights[i] of site i) into the table, which becomes weighted
+/// (docs/weighted.md). @exception Error(InvalidArgument) naming the first bad radius ("weights[3]: ...").
+void set_radii(SiteTable& table, const Doubles& radii_m);
+
 }  // namespace geovor::python

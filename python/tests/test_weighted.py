@@ -116,3 +116,72 @@ def test_balance_not_converged_raises(stations):
         geovor.balance(stations, max_iterations=1)
     with pytest.raises(ValueError, match="share|capacity"):
         geovor.balance(lat=[0, 10, 20, -30], lon=[0, 100, -120, 50], capacity=[1, 0, 1, 1])
+
+
+def test_index_with_weights_answers_the_power_cell(stations, tmp_path):
+    """geovor.Index(weights=): the site of largest power (brute force), the cell of geovor.cells
+    holding the query, hidden sites never answered, by power for k > 1, saved and loaded."""
+    rng = np.random.default_rng(34)
+    sample = stations.iloc[::6].reset_index(drop=True)
+    radii = rng.choice([0.0, 30_000.0, 200_000.0, 500_000.0], size=len(sample))
+    lat_s, lon_s = sample["lat_deg"].to_numpy(), sample["lon_deg"].to_numpy()
+    index = geovor.Index(lat_s, lon_s, weights=radii)
+    assert index.weighted
+    by_site = index.sites()  # rows merged into a site: its first row is the one it stands for
+    hidden = by_site["hidden"].to_numpy()
+    assert hidden.any()
+    first = by_site["first_row"].to_numpy()
+    lat_s, lon_s, radii = lat_s[first], lon_s[first], radii[first]
+    lat = np.degrees(np.arcsin(rng.uniform(-1, 1, 4000)))
+    lon = rng.uniform(-180, 180, 4000)
+    site, dist = index.nearest(lat, lon)
+    power = directions(lat, lon) @ directions(lat_s, lon_s).T / np.cos(radii / R)
+    power[:, hidden] = -np.inf  # a hidden site's power is never the largest; it can be second
+    order = np.argsort(-power, axis=1)[:, :4]
+    top = np.take_along_axis(power, order, axis=1)
+    clear = (top[:, 0] - top[:, 1]) > 1e-9
+    assert clear.sum() > 3900
+    assert np.array_equal(site[clear], order[clear, 0])
+    assert not hidden[site].any()
+    ang = np.arccos(np.clip(np.sum(directions(lat, lon) * directions(lat_s[site], lon_s[site]), axis=1), -1, 1))
+    assert np.allclose(dist, ang * R, atol=1e-3)
+    # k = 3: by decreasing power
+    k3, _ = index.nearest(lat, lon, k=3)
+    clear3 = clear & ((top[:, 1] - top[:, 2]) > 1e-9) & ((top[:, 2] - top[:, 3]) > 1e-9)
+    assert np.array_equal(k3[clear3], order[clear3, :3])
+    # the cells of the same sites hold the answers
+    with pytest.warns(geovor.HiddenSiteWarning):
+        cells = geovor.cells(lat=lat_s, lon=lon_s, weights=radii)  # the same sites, in site order
+    geoms = dict(zip(cells["site_index"], cells.geometry))
+    pts = gpd.points_from_xy(lon, lat)
+    far = (top[:, 0] - top[:, 1]) > 1e-4  # away from the densified edges
+    assert all(geoms[s].contains(p) for s, p, f in zip(site, pts, far) if f)
+    # the metrics of unweighted sites are refused; the file keeps the weights
+    with pytest.raises(ValueError, match="power"):
+        index.nearest(lat[:5], lon[:5], metric="sphere")
+    with pytest.raises(ValueError, match="power"):
+        index.nearest(lat[:5], lon[:5], metric="geodesic")
+    path = tmp_path / "weighted.gvi"
+    index.save(path)
+    again = geovor.Index.load(path)
+    assert again.weighted
+    assert np.array_equal(again.nearest(lat, lon, k=3)[0], k3)
+
+
+def test_index_weights_errors_and_equal_radii(stations):
+    sample = stations.iloc[::20].reset_index(drop=True)
+    with pytest.raises(ValueError, match=r"weights\[2\]"):
+        geovor.Index(sample["lat_deg"], sample["lon_deg"], weights=[0, 1, -5] + [0] * (len(sample) - 3))
+    with pytest.raises(ValueError, match="weights"):
+        geovor.Index(sample["lat_deg"], sample["lon_deg"], weights=[0, 1])
+    with pytest.raises(ValueError, match="no column 'radius'"):
+        geovor.Index.from_frame(sample, weights="radius")
+    # equal radii are no weights: the ordinary index and its metrics
+    equal = geovor.Index.from_frame(sample.assign(r=5000.0), weights="r")
+    plain = geovor.Index.from_frame(sample)
+    assert not equal.weighted
+    rng = np.random.default_rng(35)
+    lat, lon = rng.uniform(-80, 80, 500), rng.uniform(-180, 180, 500)
+    for metric in (None, "sphere", "power"):
+        assert np.array_equal(equal.nearest(lat, lon, metric=metric)[0], plain.nearest(lat, lon)[0])
+    assert np.array_equal(equal.nearest(lat, lon, metric="geodesic")[0], plain.nearest(lat, lon, metric="geodesic")[0])
