@@ -139,12 +139,17 @@ std::uint64_t hilbert_key_bits(const Vec3& p, int bits) noexcept {
 
 std::uint64_t hilbert_key(const Vec3& p) noexcept { return hilbert_key_bits(p, kBits); }
 
-std::vector<std::uint32_t> hilbert_order(std::span<const Vec3> points) {
+std::vector<std::uint32_t> hilbert_order(std::span<const Vec3> points, std::vector<std::uint64_t>* keys) {
   const int bits = bits_for(points.size());
   std::vector<Keyed> keyed(points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
     keyed[i] = {hilbert_key_bits(points[i], bits), static_cast<std::uint32_t>(i)};
-  return indices_by_key(keyed, key_bits(bits));
+  std::vector<std::uint32_t> order = indices_by_key(keyed, key_bits(bits));
+  if (keys) {
+    keys->resize(keyed.size());
+    for (std::size_t k = 0; k < keyed.size(); ++k) (*keys)[k] = keyed[k].key;
+  }
+  return order;
 }
 
 std::vector<std::uint32_t> brio_order(std::span<const Vec3> points, std::uint64_t seed) {

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <numeric>
 #include <string>
+#include <tuple>
 
 #include "delaunay/unit_vector.hpp"
 #include "geovor/core/error.hpp"
@@ -76,9 +77,52 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
 }
 
 namespace {
+void require_unit_points(std::span<const Vec3> points) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double r2 = norm2(points[i]);
+    if (!std::isfinite(r2) || std::fabs(r2 - 1.0) > 0x1p-49)
+      throw Error(ErrorCode::InvalidArgument,
+                  "point " + std::to_string(i) + " is not a unit vector (|p|^2 = " + format_number(r2) + ")");
+  }
+}
+
 // For each point, the point at its position with the smallest lift (the first of them on ties)
 // when that is another one, else kNoIndex; empty when no two points share a position. Sorted by a
 // hash of the bits, then compared exactly within equal hashes (-0 is 0).
+// The point of a group at one position that the others merge into: the smallest lift, then the
+// first in input order.
+bool keeps_over(std::uint32_t q, std::uint32_t best, std::span<const double> lifts) {
+  return lifts[q] < lifts[best] || (lifts[q] == lifts[best] && q < best);
+}
+
+// same_position_keeper() from a Hilbert order and its keys: points at one position share a cell,
+// so they lie in one run of equal keys; each run with several points is sorted by position (-0
+// as 0) and grouped. O(n) beside the order, which the build computes anyway.
+std::vector<std::uint32_t> keeper_in_runs(std::span<const Vec3> points, std::span<const double> lifts,
+                                          std::span<const std::uint32_t> order, std::span<const std::uint64_t> keys) {
+  auto position = [&](std::uint32_t i) {
+    const Vec3& p = points[i];
+    return std::tuple(p.x + 0.0, p.y + 0.0, p.z + 0.0);
+  };
+  std::vector<std::uint32_t> keeper, run;
+  for (std::size_t a = 0, b; a < order.size(); a = b) {
+    for (b = a + 1; b < order.size() && keys[b] == keys[a]; ++b) {}
+    if (b - a == 1) continue;
+    run.assign(order.begin() + static_cast<std::ptrdiff_t>(a), order.begin() + static_cast<std::ptrdiff_t>(b));
+    std::sort(run.begin(), run.end(), [&](std::uint32_t p, std::uint32_t q) { return position(p) < position(q); });
+    for (std::size_t i = 0, j; i < run.size(); i = j) {
+      std::uint32_t best = run[i];
+      for (j = i + 1; j < run.size() && points[run[j]] == points[run[i]]; ++j)
+        if (keeps_over(run[j], best, lifts)) best = run[j];
+      if (j - i == 1) continue;
+      if (keeper.empty()) keeper.assign(points.size(), kNoIndex);
+      for (std::size_t k = i; k < j; ++k)
+        if (run[k] != best) keeper[run[k]] = best;
+    }
+  }
+  return keeper;
+}
+
 std::vector<std::uint32_t> same_position_keeper(std::span<const Vec3> points, std::span<const double> lifts) {
   auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v + 0.0); };
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
@@ -99,7 +143,7 @@ std::vector<std::uint32_t> same_position_keeper(std::span<const Vec3> points, st
       std::uint32_t best = p;
       for (std::size_t j = a; j < b; ++j) {
         const std::uint32_t q = keyed[j].second;
-        if (points[q] == points[p] && (lifts[q] < lifts[best] || (lifts[q] == lifts[best] && q < best))) best = q;
+        if (points[q] == points[p] && keeps_over(q, best, lifts)) best = q;
       }
       if (best == p) continue;
       if (keeper.empty()) keeper.assign(points.size(), kNoIndex);
@@ -125,29 +169,31 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points, std::sp
   // Points at one position keep the largest circle: the others are merged into it before the
   // build. (Closer than the merge distance, the insertion merges them: a vertex hidden by the new
   // circle goes into it, otherwise the new point into the vertex.)
-  return build_sites(points, lifts, same_position_keeper(points, lifts), options, report);
+  require_unit_points(points);  // before positions are compared (NaN)
+  // The default order is a Hilbert order, whose keys find the points at one position.
+  if (!options.spatial_sort || options.brio)
+    return build_sites(points, lifts, same_position_keeper(points, lifts), options, report);
+  std::vector<std::uint64_t> keys;
+  std::vector<std::uint32_t> order = hilbert_order(points, &keys);
+  const std::vector<std::uint32_t> keeper = keeper_in_runs(points, lifts, order, keys);
+  std::vector<std::uint64_t>().swap(keys);
+  return build_sites(points, lifts, keeper, options, report, std::move(order));
 }
 
 SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, std::span<const double> lifts,
                                                  std::span<const std::uint32_t> forced, const DelaunayOptions& options,
-                                                 BuildReport* report) {
+                                                 BuildReport* report, std::vector<std::uint32_t> hilbert) {
   using Clock = std::chrono::steady_clock;
   const std::size_t n = points.size();
   if (n > kMaxSites)
     throw Error(ErrorCode::InvalidArgument, "too many sites: " + std::to_string(n));
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3& p = points[i];
-    const double r2 = norm2(p);
-    if (!std::isfinite(r2) || std::fabs(r2 - 1.0) > 0x1p-49)
-      throw Error(ErrorCode::InvalidArgument,
-                  "point " + std::to_string(i) + " is not a unit vector (|p|^2 = " + format_number(r2) + ")");
-  }
+  require_unit_points(points);
   SphericalDelaunay dt(options);
 
   const auto t0 = Clock::now();
   std::vector<std::uint32_t> order;
   if (options.spatial_sort) {
-    order = options.brio ? brio_order(points, options.seed) : hilbert_order(points);
+    order = options.brio ? brio_order(points, options.seed) : hilbert.empty() ? hilbert_order(points) : std::move(hilbert);
     // Below a thousand points the sparse rounds would hold a handful: one Hilbert pass.
     if (!options.brio && n >= 1024) order = sparse_rounds_first(order, points, options.seed);
   } else {

@@ -92,14 +92,20 @@ void DelaunayHierarchy::build_levels(std::span<const double> lifts, const Delaun
     BuildReport level_report;
     levels_.push_back(lifts.empty() ? SphericalDelaunay::build(pts, options, &level_report)
                                     : SphericalDelaunay::build(pts, pts_lifts, options, &level_report));
-    GEOVOR_ASSERT(level_report.merges.empty());  // a subset of separated sites stays separated
-    GEOVOR_ASSERT(level_report.hidden.empty());  // a vertex of the hull of all is one of any subset's
-    std::vector<SiteId> up(below_capacity, kNoIndex), down(pts.size());
-    std::vector<SiteId> next_base(pts.size());
-    for (SiteId i = 0; i < pts.size(); ++i) {
-      up[picked[i]] = i;
-      down[i] = picked[i];
-      next_base[i] = base_of[picked[i]];
+    // Unweighted sites stay separated in a subset. Weighted vertices may lie closer than the merge
+    // distance (their radii differ): a sample then merges them, and the merged one goes no higher.
+    GEOVOR_ASSERT(lifts.empty() ? level_report.merges.empty() : level_report.hidden.empty());
+    const SphericalDelaunay& above = levels_.back();
+    std::vector<SiteId> up(below_capacity, kNoIndex), down(above.site_capacity(), kNoIndex);
+    std::vector<SiteId> next_base(above.site_capacity(), kNoIndex);
+    std::vector<char> merged(pts.size(), 0);
+    for (const Merge& m : level_report.merges) merged[m.input] = 1;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const SiteId u = level_report.site_of_input.empty() ? static_cast<SiteId>(i) : level_report.site_of_input[i];
+      if (merged[i] || !above.is_live(u)) continue;
+      up[picked[i]] = u;
+      down[u] = picked[i];
+      next_base[u] = base_of[picked[i]];
     }
     up_.push_back(std::move(up));
     down_.push_back(std::move(down));
@@ -131,7 +137,6 @@ DelaunayHierarchy DelaunayHierarchy::from_parts(const HierarchyOptions& options,
   for (std::size_t l = 0; l + 1 < n; ++l) {
     const SphericalDelaunay& lo = levels[l];
     const SphericalDelaunay& hi = levels[l + 1];
-    if (hi.num_hidden() > 0) fail("level " + std::to_string(l + 1) + " has hidden sites");
     double common_lift = -1;  // of the copies on a level above without weights
     for (SiteId s = 0; s < lo.site_capacity(); ++s) {
       const SiteId u = up[l][s];
@@ -162,7 +167,8 @@ DelaunayHierarchy DelaunayHierarchy::from_parts(const HierarchyOptions& options,
     int l = 0;
     SiteId c = s;
     while (l + 1 < h.num_levels() && h.up(l, c) != kNoIndex) c = h.up(l, c), ++l;
-    if (l != std::min(h.drawn_level(s), h.num_levels() - 1))
+    const int drawn = std::min(h.drawn_level(s), h.num_levels() - 1);
+    if (base.is_weighted() ? l > drawn : l != drawn)  // weighted: a merge in a sample stops a site
       fail("site " + std::to_string(s) + " is on " + std::to_string(l + 1) + " levels, its draw gives " +
            std::to_string(std::min(h.drawn_level(s), h.num_levels() - 1) + 1));
   }
@@ -317,7 +323,8 @@ Validation DelaunayHierarchy::validate() const {
     int l = 0;
     SiteId c = s;
     while (l + 1 < num_levels() && up(l, c) != kNoIndex) c = up(l, c), ++l;
-    if (l != std::min(drawn_level(s), num_levels() - 1))
+    const int drawn = std::min(drawn_level(s), num_levels() - 1);
+    if (is_weighted() ? l > drawn : l != drawn)  // weighted: a merge in a sample stops a site
       v.errors.push_back("site " + std::to_string(s) + " is on " + std::to_string(l + 1) + " levels, drawn " +
                          std::to_string(drawn_level(s) + 1));
   }

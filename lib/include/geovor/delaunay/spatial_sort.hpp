@@ -16,8 +16,10 @@ namespace geovor {
 /// face borders.
 std::uint64_t hilbert_key(const Vec3& p) noexcept;
 
-/// Indices of `points` in Hilbert-key order (ties by index).
-std::vector<std::uint32_t> hilbert_order(std::span<const Vec3> points);
+/// Indices of `points` in Hilbert-key order (ties by index), on a grid of about 4 cells per point.
+/// With `keys`, also the key of each point of the order (keys[k] of order[k]): points at one
+/// position share a cell, hence a run of equal keys.
+std::vector<std::uint32_t> hilbert_order(std::span<const Vec3> points, std::vector<std::uint64_t>* keys = nullptr);
 
 /// A BRIO order: each point is drawn (deterministically from `seed` and its index) into one of
 /// rounds of geometrically growing size (about half the points in the last round, a quarter in

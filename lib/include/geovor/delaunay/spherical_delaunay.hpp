@@ -303,10 +303,11 @@ class SphericalDelaunay {
   void touch() { revision_ = next_revision(); }  // every change of sites or triangles calls it
   static void check_weights(const Arrays& arrays);  // from_arrays' checks of the weights
   // build() of either kind: lifts empty for unweighted sites; forced[i], if not empty and not
-  // kNoIndex, is an input point that point i merges into (weighted only: same positions).
+  // kNoIndex, is an input point that point i merges into (weighted only: same positions);
+  // hilbert, if not empty, is hilbert_order(points), already computed.
   static SphericalDelaunay build_sites(std::span<const Vec3> points, std::span<const double> lifts,
                                        std::span<const std::uint32_t> forced, const DelaunayOptions& options,
-                                       BuildReport* report);
+                                       BuildReport* report, std::vector<std::uint32_t> hilbert = {});
   // Weighted build: hidden_by_ from slots to final ids (lifts_ are already by id, copied from the
   // input); who hides each hidden site.
   void renumber_weights(std::span<const SiteId> new_id, std::size_t num_ids);

@@ -44,7 +44,9 @@ class DelaunayHierarchy {
 
   /// The hierarchy of weighted sites: level 0 is SphericalDelaunay::build(points, lifts) (its
   /// hidden sites are on no level above), each level above the regular triangulation of its
-  /// sample with the same lifts (a level whose sample has equal lifts is unweighted).
+  /// sample with the same lifts (a level whose sample has equal lifts is unweighted). Vertices
+  /// closer than the merge distance (with different radii) merge in a sample: the merged one
+  /// goes no higher than the level below it.
   /// @exception Error(InvalidArgument) as SphericalDelaunay::build, or for invalid options.
   static DelaunayHierarchy build(std::span<const Vec3> points, std::span<const double> lifts,
                                  const DelaunayOptions& options = {}, const HierarchyOptions& hierarchy = {},
@@ -57,7 +59,7 @@ class DelaunayHierarchy {
   /// are in range, up and down are inverse on live sites, every copy is the same point (with the
   /// same lift; a level above without weights has copies of equal lifts), every
   /// live site above the base has a copy below, and every live base site is on the levels its
-  /// draw gives. The levels' own structure is from_arrays()'s to check.
+  /// draw gives (weighted: at most those). The levels' own structure is from_arrays()'s to check.
   /// @exception Error(BadData) naming the first broken invariant.
   static DelaunayHierarchy from_parts(const HierarchyOptions& options, std::vector<SphericalDelaunay> levels,
                                       std::vector<std::vector<SiteId>> up, std::vector<std::vector<SiteId>> down);
