@@ -13,6 +13,7 @@
 #include <set>
 #include <vector>
 
+#include "kernel/in_sphere_filter.hpp"
 #include "support/generators.hpp"
 
 namespace geovor::kernel {
@@ -253,6 +254,50 @@ TEST(WeightedPredicates, InSphereMatchesTheExactLiftedOrientation) {
     if (c[0] == c[1] && c[1] == c[2] && c[2] == c[3]) EXPECT_EQ(exact, sgn(in_sphere_sign(p[0], p[1], p[2], p[3])));
   }
   EXPECT_GT(decided_by_exact_stage, 0);  // the filter's bound is exercised
+}
+
+// The build's static filter on rounded lifted points (kernel/in_sphere_filter.hpp): whenever it
+// decides, it gives the exact sign; on lifted points exactly coplanar (circles through one point)
+// it never decides.
+TEST(WeightedPredicates, LiftedStaticFilterIsExactWhenItDecides) {
+  std::mt19937_64 rng(23);
+  const auto pts = testing::uniform_on_sphere(300, 6);
+  const auto near = testing::clustered(300, 3, 1e-4, 7);
+  std::uniform_real_distribution<double> radius(0.0, 1.5707963);
+  int decided = 0, undecided = 0;
+  for (int trial = 0; trial < 30000; ++trial) {
+    const auto& set = trial % 2 ? near : pts;
+    std::array<Vec3, 4> p;
+    std::array<double, 4> c;
+    const Vec3 x = set[rng() % set.size()];
+    for (int i = 0; i < 4; ++i) {
+      p[i] = set[rng() % set.size()];
+      switch (trial % 4) {
+        case 0: c[i] = std::cos(radius(rng)); break;                      // any radius up to the limit
+        case 1: c[i] = std::cos(1e-4 * radius(rng)); break;               // small radii
+        case 2: c[i] = dot(p[i], x) > 1e-3 ? dot(p[i], x) : 0.5; break;  // circles through x: coplanar
+        default: c[i] = std::nextafter(0.75, i % 2 ? 1.0 : 0.0);          // lifts one ulp apart
+      }
+    }
+    double smallest = 1;
+    std::array<Vec3, 4> l;
+    for (int i = 0; i < 4; ++i) {
+      l[i] = {p[i].x / c[i], p[i].y / c[i], p[i].z / c[i]};
+      smallest = std::min(smallest, c[i]);
+    }
+    const int got = detail::in_sphere_lifted_static(l[0], l[1], l[2], l[3],
+                                                     detail::lifted_static_bound((1 + 0x1p-39) / smallest));
+    if (got == 0) {
+      ++undecided;
+      continue;
+    }
+    ++decided;
+    const int exact = exact_in_sphere(lifted(p[0], c[0]), lifted(p[1], c[1]), lifted(p[2], c[2]), lifted(p[3], c[3]));
+    ASSERT_EQ(got, exact) << trial;
+    ASSERT_EQ(got, sgn(in_sphere_weighted(p[0], c[0], p[1], c[1], p[2], c[2], p[3], c[3]))) << trial;
+  }
+  EXPECT_GT(decided, 10000);
+  EXPECT_GT(undecided, 100);
 }
 
 TEST(WeightedPredicates, PerturbationIsTheSignOfAnActualSmallMotionOfTheLiftedPoints) {

@@ -4,6 +4,7 @@
 #include "delaunay/cavity.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 
 #include "delaunay/conflict.hpp"
@@ -25,6 +26,9 @@ bool SphericalDelaunay::find_cavity_filtered(const Vec3& p, double c_p, TriId se
   const HalfedgeId* const twin = halfedges_.data();
   const Vec3* const site = sites_.data();
   const double* const lift = lifts_.data();
+  const Vec3* const lifted = lifted_.data();  // the build's lifted points (empty otherwise)
+  const Vec3 lp{p.x / c_p, p.y / c_p, p.z / c_p};
+  const double lifted_bound = lifted_.empty() ? INFINITY : lifted_bound_;
   const std::size_t nt0 = num_tested_;
   std::size_t nc = 0, nt = nt0, nb = 0;
   if (cap_c == 0) return false;
@@ -38,9 +42,11 @@ bool SphericalDelaunay::find_cavity_filtered(const Vec3& p, double c_p, TriId se
     if (!(u1 & kMark)) {          // not tested before
       const SiteId u2 = tri[3 * u + 2];
       int c;
-      if constexpr (kWeighted)
-        c = kernel::detail::in_sphere_weighted_filter(site[u0], lift[u0], site[u1], lift[u1], site[u2], lift[u2], p, c_p);
-      else
+      if constexpr (kWeighted) {
+        c = lifted ? kernel::detail::in_sphere_lifted_static(lifted[u0], lifted[u1], lifted[u2], lp, lifted_bound) : 0;
+        if (c == 0)
+          c = kernel::detail::in_sphere_weighted_filter(site[u0], lift[u0], site[u1], lift[u1], site[u2], lift[u2], p, c_p);
+      } else
         c = kernel::detail::in_sphere_unit_filter(site[u0], site[u1], site[u2], p);
       if (c == 0) return false;
       if (c > 0) {

@@ -19,9 +19,16 @@ inline bool SphericalDelaunay::in_conflict(TriId t, const Vec3& p, double c, std
     // Sites and inserted points are unit vectors (checked on input): the static filter applies.
     filtered = kernel::detail::in_sphere_unit_filter(s[tri[0]], s[tri[1]], s[tri[2]], p);
   } else {
+    filtered = 0;
+    if (!lifted_.empty()) {  // the build: the static filter on the lifted points first
+      const Vec3* l = lifted_.data();
+      filtered = kernel::detail::in_sphere_lifted_static(l[tri[0]], l[tri[1]], l[tri[2]], {p.x / c, p.y / c, p.z / c},
+                                                         lifted_bound_);
+    }
     const double* w = lifts_.data();
-    filtered = kernel::detail::in_sphere_weighted_filter(s[tri[0]], w[tri[0]], s[tri[1]], w[tri[1]], s[tri[2]],
-                                                         w[tri[2]], p, c);
+    if (filtered == 0)
+      filtered = kernel::detail::in_sphere_weighted_filter(s[tri[0]], w[tri[0]], s[tri[1]], w[tri[1]], s[tri[2]],
+                                                           w[tri[2]], p, c);
   }
   if (filtered != 0) [[likely]]
     return filtered > 0;

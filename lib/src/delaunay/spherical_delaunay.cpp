@@ -18,6 +18,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/delaunay/spatial_sort.hpp"
 #include "geovor/kernel/predicates.hpp"
+#include "kernel/in_sphere_filter.hpp"
 
 namespace geovor {
 namespace {
@@ -221,7 +222,10 @@ SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, s
   // Weighted: points at one position are merged into the largest circle there (forced, from
   // build()); closer than the merge distance, they merge as they are inserted.
   std::vector<std::uint32_t> keeper, slot_of_input;
-  if (weighted) dt.hidden_by_.assign(n, kNoIndex);
+  if (weighted) {
+    dt.hidden_by_.assign(n, kNoIndex);
+    dt.lift_sites();
+  }
   if (!forced.empty()) {
     keeper.assign(forced.begin(), forced.end());
     slot_of_input.resize(n);
@@ -317,6 +321,7 @@ SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, s
   for (SiteId& s : dt.triangles_) s = new_id[s];
   if (dt.last_site_ != kNoIndex) dt.last_site_ = new_id[dt.last_site_];
   if (weighted) dt.renumber_weights(new_id, next);
+  std::vector<Vec3>().swap(dt.lifted_);
   peak = std::max(peak, dt.memory_bytes() + 2 * n * sizeof(SiteId));
   const auto t2 = Clock::now();
 
@@ -344,6 +349,18 @@ SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, s
     report->peak_bytes = peak;
   }
   return dt;
+}
+
+void SphericalDelaunay::lift_sites() {
+  lifted_.resize(sites_.size());
+  double smallest = 1;
+  for (std::size_t k = 0; k < sites_.size(); ++k) {
+    const double c = lifts_[k];
+    lifted_[k] = {sites_[k].x / c, sites_[k].y / c, sites_[k].z / c};
+    smallest = std::min(smallest, c);
+  }
+  // Every coordinate of an exact or rounded lifted point: at most (1 + 2^-40) / c (1 + u).
+  lifted_bound_ = kernel::detail::lifted_static_bound((1 + 0x1p-39) / smallest);
 }
 
 void SphericalDelaunay::renumber_weights(std::span<const SiteId> new_id, std::size_t num_ids) {

@@ -117,4 +117,18 @@ inline Sign in_sphere_filtered(const Vec3& p, const Vec3& q, const Vec3& r, cons
   return in_sphere_exact(p, q, r, s);
 }
 
+/// The weighted test on the lifted points, a static filter ahead of in_sphere_weighted_filter:
+/// sign(E) is the sign of det(Q_q - Q_p, Q_r - Q_p, Q_s - Q_p) of the exact lifted points
+/// Q_i = p_i / c_i (E / (c_p c_q c_r c_s), by the scaling of the rows). Given the lifted points
+/// rounded once per coordinate (lq_i = fl(p_i / c_i), within u M of Q_i) and M bounding every
+/// coordinate of both, the computed determinant is within 5.2e-14 M^3 of the exact one:
+/// Shewchuk's bound on a permanent below 48.01 M^3 (3.73e-14 M^3), plus, by multilinearity,
+/// three terms |det(dB, C, D)| <= sqrt(3) 2uM (sqrt(3) 2M)^2 for the rounding (1.39e-14 M^3) and
+/// terms of order u^2. lifted_static_bound(M) rounds that up; +1 or -1 when certified, 0 when not.
+inline double lifted_static_bound(double m) noexcept { return 6e-14 * (m * m * m); }
+inline int in_sphere_lifted_static(const Vec3& lp, const Vec3& lq, const Vec3& lr, const Vec3& ls, double bound) noexcept {
+  const double det = in_sphere_det(lp, lq, lr, ls, nullptr);
+  return (det > bound) - (-det > bound);
+}
+
 }  // namespace geovor::kernel::detail

@@ -308,6 +308,7 @@ class SphericalDelaunay {
   static SphericalDelaunay build_sites(std::span<const Vec3> points, std::span<const double> lifts,
                                        std::span<const std::uint32_t> forced, const DelaunayOptions& options,
                                        BuildReport* report, std::vector<std::uint32_t> hilbert = {});
+  void lift_sites();  // weighted build: lifted_ and lifted_bound_ of the slots
   // Weighted build: hidden_by_ from slots to final ids (lifts_ are already by id, copied from the
   // input); who hides each hidden site.
   void renumber_weights(std::span<const SiteId> new_id, std::size_t num_ids);
@@ -410,6 +411,10 @@ class SphericalDelaunay {
   std::vector<std::uint32_t> priority_;  // empty: priority = site id (a link hull uses global ids)
   std::vector<double> lifts_;            // weighted only: cos(r / R) of each site (by id)
   std::vector<SiteId> hidden_by_;        // weighted only: kNoIndex, or who hides the site
+  // Weighted build only (freed after it): each slot's lifted point fl(site / lift), and the
+  // static bound of the filter on them (kernel/in_sphere_filter.hpp, in_sphere_lifted_static).
+  std::vector<Vec3> lifted_;
+  double lifted_bound_ = 0;
   std::vector<Merge> absorbed_;          // weighted build: vertices merged into the site that hid them
   mutable bool origin_inside_ = false;   // origin_inside()'s cache
   mutable std::size_t origin_checked_at_ = 2;
