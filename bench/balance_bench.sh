@@ -3,8 +3,8 @@
 # stations with equal shares and with the synthetic capacity 1 + (row mod 5) (they have no
 # capacity column; see balance_bench.cpp), and on the 171,075 cities with equal shares, each
 # against Lloyd's iterations; prints each run's summary line (the full logs stay in LOGS).
-# Lloyd's iterations after 10, 50 and 200 (LLOYD_CITIES for the cities: 200 take about 45 s there).
-# Takes about 4 minutes on 2 cores. Exit: the last failing case's (1: not converged), else 0.
+# Lloyd's iterations after 10, 50 and 200 (LLOYD_CITIES for the cities: 200 take 35 to 45 s there).
+# Takes about 3 minutes on 2 cores. Exit: the last failing case's (1: not converged), else 0.
 # Usage: [LOGS=dir] [LLOYD_CITIES=10,50,200] bench/balance_bench.sh [BUILD_DIR=build]
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
