@@ -115,7 +115,8 @@ geovor::SiteTable load_sites(const Args& args) {
 // Column `field` typed Real by the library (a bad value is its Error naming the row), then parsed.
 std::vector<double> capacities_from_column(geovor::SiteTable& table, const std::string& field) {
   const int column = geovor::find_column(table.columns, field);
-  if (column < 0) throw geovor::Error(geovor::ErrorCode::InvalidArgument, table.source + ": no capacity column '" + field + "'");
+  if (column < 0)
+    throw geovor::Error(geovor::ErrorCode::InvalidArgument, table.source + ": no capacity column '" + field + "'");
   const std::vector<geovor::FieldTypeOverride> real{{field, geovor::FieldType::Real}};
   geovor::apply_field_types(table, real);
   const auto c = static_cast<std::size_t>(column);
@@ -156,13 +157,13 @@ BalanceRun run_balance(const std::vector<geovor::Vec3>& points, const std::vecto
                        const geovor::BalanceOptions& options) {
   const auto t0 = Clock::now();
   int k = 0;
+  const auto print_iteration = [&k](const geovor::BalanceIteration& it) {
+    std::printf("iteration %d: max relative error %.3e, step %g, hidden in rejected trials %zu, %.2f s\n", ++k,
+                it.max_relative_error, it.step, it.hidden, it.seconds);
+    std::fflush(stdout);
+  };
   BalanceRun run;
-  run.report = geovor::balance(points, shares, geovor::EllipsoidAreaMeasure(), options, {},
-                               [&](const geovor::BalanceIteration& it) {
-                                 std::printf("iteration %d: max relative error %.3e, step %g, hidden in rejected trials %zu, %.2f s\n",
-                                             ++k, it.max_relative_error, it.step, it.hidden, it.seconds);
-                                 std::fflush(stdout);
-                               });
+  run.report = geovor::balance(points, shares, geovor::EllipsoidAreaMeasure(), options, {}, print_iteration);
   run.seconds = seconds_since(t0);
   double largest = 0;
   for (const double x : run.report.radii_m) largest = std::max(largest, x);
@@ -172,9 +173,9 @@ BalanceRun run_balance(const std::vector<geovor::Vec3>& points, const std::vecto
   return run;
 }
 
-// Each site's target mass under `shares` (the shares of points merged into a site summed, as balance() does).
-std::vector<double> site_targets(const geovor::BuildReport& build, std::size_t num_ids, const std::vector<double>& shares,
-                                 double total) {
+// Each site's target mass under `shares` (merged points' shares summed into their site's, as balance() does).
+std::vector<double> site_targets(const geovor::BuildReport& build, std::size_t num_ids,
+                                 const std::vector<double>& shares, double total) {
   std::vector<double> targets(num_ids, 0.0);
   double sum = 0;
   for (std::size_t i = 0; i < shares.size(); ++i) {
@@ -200,7 +201,7 @@ struct LloydPoint {
   int iterations = 0;
   double seconds = 0;      // the build and the iterations so far, not the measuring
   double error_equal = 0;  // against equal shares, what Lloyd's iterations even out
-  double error_shares = 0; // against the run's shares (equal_error with equal shares)
+  double error_shares = 0; // against the run's shares (error_equal with equal shares)
 };
 
 // The other way to even out areas: Lloyd's iterations move the sites to their cells' centroids.
