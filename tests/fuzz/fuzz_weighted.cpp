@@ -75,7 +75,8 @@ void check_locator(Bytes& in, std::span<const Vec3> pts, std::span<const double>
         if (!dt.is_live(s) || s == got) continue;
         const Sign c = kernel::compare_power(q, dt.site(s), dt.lift(s), dt.site(got), dt.lift(got));
         FUZZ_CHECK(c == Sign::Negative || (c == Sign::Zero && s > got),
-                   "locator: site %u has %s power than the answer %u", s, c == Sign::Zero ? "equal" : "larger", got);
+                   "locator (%s): site %u has %s power than the answer %u at q = (%.17g, %.17g, %.17g)",
+                   packed ? "packed" : "hierarchy", s, c == Sign::Zero ? "equal" : "larger", got, q.x, q.y, q.z);
       }
     }
   }

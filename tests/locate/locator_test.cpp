@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "geovor/core/error.hpp"
@@ -448,6 +449,33 @@ TEST(WeightedLocator, HugeCirclesNestedCirclesAndGridTies) {
     const DelaunayHierarchy h = DelaunayHierarchy::build(pts, lifts);
     expect_power_answers(h, weighted_queries(h.base(), 68), "grid with two radii");
   }
+}
+
+// Regression (fuzz_weighted, 2026-12-07): circles through the north pole put their lifted points
+// on the plane z = 1, a face of the hull with a site inside it. At the south pole every site of
+// that face ties, and the exact walk from the inner site stopped there (no neighbour strictly
+// better) although the huge circles in the south have a far larger power.
+TEST(WeightedLocator, APlateauOfTiesIsLeftForABetterNeighbour) {
+  std::vector<Vec3> pts{{0, 0, 1}};  // site 0, inside the face
+  std::vector<double> lifts{1};
+  for (int k = 0; k < 6; ++k) {
+    const double lon = k * std::numbers::pi / 3, z = 0.8 + 0.02 * k;
+    const double r = std::sqrt(1 - z * z);
+    pts.push_back(testing::normalized({r * std::cos(lon), r * std::sin(lon), z}));
+    lifts.push_back(pts.back().z);  // the circle through the north pole
+  }
+  for (int k = 0; k < 4; ++k) {
+    const double lon = 0.3 + k * std::numbers::pi / 2;
+    pts.push_back(testing::normalized({std::cos(lon), std::sin(lon), -0.1 - 0.05 * k}));
+    lifts.push_back(std::ldexp(1.0, -31));  // radii near the limit
+  }
+  const DelaunayHierarchy h = DelaunayHierarchy::build(pts, lifts);
+  ASSERT_TRUE(h.validate().ok());
+  std::vector<Vec3> queries{{0, 0, -1}, {0, 0, 1}};
+  for (const Vec3& p : testing::uniform_on_sphere(200, 74)) queries.push_back(p);
+  expect_power_answers(h, queries, "a plateau of ties");
+  Locator walk(h, {LocateStrategy::Walk});
+  EXPECT_NE(walk.nearest({0, 0, -1}).site, 0u);
 }
 
 TEST(WeightedLocator, KNearestAndWithinGoByPower) {

@@ -72,11 +72,6 @@ std::uint64_t SphericalDelaunay::next_revision() {
 // ---------------------------------------------------------------------------------------------
 // Build
 
-SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
-                                           const DelaunayOptions& options, BuildReport* report) {
-  return build_sites(points, {}, {}, options, report);
-}
-
 namespace {
 void require_unit_points(std::span<const Vec3> points) {
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -87,9 +82,6 @@ void require_unit_points(std::span<const Vec3> points) {
   }
 }
 
-// For each point, the point at its position with the smallest lift (the first of them on ties)
-// when that is another one, else kNoIndex; empty when no two points share a position. Sorted by a
-// hash of the bits, then compared exactly within equal hashes (-0 is 0).
 // The point of a group at one position that the others merge into: the smallest lift, then the
 // first in input order.
 bool keeps_over(std::uint32_t q, std::uint32_t best, std::span<const double> lifts) {
@@ -124,6 +116,9 @@ std::vector<std::uint32_t> keeper_in_runs(std::span<const Vec3> points, std::spa
   return keeper;
 }
 
+// For each point, the point at its position with the smallest lift (the first of them on ties)
+// when that is another one, else kNoIndex; empty when no two points share a position. Sorted by a
+// hash of the bits, then compared exactly within equal hashes (-0 is 0).
 std::vector<std::uint32_t> same_position_keeper(std::span<const Vec3> points, std::span<const double> lifts) {
   auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v + 0.0); };
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
@@ -155,6 +150,12 @@ std::vector<std::uint32_t> same_position_keeper(std::span<const Vec3> points, st
 }
 }  // namespace
 
+SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points,
+                                           const DelaunayOptions& options, BuildReport* report) {
+  require_unit_points(points);
+  return build_sites(points, {}, {}, options, report);
+}
+
 SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points, std::span<const double> lifts,
                                            const DelaunayOptions& options, BuildReport* report) {
   if (lifts.size() != points.size())
@@ -166,11 +167,11 @@ SphericalDelaunay SphericalDelaunay::build(std::span<const Vec3> points, std::sp
                   "point " + std::to_string(i) + ": lift " + format_number(lifts[i]) + " is not in (0, 1]");
   // Equal lifts: the same signs as no lifts (the determinant scales by the lift).
   const bool equal = std::all_of(lifts.begin(), lifts.end(), [&](double c) { return c == lifts[0]; });
+  require_unit_points(points);  // before positions are compared (NaN)
   if (equal) return build_sites(points, {}, {}, options, report);
   // Points at one position keep the largest circle: the others are merged into it before the
   // build. (Closer than the merge distance, the insertion merges them: a vertex hidden by the new
   // circle goes into it, otherwise the new point into the vertex.)
-  require_unit_points(points);  // before positions are compared (NaN)
   // The default order is a Hilbert order, whose keys find the points at one position.
   if (!options.spatial_sort || options.brio)
     return build_sites(points, lifts, same_position_keeper(points, lifts), options, report);
@@ -188,7 +189,6 @@ SphericalDelaunay SphericalDelaunay::build_sites(std::span<const Vec3> points, s
   const std::size_t n = points.size();
   if (n > kMaxSites)
     throw Error(ErrorCode::InvalidArgument, "too many sites: " + std::to_string(n));
-  require_unit_points(points);
   SphericalDelaunay dt(options);
 
   const auto t0 = Clock::now();

@@ -307,7 +307,12 @@ std::uint32_t Locator::climb_and_descend(const G& g, const Vec3& q, std::uint32_
   }
 }
 
-// Certified walk at level 0 with exact comparisons, then the lowest id among exact ties.
+// Certified walk at level 0 with exact comparisons, then the lowest id among exact ties. A site
+// with no strictly better neighbour may still not be the best: on a plateau of ties (lifted points
+// on one face of the hull, a site inside it), a tied site can have a better neighbour. So the
+// plateau is explored, and the walk goes on from any strictly better neighbour of it; a plateau
+// without one is the global maximum (the upper level sets of a linear function on the surface of
+// a convex polytope are connected).
 SiteId Locator::certify(const Vec3& q, SiteId v) {
   const SphericalDelaunay& dt = h_->base();
   if (dt.num_triangles() == 0) {
@@ -316,29 +321,40 @@ SiteId Locator::certify(const Vec3& q, SiteId v) {
       if (dt.is_live(s) && (best == kNoIndex || nearer(q, dt, s, best))) best = s;
     return best;
   }
-  bool tie = false;
   for (;;) {
-    SiteId next = v;
-    tie = false;
-    const HalfedgeId e0 = dt.site_edge(v);
-    HalfedgeId e = e0;
-    do {
-      const SiteId w = dt.triangles()[next_halfedge(e)];
-      const Sign c = compare_at(q, dt, w, next);
-      if (c == Sign::Positive) {
-        next = w;
-      } else if (c == Sign::Zero && next == v) {
-        tie = true;  // a neighbour as near as v: look for the lowest id below
-      }
-      e = dt.next_around_site(e);
-    } while (e != e0);
-    if (next == v) break;
-    v = next;
+    bool tie = false;
+    for (;;) {  // strict improvements
+      SiteId next = v;
+      tie = false;
+      const HalfedgeId e0 = dt.site_edge(v);
+      HalfedgeId e = e0;
+      do {
+        const SiteId w = dt.triangles()[next_halfedge(e)];
+        const Sign c = compare_at(q, dt, w, next);
+        if (c == Sign::Positive) {
+          next = w;
+        } else if (c == Sign::Zero && next == v) {
+          tie = true;  // a neighbour as near as v: look for the lowest id below
+        }
+        e = dt.next_around_site(e);
+      } while (e != e0);
+      if (next == v) break;
+      v = next;
+      ++stats_.exact_steps;
+    }
+    if (!tie) return v;  // strictly nearer than every neighbour, hence than every other site
+    const SiteId better = explore_plateau(q, v);
+    if (better == kNoIndex) return v;  // explore_plateau set v to the plateau's lowest id
+    v = better;
     ++stats_.exact_steps;
   }
-  if (!tie) return v;  // strictly nearer than every neighbour, hence than every other site
-  // The sites tied with v form a connected part of the graph (a face of the hull): collect it.
-  SiteId best = v;
+}
+
+// The sites tied with v form a connected part of the graph: collects it. Returns a neighbour of
+// it strictly better than v, or kNoIndex after setting v to the plateau's lowest id.
+SiteId Locator::explore_plateau(const Vec3& q, SiteId& v) {
+  const SphericalDelaunay& dt = h_->base();
+  SiteId lowest = v;
   std::vector<SiteId> tied{v}, stack{v};
   while (!stack.empty()) {
     const SiteId s = stack.back();
@@ -347,16 +363,20 @@ SiteId Locator::certify(const Vec3& q, SiteId v) {
     HalfedgeId e = e0;
     do {
       const SiteId w = dt.triangles()[next_halfedge(e)];
-      if (std::find(tied.begin(), tied.end(), w) == tied.end() &&
-          compare_at(q, dt, w, v) == Sign::Zero) {
-        tied.push_back(w);
-        stack.push_back(w);
-        best = std::min(best, w);
+      if (std::find(tied.begin(), tied.end(), w) == tied.end()) {
+        const Sign c = compare_at(q, dt, w, v);
+        if (c == Sign::Positive) return w;
+        if (c == Sign::Zero) {
+          tied.push_back(w);
+          stack.push_back(w);
+          lowest = std::min(lowest, w);
+        }
       }
       e = dt.next_around_site(e);
     } while (e != e0);
   }
-  return best;
+  v = lowest;
+  return kNoIndex;
 }
 
 template <class G>

@@ -178,6 +178,7 @@ class Locator {
   template <class G>
   std::uint32_t from_level(const G& g, const Vec3& q, int level, std::uint32_t v, double* margin);
   SiteId certify(const Vec3& q, SiteId v);
+  SiteId explore_plateau(const Vec3& q, SiteId& v);
 
   const DelaunayHierarchy* h_;
   LocatorOptions options_;
