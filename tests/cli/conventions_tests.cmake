@@ -76,3 +76,9 @@ endforeach()
 add_test(NAME cli.conventions.huge_pages
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/huge_pages.sh $<TARGET_FILE:geovor_cli> ${PROJECT_SOURCE_DIR}/${fixtures}/three_sites.csv
           ${conv_out}/huge_pages)
+
+# scripts/geovor says that it is building, and where the log is, instead of minutes of silence on
+# a fresh machine; silent when the command is up to date; a failed build shows its log (issue 34).
+add_test(NAME cli.conventions.scripts_geovor_says_it_builds
+  COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/scripts_geovor.sh ${PROJECT_SOURCE_DIR})
+set_tests_properties(cli.conventions.scripts_geovor_says_it_builds PROPERTIES LABELS "cli" TIMEOUT 60)
