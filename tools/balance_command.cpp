@@ -42,7 +42,7 @@ struct BalanceArgs {
 void check_writable(const std::string& path, bool overwrite) {
   if (path.empty() || path == "-" || overwrite) return;
   std::error_code ec;
-  if (std::filesystem::exists(path, ec)) throw Error(ErrorCode::Io, path + ": exists; use --overwrite");
+  if (std::filesystem::exists(path, ec)) throw Error(ErrorCode::Io, output_exists(path));
 }
 
 // The capacity in `text`, or why it is none.

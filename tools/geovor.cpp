@@ -92,8 +92,7 @@ int unknown_command(const std::string& name, const std::vector<std::string>& com
 }  // namespace
 
 bool output_needs_gdal(const std::string& path, const std::string& format) {
-  const std::string f = ascii_lower(!format.empty() ? format : path == "-" ? std::string("GeoJSON") : format_from_extension(path));
-  return f != "geojson" && f != "geojsonseq";
+  return output_kind(path, format) == OutputKind::Gdal;
 }
 
 int finish_command(int code) {

@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
+#include "geovor/core/output_target.hpp"
 #include "geovor/locate/index_file.hpp"
 #include "site_input.hpp"
 
@@ -30,7 +31,7 @@ int run(IndexArgs& args) {
   struct stat st;
   // Refuse an existing output before the work (save_index checks again, atomically).
   if (!args.overwrite && stat(args.output.c_str(), &st) == 0)
-    throw Error(ErrorCode::Io, args.output + ": exists; use --overwrite to replace it");
+    throw Error(ErrorCode::Io, output_exists(args.output));
   TableBuild summary;
   const SiteIndex index = build_index_from_table(args.sites, &summary);
   const auto t0 = std::chrono::steady_clock::now();

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
+#include "geovor/core/output_target.hpp"
 #include "geovor/io/feature_writer.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
 #include "geovor/layers/nearest_join.hpp"
@@ -67,17 +67,8 @@ bool queries_are_ogr(const NearestArgs& args) {
   return !args.query_layer.empty() || (args.queries != "-" && !is_csv_site_path(args.queries));
 }
 
-// Whether the output is geovor's CSV (no geometry) rather than point features: "-", a .csv or
-// .txt name, a name without an extension (/dev/null), or --format CSV.
-bool writes_csv(const NearestArgs& args) {
-  if (!args.format.empty()) return ascii_iequals(args.format, "CSV");
-  if (args.output == "-") return true;
-  const std::string name = args.output.substr(args.output.rfind('/') + 1);
-  const std::size_t dot = name.rfind('.');
-  if (dot == std::string::npos || dot == 0) return true;
-  const std::string ext = ascii_lower(name.substr(dot + 1));
-  return ext == "csv" || ext == "txt";
-}
+// Whether the output is geovor's CSV (no geometry) rather than point features (output_kind).
+bool writes_csv(const NearestArgs& args) { return output_kind(args.output, args.format, true) == OutputKind::Text; }
 
 int run(NearestArgs& args) {
   const std::string& sites_path = args.sites.input;
@@ -112,7 +103,7 @@ int run(NearestArgs& args) {
   struct stat st;
   if (args.output != "-" && !args.overwrite && !args.model.update && stat(args.output.c_str(), &st) == 0 &&
       S_ISREG(st.st_mode))
-    throw Error(ErrorCode::Io, args.output + ": exists; use --overwrite to replace it (or --update to add a layer)");
+    throw Error(ErrorCode::Io, output_exists(args.output, " (or --update to add a layer)"));
 
   // The sites: an index file, or a table built here.
   const bool is_index = is_index_path(sites_path);

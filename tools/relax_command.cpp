@@ -34,7 +34,7 @@ struct RelaxArgs {
 void check_writable(const std::string& path, bool overwrite) {
   if (path.empty() || path == "-" || overwrite) return;
   std::error_code ec;
-  if (std::filesystem::exists(path, ec)) throw Error(ErrorCode::Io, path + ": exists; use --overwrite");
+  if (std::filesystem::exists(path, ec)) throw Error(ErrorCode::Io, output_exists(path));
 }
 
 // The final sites as points (geovor/layers/site_layer.hpp).

@@ -32,6 +32,11 @@ class TempDir : public testing::TempDir {
 };
 
 // The commit: without overwrite an existing name is left alone (EEXIST), with overwrite replaced.
+TEST(OutputTarget, OneMessageForAnExistingOutput) {
+  EXPECT_EQ(output_exists("a/b.csv"), "a/b.csv: exists; use --overwrite to replace it");
+  EXPECT_EQ(output_exists("x.gpkg", ", or --update"), "x.gpkg: exists; use --overwrite to replace it, or --update");
+}
+
 TEST(OutputTarget, RenameIntoPlace) {
   TempDir dir;
   spit(dir / "new", "new");

@@ -842,6 +842,29 @@ TEST(FeatureWriter, FormatFromExtension) {
   EXPECT_EQ(format_from_extension("b"), "");
 }
 
+// The one rule of what an output is, for every command, Python and the service.
+TEST(FeatureWriter, OutputKind) {
+  EXPECT_EQ(output_kind("-", ""), OutputKind::Native);
+  EXPECT_EQ(output_kind("a/b.geojson", ""), OutputKind::Native);
+  EXPECT_EQ(output_kind("b.JSON", ""), OutputKind::Native);
+  EXPECT_EQ(output_kind("b.geojsonl", ""), OutputKind::Native);
+  EXPECT_EQ(output_kind("b.gpkg", ""), OutputKind::Gdal);
+  EXPECT_EQ(output_kind("b.csv", ""), OutputKind::Gdal);  // CSV points through GDAL
+  EXPECT_EQ(output_kind("b.xyz", ""), OutputKind::Gdal);
+  EXPECT_EQ(output_kind("b.gpkg", "GeoJSONSeq"), OutputKind::Native);
+  EXPECT_EQ(output_kind("b.geojson", "FlatGeobuf"), OutputKind::Gdal);
+  // Where the caller has its own CSV text (the nearest join).
+  EXPECT_EQ(output_kind("-", "", true), OutputKind::Text);
+  EXPECT_EQ(output_kind("d/b.CSV", "", true), OutputKind::Text);
+  EXPECT_EQ(output_kind("b.txt", "", true), OutputKind::Text);
+  EXPECT_EQ(output_kind("/dev/null", "", true), OutputKind::Text);
+  EXPECT_EQ(output_kind(".hidden", "", true), OutputKind::Text);
+  EXPECT_EQ(output_kind("b.gpkg", "csv", true), OutputKind::Text);
+  EXPECT_EQ(output_kind("b.csv", "GPKG", true), OutputKind::Gdal);
+  EXPECT_EQ(output_kind("-", "GeoJSON", true), OutputKind::Native);
+  EXPECT_EQ(output_kind("b.geojson", "", true), OutputKind::Native);
+}
+
 TEST(FeatureWriter, InvalidArguments) {
   TempDir dir;
   auto code = [](const std::function<void()>& f) { return error_of(f).code(); };

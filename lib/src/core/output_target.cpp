@@ -135,18 +135,22 @@ Identity identity_of(const std::string& path) {
 
 // ---------------------------------------------------------------------------------------------
 
+std::string output_exists(const std::string& path, const std::string& more) {
+  return path + ": exists; use --overwrite to replace it" + more;
+}
+
 OutputTargetState check_output_target(const std::string& path, bool overwrite) {
   if (path == "-") return OutputTargetState::Special;
   struct stat st;
   if (::lstat(path.c_str(), &st) != 0) return OutputTargetState::Absent;
   if (::stat(path.c_str(), &st) != 0) {  // a dangling symbolic link: an existing name
-    if (!overwrite) throw Error(ErrorCode::Io, path + ": exists; use --overwrite to replace it");
+    if (!overwrite) throw Error(ErrorCode::Io, output_exists(path));
     return OutputTargetState::Absent;
   }
   if (S_ISDIR(st.st_mode)) throw Error(ErrorCode::Io, path + ": is a directory");
   // Renaming over a device or a FIFO would replace it (/dev/null, as root).
   if (!S_ISREG(st.st_mode)) return OutputTargetState::Special;
-  if (!overwrite) throw Error(ErrorCode::Io, path + ": exists; use --overwrite to replace it");
+  if (!overwrite) throw Error(ErrorCode::Io, output_exists(path));
   return OutputTargetState::Regular;
 }
 
@@ -215,7 +219,7 @@ void TemporaryOutput::commit(const std::string& target, bool overwrite) {
   if (err != 0) {
     const std::string temp = path_;
     discard();
-    if (err == EEXIST) throw Error(ErrorCode::Io, target + ": exists; use --overwrite to replace it");
+    if (err == EEXIST) throw Error(ErrorCode::Io, output_exists(target));
     throw Error(ErrorCode::Io, target + ": cannot rename " + temp + " to it: " + errno_text(err));
   }
   release();

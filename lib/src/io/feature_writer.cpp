@@ -38,7 +38,7 @@ std::string resolve_format(const std::string& path, const std::string& format) {
   return f;
 }
 
-bool is_native(const std::string& format) {
+bool is_native(const std::string& format) {  // of a resolved format: resolve_format()
   const std::string f = ascii_lower(format);
   return f == "geojson" || f == "geojsonseq";
 }
@@ -92,6 +92,22 @@ std::string format_from_extension(const std::string& path) {
   if (ext == ".shp") return "ESRI Shapefile";
   if (ext == ".csv") return "CSV";
   return "";
+}
+
+OutputKind output_kind(const std::string& path, const std::string& format, bool text_allowed) {
+  if (text_allowed) {
+    if (!format.empty()) {
+      if (ascii_iequals(format, "CSV")) return OutputKind::Text;
+    } else {
+      const std::string name = path.substr(path.rfind('/') + 1);
+      const std::size_t dot = name.rfind('.');
+      if (path == "-" || dot == std::string::npos || dot == 0) return OutputKind::Text;
+      const std::string ext = ascii_lower(name.substr(dot + 1));
+      if (ext == "csv" || ext == "txt") return OutputKind::Text;
+    }
+  }
+  const std::string f = ascii_lower(!format.empty() ? format : path == "-" ? std::string("GeoJSON") : format_from_extension(path));
+  return f == "geojson" || f == "geojsonseq" ? OutputKind::Native : OutputKind::Gdal;
 }
 
 std::unique_ptr<FeatureWriter> open_feature_writer(const std::string& path, GeometryType geometry_type,

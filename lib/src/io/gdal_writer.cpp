@@ -251,8 +251,7 @@ class GdalWriter final : public FeatureWriter {
         throw Error(ErrorCode::Io, p.string() + ": not a regular file; " + driver_ + " output must be one");
       }
       if (!overwrite) {
-        throw Error(ErrorCode::Io, p.string() + ": exists; use --overwrite to replace it" +
-                                       (layered_ ? " (its layer of that name only), or --update to add a layer to it" : ""));
+        throw Error(ErrorCode::Io, output_exists(p.string(), layered_ ? " (its layer of that name only), or --update to add a layer to it" : ""));
       }
     }
   }
@@ -526,7 +525,7 @@ class GdalWriter final : public FeatureWriter {
     for (const std::string& name : produced) {
       const fs::path dest = dir / name;
       if (fs::exists(fs::symlink_status(dest, ec)) && !overwrite_ok(dest)) {
-        fail(dest.string() + " exists; use --overwrite to replace it");
+        fail(output_exists(dest.string()));
       }
     }
     // A replaced output must not keep sidecars of its previous version (an old .qix or .cpg).
@@ -546,7 +545,7 @@ class GdalWriter final : public FeatureWriter {
       const int err = rename_into_place((temp_dir_ / name).string(), (dir / name).string(), overwrite_ || updating_);
       if (err != 0) {
         for (const fs::path& p : moved) fs::remove(p, ec);
-        if (err == EEXIST) fail((dir / name).string() + " exists; use --overwrite to replace it");
+        if (err == EEXIST) fail(output_exists((dir / name).string()));
         fail("cannot rename " + (temp_dir_ / name).string() + " to " + (dir / name).string() +
              ": " + std::strerror(err));
       }

@@ -532,8 +532,7 @@ void save_index(const std::string& path, const DelaunayHierarchy& h, const SiteA
   const std::uint64_t checksum = xxh64(head.data(), head.size());
   for (int i = 0; i < 8; ++i) head[24 + i] = static_cast<char>(checksum >> (8 * i));
 
-  if (!overwrite && access(path.c_str(), F_OK) == 0)
-    throw Error(ErrorCode::Io, path + ": exists (use --overwrite to replace it)");
+  if (!overwrite && access(path.c_str(), F_OK) == 0) throw Error(ErrorCode::Io, output_exists(path));
   // Renaming over a device or a FIFO (/dev/null as root) would replace it.
   if (struct stat st; stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
     throw Error(ErrorCode::Io, path + ": not a regular file; an index must be one");
@@ -566,7 +565,7 @@ void save_index(const std::string& path, const DelaunayHierarchy& h, const SiteA
   const int err = rename_into_place(temp.path(), path, overwrite);
   if (err == EEXIST && !overwrite) {
     temp.discard();
-    throw Error(ErrorCode::Io, path + ": exists (use --overwrite to replace it)");
+    throw Error(ErrorCode::Io, output_exists(path));
   }
   if (err != 0) {
     errno = err;

@@ -32,6 +32,11 @@ enum class OutputTargetState {
   Special,  ///< a device or a FIFO (/dev/null, /dev/stdout): written in place, never renamed over
 };
 
+/// The one message for an output that exists and may not be replaced (the option `overwrite` of
+/// every writer is off; --overwrite on every command): "PATH: exists; use --overwrite to replace
+/// it", then `more` (a writer's other way out, e.g. ", or --update to add a layer to it").
+std::string output_exists(const std::string& path, const std::string& more = {});
+
 /// Checks an output path before any work. "-" (stdout) is Special.
 /// @exception Error(Io) "PATH: is a directory"; "PATH: exists; use --overwrite to replace it"
 ///   if something exists there, is not a device or a FIFO, and `overwrite` is false.

@@ -214,4 +214,15 @@ bool format_holds_layers(const std::string& path, const std::string& format);
 /// added because GDAL reads it as GeoJSON too.)
 std::string format_from_extension(const std::string& path);
 
+/// How an output is written, decided in this one place for every command, Python and the service.
+enum class OutputKind {
+  Text,    ///< a caller's own CSV text (the nearest join's rows): "-", .csv, .txt, a name without
+           ///< an extension (/dev/null) or format "CSV"; only where the caller has one (text_allowed)
+  Native,  ///< GeoJSON or GeoJSONSeq, written by geovor itself (no GDAL): "-", .geojson, .json,
+           ///< .geojsonl, .geojsons, .geojsonseq, or those formats named
+  Gdal,    ///< any other format or extension, through GDAL (open_feature_writer)
+};
+/// The kind of output `path` with `format` (empty: from the extension) is. Needs no GDAL.
+OutputKind output_kind(const std::string& path, const std::string& format, bool text_allowed = false);
+
 }  // namespace geovor
