@@ -67,5 +67,10 @@ Command add_delaunay_command(CLI::App& app);
 Command add_relax_command(CLI::App& app);
 /// Adds `geovor balance` (tools/balance_command.cpp).
 Command add_balance_command(CLI::App& app);
+/// Adds `geovor serve` (tools/serve_command.cpp, over service/).
+Command add_serve_command(CLI::App& app);
+/// Whether a --sites / INPUT path names an index file (its header, or a .gvi name) rather than a
+/// site table (tools/nearest_command.cpp).
+bool is_index_path(const std::string& path);
 
 }  // namespace geovor::tools

@@ -135,6 +135,7 @@ int run_geovor(int argc, char** argv, bool has_gdal) {
       {"balance", add_balance_command(app)},
       {"index", add_index_command(app)},
       {"nearest", add_nearest_command(app)},
+      {"serve", add_serve_command(app)},
   };
   std::vector<std::string> names;
   for (const auto& command : commands) names.push_back(command.first);

@@ -57,10 +57,6 @@ struct FileCloser {
 };
 using File = std::unique_ptr<std::FILE, FileCloser>;
 
-// Whether --sites names an index file (by its header, or a .gvi name) rather than a site table.
-bool is_index_path(const std::string& path) {
-  return path != "-" && (is_index_file(path) || (path.size() > 4 && path.ends_with(".gvi")));
-}
 
 // Whether the queries are an OGR layer (read through GDAL) rather than a CSV stream.
 bool queries_are_ogr(const NearestArgs& args) {
@@ -181,6 +177,10 @@ int run(NearestArgs& args) {
 }
 
 }  // namespace
+
+bool is_index_path(const std::string& path) {
+  return path != "-" && (is_index_file(path) || (path.size() > 4 && path.ends_with(".gvi")));
+}
 
 Command add_nearest_command(CLI::App& app) {
   auto args = std::make_shared<NearestArgs>();

@@ -1,0 +1,59 @@
+/// \file nearest_service.hpp
+/// \brief The handlers of `geovor serve` (issue 34), independent of HTTP: each takes a request's
+/// query parameters and returns the response's status, content type and body, so that the HTTP
+/// server, the tests and a fuzz target call the same code. They answer with the library's own
+/// API (Locator, k_nearest: locate/), exactly as `geovor nearest` does.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "geovor/locate/index_file.hpp"
+
+namespace geovor::service {
+
+/// A response: HTTP status, media type and body.
+struct Response {
+  int status = 200;
+  std::string content_type = "application/geo+json";
+  std::string body;
+};
+
+/// A request's query parameters (name -> value, repeated names kept in order).
+using Params = std::multimap<std::string, std::string>;
+
+/// Options of NearestService; every default is documented.
+struct ServiceOptions {
+  /// The largest k a request may ask. DEFAULT: 100.
+  std::size_t max_k = 100;
+};
+
+class NearestService {
+ public:
+  /// The service of `index` (moved in; answers are read-only, so one service serves every thread).
+  explicit NearestService(SiteIndex index, ServiceOptions options = {});
+
+  /// GET /nearest?lat=..&lon=..[&k=..][&metric=sphere|geodesic|power][&max_distance_m=..][&fields=a,b]:
+  /// a GeoJSON FeatureCollection of the k nearest sites, nearest first (ties to the lower site
+  /// index), each a Point at its first row's position with site_index, site_id, rank, distance_m
+  /// (metres, shortest round-trip decimal) and the site's columns (all of them, or those named by
+  /// fields, as read). metric defaults to the index's (power for weighted sites, else sphere).
+  /// A bad request is 400 with {"error": "...", "parameter": NAME} naming the parameter and why
+  /// (missing, not a number, latitude outside [-90, 90], k outside 1..max_k, unknown metric or
+  /// field, a metric the sites do not take, a repeated or unknown parameter).
+  Response nearest(const Params& params) const;
+  /// GET /healthz: 200 {"status":"ok","sites":N}.
+  Response health() const;
+  const SiteIndex& index() const { return index_; }
+
+ private:
+  SiteIndex index_;
+  ServiceOptions options_;
+};
+
+/// A 400 (or other status) response with {"error": why, "parameter": name} (no name: no member).
+Response error_response(int status, const std::string& why, const std::optional<std::string>& parameter = {});
+
+}  // namespace geovor::service
