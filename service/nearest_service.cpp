@@ -10,7 +10,6 @@
 #include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/geo/lat_lon.hpp"
-#include "geovor/geo/site_encoder.hpp"
 #include "geovor/io/json_text.hpp"
 #include "geovor/io/number_format.hpp"
 #include "geovor/locate/knn.hpp"
@@ -132,16 +131,12 @@ Response NearestService::nearest(const Params& params) const {
     Locator locator(index_.hierarchy);
     locator.prepare();
     std::vector<NearestResult> found;
-    if (k == 1 && metric != Metric::Geodesic)
-      found.push_back(locator.nearest(SiteEncoder::from_lat_lon(lat, lon)));
-    else
-      k_nearest(locator, lat, lon, k, metric, found);
+    nearest_within(locator, lat, lon, k, metric, max_distance_m, found);
 
     Response r;
     r.body = "{\"type\":\"FeatureCollection\",\"features\":[";
     std::size_t rank = 0;
     for (const NearestResult& n : found) {
-      if (n.site == kNoIndex || !(n.dist_m <= max_distance_m)) continue;
       const SiteAttributes::Row& row = a.rows[a.site_rows[n.site]];
       if (rank > 0) r.body += ",";
       r.body += "{\"type\":\"Feature\",\"geometry\":{\"type\":\"Point\",\"coordinates\":[";

@@ -15,7 +15,6 @@
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
 #include "geovor/geo/lat_lon.hpp"
-#include "geovor/geo/site_encoder.hpp"
 #include "geovor/locate/index_file.hpp"
 #include "geovor/locate/knn.hpp"
 #include "geovor/locate/locator.hpp"
@@ -122,7 +121,6 @@ class Index {
       throw Error(ErrorCode::InvalidArgument, "max_distance_m must be a number >= 0");
     const Metric m = metric.empty() ? default_metric(index_.hierarchy) : parse_metric(metric);
     check_metric(index_.hierarchy, m);
-    const bool geodesic = m == Metric::Geodesic;
     std::size_t n = static_cast<std::size_t>(-1);
     const double* la = column_data(lat, "lat", n);
     const double* lo = column_data(lon, "lon", n);
@@ -137,24 +135,16 @@ class Index {
       py::gil_scoped_release unlocked;
       // Bad queries are found before any work: the error names the first.
       std::vector<double> lat_deg(la, la + n), lon_deg(lo, lo + n);
-      std::vector<Vec3> unit(n);
-      for (std::size_t i = 0; i < n; ++i) {
-        normalize(lat_deg[i], lon_deg[i], i);
-        unit[i] = SiteEncoder::from_lat_lon(lat_deg[i], lon_deg[i]);
-      }
+      for (std::size_t i = 0; i < n; ++i) normalize(lat_deg[i], lon_deg[i], i);
       Locator prototype(index_.hierarchy);
       if (n >= 1024) prototype.prepare();
       parallel_for(n, threads, [&](unsigned, std::size_t begin, std::size_t end) {
         Locator locator = prototype;
         std::vector<NearestResult> found;
         for (std::size_t i = begin; i < end; ++i) {
-          if (!geodesic && k == 1) {
-            found.assign(1, locator.nearest(unit[i]));  // the fast path: Keep, Jump & Climb
-          } else {
-            k_nearest(locator, lat_deg[i], lon_deg[i], k, m, found);
-          }
+          nearest_within(locator, lat_deg[i], lon_deg[i], k, m, limit, found);
           for (std::size_t j = 0; j < k; ++j) {
-            const bool ok = j < found.size() && found[j].site != kNoIndex && found[j].dist_m <= limit;
+            const bool ok = j < found.size();
             site_out[i * k + j] = ok ? static_cast<std::int64_t>(found[j].site) : -1;
             dist_out[i * k + j] = ok ? found[j].dist_m : std::numeric_limits<double>::infinity();
           }

@@ -15,7 +15,6 @@
 #include "geovor/core/parallel.hpp"
 #include "geovor/geo/column_types.hpp"
 #include "geovor/geo/query_line.hpp"
-#include "geovor/geo/site_encoder.hpp"
 #include "geovor/layers/input_columns.hpp"
 
 namespace geovor {
@@ -260,15 +259,8 @@ constexpr std::size_t kBatch = 256;
 
 // Locates one query into w.results: its answers within max_distance_m, nearest first.
 void locate(const NearestJoinOptions& o, Metric metric, Worker& w, double lat, double lon) {
-  if (o.k == 1) {  // the Locator's own answer: the nearest site, or of largest power
-    const NearestResult r = metric == Metric::Geodesic ? w.locator.nearest_geodesic(lat, lon)
-                                                       : w.locator.nearest(SiteEncoder::from_lat_lon(lat, lon));
-    if (r.dist_m <= o.max_distance_m) w.results.push_back(r);
-  } else {
-    k_nearest(w.locator, lat, lon, o.k, metric, w.k_results);
-    for (const NearestResult& r : w.k_results)
-      if (r.dist_m <= o.max_distance_m) w.results.push_back(r);
-  }
+  nearest_within(w.locator, lat, lon, o.k, metric, o.max_distance_m, w.k_results);
+  w.results.insert(w.results.end(), w.k_results.begin(), w.k_results.end());
 }
 
 // The feature rows of a batch.

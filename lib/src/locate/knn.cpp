@@ -111,4 +111,16 @@ void within(Locator& locator, double lat_deg, double lon_deg, double max_distanc
   std::sort(out.begin(), out.end(), before);
 }
 
+void nearest_within(Locator& locator, double lat_deg, double lon_deg, std::size_t k, Metric metric,
+                    double max_distance_m, std::vector<NearestResult>& out) {
+  if (k == 1) {
+    check_metric(locator.hierarchy(), metric);
+    out.assign(1, metric == Metric::Geodesic ? locator.nearest_geodesic(lat_deg, lon_deg)
+                                             : locator.nearest(SiteEncoder::from_lat_lon(lat_deg, lon_deg)));
+  } else {
+    k_nearest(locator, lat_deg, lon_deg, k, metric, out);
+  }
+  std::erase_if(out, [&](const NearestResult& r) { return r.site == kNoIndex || !(r.dist_m <= max_distance_m); });
+}
+
 }  // namespace geovor

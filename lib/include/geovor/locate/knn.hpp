@@ -47,6 +47,12 @@ void check_metric(const DelaunayHierarchy& hierarchy, Metric metric);
 void k_nearest(Locator& locator, double lat_deg, double lon_deg, std::size_t k, Metric metric,
                std::vector<NearestResult>& out);
 
+/// One query's answers as `geovor nearest`, the service and Python give them: its k nearest sites
+/// under `metric` (k = 1: the Locator's own walk, or nearest_geodesic()), those farther than
+/// max_distance_m left out, into `out` (replaced). @exception Error(InvalidArgument) as check_metric.
+void nearest_within(Locator& locator, double lat_deg, double lon_deg, std::size_t k, Metric metric,
+                    double max_distance_m, std::vector<NearestResult>& out);
+
 /// Every site at most max_distance_m metres from (lat_deg, lon_deg) under `metric`, nearest first
 /// (ties to the lower site index; Power: by decreasing power), into `out` (replaced; empty for a
 /// negative or NaN distance). @exception Error(InvalidArgument) as check_metric.
