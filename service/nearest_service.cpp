@@ -2,7 +2,9 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -12,35 +14,102 @@
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/io/json_text.hpp"
 #include "geovor/io/number_format.hpp"
+#include "geovor/layers/nearest_join.hpp"
 #include "geovor/locate/knn.hpp"
 #include "geovor/locate/locator.hpp"
 
 namespace geovor::service {
 namespace {
 
-// A parameter's problem: thrown inside nearest(), answered as 400.
+// A parameter's problem: thrown inside a handler, answered as 400.
 struct BadParameter {
   std::string parameter, why;
 };
 
-constexpr const char* kKnown[] = {"lat", "lon", "k", "metric", "max_distance_m", "fields"};
+// Reads a request's parameters: each known one at most once, any other refused.
+class ParamReader {
+ public:
+  ParamReader(const Params& params, std::initializer_list<const char*> known, const char* route) : params_(params) {
+    for (const auto& [name, value] : params) {
+      if (name.empty()) throw BadParameter{"", "a parameter without a name (\"&&\" or \"=value\")"};
+      bool is_known = false;
+      for (const char* k : known) is_known = is_known || name == k;
+      if (!is_known) {
+        std::string list;
+        for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+        throw BadParameter{name, std::string("unknown parameter; ") + route + " takes " + list};
+      }
+    }
+  }
+  // The one value of a parameter, or none; a repeated one is an error.
+  std::optional<std::string> single(const std::string& name) const {
+    const auto [first, last] = params_.equal_range(name);
+    if (first == last) return std::nullopt;
+    if (std::next(first) != last) throw BadParameter{name, "given more than once"};
+    return first->second;
+  }
+  std::size_t k(std::size_t max_k) const {
+    const auto t = single("k");
+    if (!t) return 1;
+    const double v = number("k", *t);
+    if (v != std::floor(v) || v < 1 || v > static_cast<double>(max_k))
+      throw BadParameter{"k", "'" + printable(*t) + "' is not an integer in 1.." + std::to_string(max_k)};
+    return static_cast<std::size_t>(v);
+  }
+  Metric metric(const DelaunayHierarchy& sites) const {
+    const auto t = single("metric");
+    if (!t) return default_metric(sites);
+    try {
+      const Metric m = parse_metric(*t);
+      check_metric(sites, m);
+      return m;
+    } catch (const Error& e) {
+      throw BadParameter{"metric", e.what()};
+    }
+  }
+  double max_distance_m() const {
+    const auto t = single("max_distance_m");
+    if (!t) return INFINITY;
+    const double d = number("max_distance_m", *t);
+    if (d < 0) throw BadParameter{"max_distance_m", "must be at least 0"};
+    return d;
+  }
+  // The site columns named by fields (comma-separated, ASCII case-insensitively), or every one.
+  std::vector<std::size_t> fields(const SiteAttributes& a) const {
+    std::vector<std::size_t> columns;
+    const auto t = single("fields");
+    if (!t) {
+      for (std::size_t c = 0; c < a.columns.size(); ++c) columns.push_back(c);
+      return columns;
+    }
+    std::string_view rest = *t;
+    while (!rest.empty()) {
+      const std::size_t comma = rest.find(',');
+      const std::string name(rest.substr(0, comma));
+      rest = comma == std::string_view::npos ? std::string_view{} : rest.substr(comma + 1);
+      std::size_t c = 0;
+      while (c < a.columns.size() && !ascii_iequals(a.columns[c], name)) ++c;
+      if (c == a.columns.size()) throw BadParameter{"fields", "no site column '" + printable(name) + "'"};
+      columns.push_back(c);
+    }
+    return columns;
+  }
+  static double number(const std::string& name, const std::string& text) {
+    const char* begin = text.c_str();
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(begin, &end);
+    if (text.empty() || end != begin + text.size() || !std::isfinite(v) || errno == ERANGE)
+      throw BadParameter{name, "'" + printable(text) + "' is not a finite number"};
+    return v;
+  }
 
-// The one value of a parameter, or none; a repeated one is an error.
-std::optional<std::string> single(const Params& params, const std::string& name) {
-  const auto [first, last] = params.equal_range(name);
-  if (first == last) return std::nullopt;
-  if (std::next(first) != last) throw BadParameter{name, "given more than once"};
-  return first->second;
-}
+ private:
+  const Params& params_;
+};
 
-double number(const std::string& name, const std::string& text) {
-  const char* begin = text.c_str();
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(begin, &end);
-  if (text.empty() || end != begin + text.size() || !std::isfinite(v) || errno == ERANGE)
-    throw BadParameter{name, "'" + printable(text) + "' is not a finite number"};
-  return v;
+Response bad_parameter_response(const BadParameter& bad) {
+  return error_response(400, bad.parameter.empty() ? bad.why : bad.parameter + ": " + bad.why, bad.parameter);
 }
 
 void append_real(std::string& out, double v) {
@@ -78,55 +147,18 @@ Response NearestService::health() const {
 
 Response NearestService::nearest(const Params& params) const {
   try {
-    for (const auto& [name, value] : params) {
-      if (name.empty()) throw BadParameter{"", "a parameter without a name (\"&&\" or \"=value\")"};
-      bool known = false;
-      for (const char* k : kKnown) known = known || name == k;
-      if (!known) throw BadParameter{name, "unknown parameter; /nearest takes lat, lon, k, metric, max_distance_m, fields"};
-    }
-    const std::optional<std::string> lat_text = single(params, "lat"), lon_text = single(params, "lon");
+    const ParamReader read(params, {"lat", "lon", "k", "metric", "max_distance_m", "fields"}, "GET /nearest");
+    const std::optional<std::string> lat_text = read.single("lat"), lon_text = read.single("lon");
     if (!lat_text) throw BadParameter{"lat", "missing"};
     if (!lon_text) throw BadParameter{"lon", "missing"};
-    double lat = number("lat", *lat_text), lon = number("lon", *lon_text);
+    double lat = ParamReader::number("lat", *lat_text), lon = ParamReader::number("lon", *lon_text);
     if (const std::string why = normalize_lat_lon(lat, lon); !why.empty())
       throw BadParameter{lat < -90 || lat > 90 ? "lat" : "lon", why};
-    std::size_t k = 1;
-    if (const auto t = single(params, "k")) {
-      const double v = number("k", *t);
-      if (v != std::floor(v) || v < 1 || v > static_cast<double>(options_.max_k))
-        throw BadParameter{"k", "'" + printable(*t) + "' is not an integer in 1.." + std::to_string(options_.max_k)};
-      k = static_cast<std::size_t>(v);
-    }
-    Metric metric = default_metric(index_.hierarchy);
-    if (const auto t = single(params, "metric")) {
-      try {
-        metric = parse_metric(*t);
-        check_metric(index_.hierarchy, metric);
-      } catch (const Error& e) {
-        throw BadParameter{"metric", e.what()};
-      }
-    }
-    double max_distance_m = INFINITY;
-    if (const auto t = single(params, "max_distance_m")) {
-      max_distance_m = number("max_distance_m", *t);
-      if (max_distance_m < 0) throw BadParameter{"max_distance_m", "must be at least 0"};
-    }
+    const std::size_t k = read.k(options_.max_k);
+    const Metric metric = read.metric(index_.hierarchy);
+    const double max_distance_m = read.max_distance_m();
     const SiteAttributes& a = index_.attributes;
-    std::vector<std::size_t> columns;
-    if (const auto t = single(params, "fields")) {
-      std::string_view rest = *t;
-      while (!rest.empty()) {
-        const std::size_t comma = rest.find(',');
-        const std::string name(rest.substr(0, comma));
-        rest = comma == std::string_view::npos ? std::string_view{} : rest.substr(comma + 1);
-        std::size_t c = 0;
-        while (c < a.columns.size() && !ascii_iequals(a.columns[c], name)) ++c;
-        if (c == a.columns.size()) throw BadParameter{"fields", "no site column '" + printable(name) + "'"};
-        columns.push_back(c);
-      }
-    } else {
-      for (std::size_t c = 0; c < a.columns.size(); ++c) columns.push_back(c);
-    }
+    const std::vector<std::size_t> columns = read.fields(a);
 
     Locator locator(index_.hierarchy);
     locator.prepare();
@@ -158,7 +190,101 @@ Response NearestService::nearest(const Params& params) const {
     r.body += "]}";
     return r;
   } catch (const BadParameter& bad) {
-    return error_response(400, bad.parameter.empty() ? bad.why : bad.parameter + ": " + bad.why, bad.parameter);
+    return bad_parameter_response(bad);
+  }
+}
+
+}  // namespace geovor::service
+
+namespace geovor::service {
+namespace {
+
+// The media type of a Content-Type header, lower case, without its parameters (";charset=...").
+std::string media_type(std::string_view content_type) {
+  std::string_view t = content_type.substr(0, content_type.find(';'));
+  while (!t.empty() && t.back() == ' ') t.remove_suffix(1);
+  return ascii_lower(t);
+}
+
+// The library names geovor nearest's options in a header's errors; the service names its parameters.
+BadParameter query_column_error(const Error& e) {
+  std::string why = e.what();
+  std::string parameter;
+  for (const auto& [option, name] : {std::pair{"--query-lat-field", "lat_field"}, std::pair{"--query-lon-field", "lon_field"},
+                                     std::pair{"--query-id-field", "id_field"}}) {
+    for (std::size_t at = why.find(option); at != std::string::npos; at = why.find(option))
+      why.replace(at, std::string_view(option).size(), name);
+    if (parameter.empty() && why.find(std::string(name) + " '") != std::string::npos) parameter = name;
+  }
+  return BadParameter{parameter, why};
+}
+
+constexpr std::size_t kMalformedListed = 100;  // malformed lines listed in a 400
+
+// A 400 listing the first malformed lines of a POST body (their line numbers and reasons).
+Response malformed_response(std::uint64_t count, const std::vector<MalformedQuery>& listed) {
+  const MalformedQuery& first = listed.front();
+  Response r = error_response(400, "request body: " + std::to_string(count) + " malformed line" + (count == 1 ? "" : "s") +
+                                       " (nothing answered); line " + std::to_string(first.line) + ": " + first.reason);
+  r.body.pop_back();  // the closing brace: the lines follow
+  r.body += ",\"line\":" + std::to_string(first.line) + ",\"malformed\":[";
+  for (std::size_t i = 0; i < listed.size(); ++i) {
+    r.body += (i ? ",{\"line\":" : "{\"line\":") + std::to_string(listed[i].line) + ",\"reason\":";
+    append_json_string(r.body, listed[i].reason);
+    r.body += "}";
+  }
+  r.body += "]}";
+  return r;
+}
+
+}  // namespace
+
+Response NearestService::join(const Params& params, std::string_view body, std::string_view content_type) const {
+  try {
+    const ParamReader read(params, {"k", "metric", "max_distance_m", "fields", "lat_field", "lon_field", "id_field"},
+                           "POST /nearest");
+    const std::string type = media_type(content_type);
+    if (!type.empty() && type != "text/csv" && type != "text/plain" && type != "application/csv" &&
+        type != "application/octet-stream")
+      return error_response(415, "Content-Type '" + printable(std::string(content_type)) +
+                                     "': POST /nearest takes CSV (text/csv), e.g. curl --data-binary @queries.csv "
+                                     "-H 'Content-Type: text/csv'",
+                            "Content-Type");
+    if (body.empty()) return error_response(400, "the request body holds no queries (send CSV: lat,lon[,id] lines, with or without a header)");
+    NearestJoinOptions options;
+    options.k = read.k(options_.max_k);
+    options.rank_column = read.single("k").has_value();  // as geovor nearest --k
+    options.metric = read.metric(index_.hierarchy);
+    options.max_distance_m = read.max_distance_m();
+    if (read.single("fields"))
+      for (const std::size_t c : read.fields(index_.attributes)) options.site_fields.push_back(index_.attributes.columns[c]);
+    options.columns = {read.single("lat_field").value_or(""), read.single("lon_field").value_or(""),
+                       read.single("id_field").value_or("")};
+    options.threads = options_.join_threads;
+
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(fmemopen(const_cast<char*>(body.data()), body.size(), "r"), std::fclose);
+    if (!in) return error_response(500, "cannot read the request body");
+    std::string out;
+    out.reserve(body.size() * 2);
+    std::vector<MalformedQuery> malformed;
+    NearestJoinReport report;
+    try {
+      report = nearest_join(
+          index_, in.get(), "request body", options, [&](std::string_view s) { out.append(s); },
+          [&](const MalformedQuery& m) {
+            if (malformed.size() < kMalformedListed) malformed.push_back(m);
+          });
+    } catch (const Error& e) {
+      if (e.code() == ErrorCode::Io) throw;
+      throw query_column_error(e);
+    }
+    if (report.malformed > 0) return malformed_response(report.malformed, malformed);
+    Response r;
+    r.content_type = "text/csv";
+    r.body = std::move(out);
+    return r;
+  } catch (const BadParameter& bad) {
+    return bad_parameter_response(bad);
   }
 }
 

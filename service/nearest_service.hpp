@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "geovor/locate/index_file.hpp"
 
@@ -28,6 +29,9 @@ using Params = std::multimap<std::string, std::string>;
 struct ServiceOptions {
   /// The largest k a request may ask. DEFAULT: 100.
   std::size_t max_k = 100;
+  /// Threads of one POST /nearest join (NearestJoinOptions::threads); 0 means one per core.
+  /// DEFAULT: 0.
+  unsigned join_threads = 0;
 };
 
 class NearestService {
@@ -44,6 +48,18 @@ class NearestService {
   /// (missing, not a number, latitude outside [-90, 90], k outside 1..max_k, unknown metric or
   /// field, a metric the sites do not take, a repeated or unknown parameter).
   Response nearest(const Params& params) const;
+  /// POST /nearest[?k=..][&metric=..][&max_distance_m=..][&fields=a,b][&lat_field=..][&lon_field=..][&id_field=..]
+  /// with a CSV body (Content-Type text/csv, text/plain, application/csv, application/octet-stream
+  /// or none): the spatial join of `geovor nearest` (layers/nearest_join.hpp), in the body's order,
+  /// as the same CSV bytes as `geovor nearest --queries BODY` with the same options (fields names
+  /// the site columns joined, --site-fields; lat_field, lon_field, id_field name the body's
+  /// columns, --query-lat-field ...; k adds the rank column, as --k does). The body is read whole
+  /// (HttpServer limits its size); the answer is built whole, so that a malformed body is refused:
+  /// 400 naming its first malformed line and listing up to 100 of them ({"error", "line",
+  /// "malformed": [{"line", "reason"}]}), with nothing answered. Another media type is 415
+  /// (parameter "Content-Type"); an empty body, a header without coordinates or a column named
+  /// but absent is 400.
+  Response join(const Params& params, std::string_view body, std::string_view content_type) const;
   /// GET /healthz: 200 {"status":"ok","sites":N}.
   Response health() const;
   const SiteIndex& index() const { return index_; }

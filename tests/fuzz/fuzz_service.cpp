@@ -1,11 +1,14 @@
 // Fuzz target: the handlers of `geovor serve` (service/nearest_service.hpp) on any query
-// parameters. The bytes are split at '&' into NAME=VALUE pairs (as a query string decodes), over
-// a fixed index of 300 sites with columns, once unweighted and once weighted. Every response is a
-// 200 GeoJSON FeatureCollection or a 400 naming a parameter; never a crash or a hang.
+// parameters and POST bodies. The bytes up to the first line feed are split at '&' into NAME=VALUE
+// pairs (as a query string decodes); with no line feed they are a GET /nearest, else the rest is a
+// POST /nearest CSV body. Over a fixed index of 300 sites with columns, once unweighted and once
+// weighted. A GET is a 200 GeoJSON FeatureCollection or a 400 naming a parameter; a POST a 200
+// CSV with geovor nearest's header, or a 400 with its reason; never a crash or a hang.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <string_view>
 
 #include "fuzz_check.hpp"
 #include "geovor/geo/site_encoder.hpp"
@@ -33,14 +36,16 @@ service::NearestService make_service(bool weighted) {
   }
   t.rows_read = t.sites.size();
   t.weighted = weighted;
-  return service::NearestService(build_site_index(t));
+  return service::NearestService(build_site_index(t), {.max_k = 100, .join_threads = 1});
 }
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const service::NearestService plain = make_service(false), weighted = make_service(true);
-  const std::string text(reinterpret_cast<const char*>(data), size);
+  const std::string input(reinterpret_cast<const char*>(data), size);
+  const std::size_t line_feed = input.find('\n');
+  const std::string text = input.substr(0, line_feed);
   service::Params params;
   std::size_t at = 0;
   while (at <= text.size() && params.size() < 16) {
@@ -51,6 +56,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     at = amp + 1;
   }
   for (const service::NearestService* s : {&plain, &weighted}) {
+    if (line_feed != std::string::npos) {
+      const service::Response r = s->join(params, std::string_view(input).substr(line_feed + 1), "text/csv");
+      FUZZ_CHECK(r.status == 200 || r.status == 400, "status %d: %s", r.status, r.body.c_str());
+      if (r.status == 200)
+        FUZZ_CHECK(r.content_type == "text/csv" && r.body.rfind("query_id,", 0) == 0, "body %s", r.body.c_str());
+      else
+        FUZZ_CHECK(r.body.rfind("{\"error\":", 0) == 0 && r.body.back() == '}', "a 400 without its reason: %s", r.body.c_str());
+      continue;
+    }
     const service::Response r = s->nearest(params);
     FUZZ_CHECK(r.status == 200 || r.status == 400, "status %d", r.status);
     if (r.status == 200)

@@ -6,11 +6,13 @@
 
 #include <cmath>
 #include <random>
+#include <cstdio>
 #include <string>
 
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/locate/knn.hpp"
 #include "geovor/locate/locator.hpp"
+#include "geovor/layers/nearest_join.hpp"
 #include "support/generators.hpp"
 
 namespace geovor::service {
@@ -121,6 +123,68 @@ TEST(NearestService, WeightedSitesArePower) {
     const Response r = service.nearest({{"lat", t}, {"lon", "17.5"}, {"metric", "power"}});
     EXPECT_EQ(site_index(r.body, 0), locator.nearest(SiteEncoder::from_lat_lon(std::stod(t), 17.5)).site);
   }
+}
+
+// geovor nearest's CSV of `queries` (the library's join on a stream), for comparison.
+std::string command_join(const SiteIndex& index, const std::string& queries, const NearestJoinOptions& options) {
+  std::FILE* in = fmemopen(const_cast<char*>(queries.data()), queries.size(), "r");
+  std::string out;
+  nearest_join(index, in, "queries.csv", options, [&](std::string_view s) { out.append(s); });
+  std::fclose(in);
+  return out;
+}
+
+TEST(NearestService, PostIsTheJoinOfGeovorNearest) {
+  const SiteIndex index = build_site_index(make_table(500, false));
+  const NearestService service(build_site_index(make_table(500, false)), {.max_k = 100, .join_threads = 2});
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1), lon(-180, 180);
+  std::string queries = "id,lat,lon,note\n";
+  for (int i = 0; i < 3000; ++i) {
+    char line[120];
+    std::snprintf(line, sizeof line, "q%d,%.17g,%.17g,\"a, b\"\n", i, std::asin(u(rng)) * 180 / M_PI, lon(rng));
+    queries += line;
+  }
+  queries += "q-pole,90,0,x\r\nq-am,0,-180,y\n";
+  NearestJoinOptions options;
+  const Response one = service.join({}, queries, "text/csv; charset=utf-8");
+  ASSERT_EQ(one.status, 200) << one.body;
+  EXPECT_EQ(one.content_type, "text/csv");
+  EXPECT_EQ(one.body, command_join(index, queries, options));
+  options.k = 3;
+  options.rank_column = true;
+  options.site_fields = {"name"};
+  options.metric = Metric::Geodesic;
+  options.max_distance_m = 2e6;
+  const Response three = service.join({{"k", "3"}, {"fields", "name"}, {"metric", "geodesic"}, {"max_distance_m", "2e6"}},
+                                       queries, "");
+  ASSERT_EQ(three.status, 200) << three.body;
+  EXPECT_EQ(three.body, command_join(index, queries, options));
+  // Columns named by parameters.
+  const Response named = service.join({{"lat_field", "Y"}, {"lon_field", "X"}}, "X,Y\n2,1\n", "text/csv");
+  ASSERT_EQ(named.status, 200) << named.body;
+  EXPECT_EQ(named.body, command_join(index, "X,Y\n2,1\n", {.columns = {"Y", "X", ""}}));
+}
+
+TEST(NearestService, BadPostsSayWhy) {
+  const NearestService service(build_site_index(make_table(100, false)), {.max_k = 100, .join_threads = 1});
+  const Response malformed = service.join({}, "lat,lon\n1,2\n3,abc\n4,5\n91,0\n", "text/csv");
+  EXPECT_EQ(malformed.status, 400);
+  EXPECT_NE(malformed.body.find("2 malformed lines"), std::string::npos) << malformed.body;
+  EXPECT_NE(malformed.body.find("\"line\":3,\"malformed\":[{\"line\":3,\"reason\":"), std::string::npos) << malformed.body;
+  EXPECT_NE(malformed.body.find("{\"line\":5,"), std::string::npos) << malformed.body;
+  const Response type = service.join({}, "lat,lon\n1,2\n", "application/x-www-form-urlencoded");
+  EXPECT_EQ(type.status, 415);
+  EXPECT_NE(type.body.find("\"parameter\":\"Content-Type\""), std::string::npos) << type.body;
+  EXPECT_EQ(service.join({}, "", "text/csv").status, 400);
+  const Response no_columns = service.join({}, "a,b\n1,2\n", "text/csv");
+  EXPECT_EQ(no_columns.status, 400);
+  EXPECT_EQ(no_columns.body.find("--query"), std::string::npos) << no_columns.body;  // names parameters, not flags
+  EXPECT_NE(no_columns.body.find("lat_field"), std::string::npos) << no_columns.body;
+  EXPECT_EQ(error_parameter(service.join({{"lat_field", "nope"}}, "lat,lon\n1,2\n", "text/csv")), "lat_field");
+  EXPECT_EQ(error_parameter(service.join({{"lat", "1"}}, "lat,lon\n1,2\n", "text/csv")), "lat");
+  EXPECT_EQ(error_parameter(service.join({{"k", "0"}}, "lat,lon\n1,2\n", "text/csv")), "k");
+  EXPECT_EQ(error_parameter(service.join({{"fields", "zzz"}}, "lat,lon\n1,2\n", "text/csv")), "fields");
 }
 
 }  // namespace

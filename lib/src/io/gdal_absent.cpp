@@ -5,6 +5,7 @@
 #include <string>
 
 #include "geovor/core/error.hpp"
+#include "geovor/io/ogr_feature_json.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
 #include "io/gdal_writer.hpp"
 
@@ -22,6 +23,8 @@ SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions&, cons
 }
 
 void reproject_sites(SiteTable& table, const std::string&) { absent(table.source, "--s-srs (reprojecting sites)"); }
+
+JsonLayer read_json_features(const std::string& path, const std::string&) { absent(path, "reading an OGR layer"); }
 
 namespace gdal_detail {
 
