@@ -14,6 +14,8 @@
 #include "geovor/geo/lat_lon.hpp"
 #include "geovor/io/json_text.hpp"
 #include "geovor/io/number_format.hpp"
+#include "geovor/io/geojson_writer.hpp"
+#include "geovor/io/ogr_site_reader.hpp"
 #include "geovor/layers/nearest_join.hpp"
 #include "geovor/locate/knn.hpp"
 #include "geovor/locate/locator.hpp"
@@ -224,12 +226,15 @@ constexpr std::size_t kMalformedListed = 100;  // malformed lines listed in a 40
 // A 400 listing the first malformed lines of a POST body (their line numbers and reasons).
 Response malformed_response(std::uint64_t count, const std::vector<MalformedQuery>& listed) {
   const MalformedQuery& first = listed.front();
-  Response r = error_response(400, "request body: " + std::to_string(count) + " malformed line" + (count == 1 ? "" : "s") +
-                                       " (nothing answered); line " + std::to_string(first.line) + ": " + first.reason);
+  const bool lines = first.line > 0;  // a CSV body's lines, else a GeoJSON body's features (their reason names them)
+  const char* key = lines ? "line" : "feature";
+  Response r = error_response(400, "request body: " + std::to_string(count) + " malformed " + (lines ? "line" : "feature") +
+                                       (count == 1 ? "" : "s") + " (nothing answered); " +
+                                       (lines ? "line " + std::to_string(first.line) + ": " : "") + first.reason);
   r.body.pop_back();  // the closing brace: the lines follow
-  r.body += ",\"line\":" + std::to_string(first.line) + ",\"malformed\":[";
+  r.body += ",\"" + std::string(key) + "\":" + std::to_string(lines ? first.line : first.row) + ",\"malformed\":[";
   for (std::size_t i = 0; i < listed.size(); ++i) {
-    r.body += (i ? ",{\"line\":" : "{\"line\":") + std::to_string(listed[i].line) + ",\"reason\":";
+    r.body += (i ? ",{\"" : "{\"") + std::string(key) + "\":" + std::to_string(lines ? listed[i].line : listed[i].row) + ",\"reason\":";
     append_json_string(r.body, listed[i].reason);
     r.body += "}";
   }
@@ -239,16 +244,55 @@ Response malformed_response(std::uint64_t count, const std::vector<MalformedQuer
 
 }  // namespace
 
+Response NearestService::join_points(std::string_view body, bool collection, const std::string& type,
+                                     const NearestJoinOptions& options) const {
+  SiteReaderOptions reader;
+  reader.lat_field = options.columns.lat_field;  // attribute positions, when named
+  reader.lon_field = options.columns.lon_field;
+  reader.id_field = options.columns.id_field;
+  SiteTable queries;
+  try {
+    queries = read_sites_ogr_bytes(body, "request body", collection ? ".geojson" : ".geojsonl", reader);
+  } catch (const Error& e) {
+    if (e.code() == ErrorCode::Internal) throw;
+    return error_response(400, e.what());
+  }
+  if (!queries.rejected.empty()) {
+    std::vector<MalformedQuery> listed;
+    for (std::size_t i = 0; i < queries.rejected.size() && i < kMalformedListed; ++i)
+      listed.push_back({0, queries.rejected[i].row, queries.rejected[i].reason});
+    return malformed_response(queries.rejected.size(), listed);
+  }
+  // RFC 8142 records (RS before each) when the body has them, else one feature per line.
+  const GeoJsonFraming framing = collection                ? GeoJsonFraming::FeatureCollection
+                                 : body.find('\x1e') != std::string_view::npos ? GeoJsonFraming::RecordSeparated
+                                                                               : GeoJsonFraming::NewlineDelimited;
+  WriterOptions writer;
+  writer.layer = "nearest";  // as geovor nearest
+  Response r;
+  r.content_type = type;
+  const OpenJoinWriter open = [&](const std::vector<Field>& fields) {
+    return open_geojson_writer([&r](std::string_view s) { r.body.append(s); }, framing, GeometryType::Point, fields, writer);
+  };
+  nearest_join(index_, queries, options, open);
+  return r;
+}
+
 Response NearestService::join(const Params& params, std::string_view body, std::string_view content_type) const {
   try {
     const ParamReader read(params, {"k", "metric", "max_distance_m", "fields", "lat_field", "lon_field", "id_field"},
                            "POST /nearest");
     const std::string type = media_type(content_type);
-    if (!type.empty() && type != "text/csv" && type != "text/plain" && type != "application/csv" &&
-        type != "application/octet-stream")
+    const bool csv = type.empty() || type == "text/csv" || type == "text/plain" || type == "application/csv" ||
+                     type == "application/octet-stream";
+    const bool collection = type == "application/geo+json" || type == "application/json";
+    const bool sequence = type == "application/geo+json-seq" || type == "application/json-seq" ||
+                          type == "application/x-ndjson" || type == "application/geojsonl";
+    if (!csv && !collection && !sequence)
       return error_response(415, "Content-Type '" + printable(std::string(content_type)) +
-                                     "': POST /nearest takes CSV (text/csv), e.g. curl --data-binary @queries.csv "
-                                     "-H 'Content-Type: text/csv'",
+                                     "': POST /nearest takes CSV (text/csv), a GeoJSON FeatureCollection "
+                                     "(application/geo+json) or a GeoJSON text sequence (application/geo+json-seq), "
+                                     "e.g. curl --data-binary @queries.csv -H 'Content-Type: text/csv'",
                             "Content-Type");
     if (body.empty()) return error_response(400, "the request body holds no queries (send CSV: lat,lon[,id] lines, with or without a header)");
     NearestJoinOptions options;
@@ -261,6 +305,7 @@ Response NearestService::join(const Params& params, std::string_view body, std::
     options.columns = {read.single("lat_field").value_or(""), read.single("lon_field").value_or(""),
                        read.single("id_field").value_or("")};
     options.threads = options_.join_threads;
+    if (!csv) return join_points(body, collection, type, options);
 
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(fmemopen(const_cast<char*>(body.data()), body.size(), "r"), std::fclose);
     if (!in) return error_response(500, "cannot read the request body");

@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 
+#include "geovor/layers/nearest_join.hpp"
 #include "geovor/locate/index_file.hpp"
 
 namespace geovor::service {
@@ -51,7 +52,12 @@ class NearestService {
   /// POST /nearest[?k=..][&metric=..][&max_distance_m=..][&fields=a,b][&lat_field=..][&lon_field=..][&id_field=..]
   /// with a CSV body (Content-Type text/csv, text/plain, application/csv, application/octet-stream
   /// or none): the spatial join of `geovor nearest` (layers/nearest_join.hpp), in the body's order,
-  /// as the same CSV bytes as `geovor nearest --queries BODY` with the same options (fields names
+  /// as the same CSV bytes as `geovor nearest --queries BODY` with the same options. A GeoJSON
+  /// FeatureCollection of points (application/geo+json) or text sequence (application/geo+json-seq,
+  /// application/x-ndjson: RS-separated or one feature per line) is read through GDAL
+  /// (read_sites_ogr_bytes: needs the library with GDAL) and answered in its own framing and media
+  /// type, the bytes of `geovor nearest -o OUT.geojson` (or .geojsonl, .geojsons); a feature that
+  /// is no point is a 400 naming it. (fields names
   /// the site columns joined, --site-fields; lat_field, lon_field, id_field name the body's
   /// columns, --query-lat-field ...; k adds the rank column, as --k does). The body is read whole
   /// (HttpServer limits its size); the answer is built whole, so that a malformed body is refused:
@@ -65,6 +71,10 @@ class NearestService {
   const SiteIndex& index() const { return index_; }
 
  private:
+  // POST /nearest of GeoJSON points: read through GDAL (read_sites_ogr_bytes), answered as
+  // geovor nearest writes GeoJSON or GeoJSONSeq.
+  Response join_points(std::string_view body, bool collection, const std::string& type,
+                       const NearestJoinOptions& options) const;
   SiteIndex index_;
   ServiceOptions options_;
 };

@@ -58,7 +58,7 @@ int run(ServeArgs& args) {
   for (const int s : {SIGTERM, SIGINT, SIGHUP}) sigaddset(&signals, s);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   service::HttpServer server(data, args.server);
-  std::printf("geovor serve: http://%s:%d/ (%zu sites): GET|POST /nearest, GET /healthz, GET /metrics\n",
+  std::printf("geovor serve: http://%s:%d/ (%zu sites): GET|POST /nearest, /collections, /map, /healthz, /metrics\n",
               args.server.host.c_str(), server.port(), data.current()->nearest.index().hierarchy.base().num_sites());
   std::fflush(stdout);
   std::thread waiter([&] { handle_signals(signals, server); });
@@ -91,12 +91,14 @@ Command add_serve_command(CLI::App& app) {
       "a GeoJSON FeatureCollection of the K nearest sites (default 1, at most --max-k), nearest first,\n"
       "each a Point with site_index, site_id, rank, distance_m and the site's columns (or those\n"
       "named by fields), as exact as geovor nearest.\n"
-      "POST /nearest[?k=..&fields=..&lat_field=..] with a CSV body (text/csv): the CSV of geovor nearest.\n"
+      "POST /nearest[?k=..&fields=..&lat_field=..] with CSV (text/csv) or GeoJSON (application/geo+json,\n"
+      "application/geo+json-seq) points: the join of geovor nearest, in the same bytes and format.\n"
+      "OGC API - Features at / (collections sites and, with --cells, cells); a web map at /map.\n"
       "A bad request is a 400 whose JSON body names the parameter (or line) and why.\n"
       "GET /healthz: {\"status\":\"ok\",\"sites\":N}. GET /metrics: Prometheus text. Guide: docs/user-guide.md, Serving.\n"
       "Example: geovor serve stations.gvi --port 8080 &  curl 'http://127.0.0.1:8080/nearest?lat=48.85&lon=2.35'");
   return {[args] { return run(*args); },
-          [args] { return !args->cells.empty() || (!is_index_path(args->sites.input) && site_input_needs_gdal(args->sites)); }};
+          [] { return true; }};  // GeoJSON bodies and --cells are read through GDAL
 }
 
 }  // namespace geovor::tools

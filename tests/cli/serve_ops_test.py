@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """geovor serve (issue 34), the batch join and operations: POST /nearest gives the bytes of
-`geovor nearest` (k, fields, columns named), malformed CSV is a 400 naming the line, a wrong media
+`geovor nearest` (k, fields, columns named) for CSV, GeoJSON and GeoJSON sequences, malformed CSV is a 400 naming the line, a wrong media
 type 415, a body over --max-body-mb 413; /metrics counts them; POST /admin/reload and SIGHUP swap
 in a new index while 8 clients query without a single failed request, and a broken index file
 leaves the old one serving (500 saying why); SIGTERM exits 0.
@@ -74,13 +74,37 @@ try:
         status, ctype, got = request("/nearest" + params, body)
         check(status == 200 and ctype.startswith("text/csv"), f"POST {params}: {status} {ctype} {got[:200]}")
         check(got == want, f"POST /nearest{params}: differs from geovor nearest {flags} ({len(got)} vs {len(want)} bytes)")
+    # GeoJSON in: a sequence (one feature per line, and RS records) and a FeatureCollection, answered
+    # as geovor nearest writes .geojsonl, .geojsons and .geojson.
+    points = [{"type": "Feature", "properties": {"id": f"g{i}", "n": i},
+               "geometry": {"type": "Point", "coordinates": [rng.uniform(-180, 180), rng.uniform(-90, 90)]}} for i in range(3000)]
+    for name, ctype, text, params, flags in [
+            ("q.geojsonl", "application/geo+json-seq", "".join(json.dumps(p) + "\n" for p in points), "", []),
+            ("q.geojsons", "application/geo+json-seq", "".join("\x1e" + json.dumps(p) + "\n" for p in points), "?k=2", ["--k", "2"]),
+            ("q.geojson", "application/geo+json", json.dumps({"type": "FeatureCollection", "features": points}), "?fields=name",
+             ["--site-fields", "name"])]:
+        qfile, ofile = os.path.join(work, name), os.path.join(work, "out_" + name)
+        with open(qfile, "w") as f:
+            f.write(text)
+        run("nearest", "--sites", index, "--queries", qfile, "-o", ofile, "--overwrite", *flags)
+        with open(ofile, "rb") as f:
+            want = f.read()
+        status, got_type, got = request("/nearest" + params, text.encode(), ctype)
+        check(status == 200 and got_type == ctype, f"POST {name}: {status} {got_type} {got[:200]}")
+        check(got == want, f"POST {name}{params}: differs from geovor nearest -o {name} ({len(got)} vs {len(want)} bytes)")
+    line = b'{"type":"Feature","geometry":{"type":"LineString","coordinates":[[0,0],[1,1]]},"properties":{}}\n'
+    status, _, got = request("/nearest", line, "application/geo+json-seq")
+    check(status == 400 and json.loads(got).get("feature") == 1 and "LineString" in json.loads(got)["error"].replace(" ", ""),
+          f"a line in GeoJSON: {status} {got}")
+    status, _, got = request("/nearest", b"garbage", "application/geo+json")
+    check(status == 400 and "request body" in json.loads(got)["error"], f"not GeoJSON: {status} {got}")
     status, _, got = request("/nearest?lat_field=Y&lon_field=X", b"X,Y\n2.35,48.85\n")
     check(status == 200 and got.count(b"\n") == 2, f"named columns: {status} {got}")
     # Bad bodies.
     status, _, got = request("/nearest", b"lat,lon\n1,2\n3,x\n")
     err = json.loads(got)
     check(status == 400 and err.get("line") == 3 and "line 3" in err["error"], f"malformed line: {status} {got}")
-    status, _, got = request("/nearest", b"lat,lon\n1,2\n", "application/json")
+    status, _, got = request("/nearest", b"lat,lon\n1,2\n", "application/xml")
     check(status == 415 and json.loads(got).get("parameter") == "Content-Type", f"media type: {status} {got}")
     status, _, got = request("/nearest", body * 3)  # over 1 MiB
     check(status == 413 and "larger than" in json.loads(got).get("error", ""), f"too large: {status} {got[:200]}")
@@ -132,7 +156,7 @@ try:
     status, ctype, got = request("/metrics")
     text = got.decode()
     check(status == 200 and ctype.startswith("text/plain"), f"/metrics: {status} {ctype}")
-    for needle in ['geovor_requests_total{route="POST /nearest",code="200"} 4', 'geovor_requests_total{route="POST /nearest",code="400"}',
+    for needle in ['geovor_requests_total{route="POST /nearest",code="200"} 7', 'geovor_requests_total{route="POST /nearest",code="400"}',
                    'geovor_requests_total{route="POST /nearest",code="415"} 1', 'geovor_reloads_total{result="failed"} 1',
                    'geovor_request_duration_seconds_bucket{le="+Inf"}', "geovor_sites "]:
         check(needle in text, f"/metrics lacks {needle}")

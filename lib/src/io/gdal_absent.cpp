@@ -22,6 +22,10 @@ SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions&, cons
   absent(path, "reading an OGR source");
 }
 
+SiteTable read_sites_ogr_bytes(std::string_view, const std::string& name, const std::string&, const SiteReaderOptions&) {
+  absent(name, "reading GeoJSON from memory");
+}
+
 void reproject_sites(SiteTable& table, const std::string&) { absent(table.source, "--s-srs (reprojecting sites)"); }
 
 JsonLayer read_json_features(const std::string& path, const std::string&) { absent(path, "reading an OGR layer"); }

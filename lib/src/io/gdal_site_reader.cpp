@@ -1,5 +1,6 @@
 #include <cpl_conv.h>
 #include <cpl_error.h>
+#include <cpl_vsi.h>
 #include <gdal_priv.h>
 #include <ogr_feature.h>
 #include <ogr_geometry.h>
@@ -7,6 +8,7 @@
 #include <ogrsf_frmts.h>
 
 #include <array>
+#include <atomic>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -442,6 +444,29 @@ SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& optio
   }
   apply_field_types(table, options.field_types);
   return table;
+}
+
+SiteTable read_sites_ogr_bytes(std::string_view bytes, const std::string& name, const std::string& extension,
+                               const SiteReaderOptions& options) {
+  gdal_detail::register_gdal();
+  static std::atomic<std::uint64_t> serial{0};
+  const std::string path = "/vsimem/geovor_bytes_" + std::to_string(serial++) + extension;
+  VSIFCloseL(VSIFileFromMemBuffer(path.c_str(), reinterpret_cast<GByte*>(const_cast<char*>(bytes.data())),
+                                  static_cast<vsi_l_offset>(bytes.size()), FALSE));
+  auto renamed = [&](std::string text) {
+    for (std::size_t at = text.find(path); at != std::string::npos; at = text.find(path, at + name.size()))
+      text.replace(at, path.size(), name);
+    return text;
+  };
+  try {
+    SiteTable table = read_sites_ogr(path, options);
+    VSIUnlink(path.c_str());
+    table.source = name;
+    return table;
+  } catch (const Error& e) {
+    VSIUnlink(path.c_str());
+    throw Error(e.code(), renamed(e.what()));
+  }
 }
 
 }  // namespace geovor

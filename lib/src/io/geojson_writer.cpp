@@ -434,6 +434,54 @@ class GeoJsonWriter final : public FeatureWriter {
   bool failed_ = false;
 };
 
+// Features as text handed to a sink (a response being built), in the file's framing.
+class GeoJsonSinkWriter final : public FeatureWriter {
+ public:
+  GeoJsonSinkWriter(std::function<void(std::string_view)> sink, GeoJsonFraming framing, GeometryType geometry_type,
+                    const std::vector<Field>& schema, const WriterOptions& options)
+      : sink_(std::move(sink)), framing_(framing), encoder_("response", framing, geometry_type, schema, options) {
+    if (framing_ == GeoJsonFraming::FeatureCollection) {
+      std::string head = "{\"type\":\"FeatureCollection\",\"name\":";
+      append_json_string(head, options.layer);
+      sink_(head + ",\"features\":[\n");
+    }
+  }
+  void write(const Geometry& geometry, std::span<const FieldValue> values) override {
+    one_.clear();
+    encoder_.encode(geometry, values, count_ + 1, one_);
+    write_encoded(one_);
+  }
+  const FeatureEncoder* encoder() const override { return &encoder_; }
+  void write_encoded(const EncodedFeatures& features) override {
+    if (features.boxes.empty()) return;
+    std::string_view text = features.text;
+    if (framing_ == GeoJsonFraming::FeatureCollection && count_ == 0) text.remove_prefix(2);
+    for (const std::optional<BBox>& box : features.boxes)
+      if (box) extent_.add(*box);
+    count_ += features.boxes.size();
+    sink_(text);
+  }
+  void finish() override {
+    if (finished_ || framing_ != GeoJsonFraming::FeatureCollection) return void(finished_ = true);
+    std::string tail = count_ > 0 ? "\n]" : "]";
+    if (const std::optional<BBox> box = extent_.result()) {
+      tail += ",\"bbox\":";
+      encoder_.put_bbox(tail, *box);
+    }
+    sink_(tail + "}\n");
+    finished_ = true;
+  }
+
+ private:
+  std::function<void(std::string_view)> sink_;
+  GeoJsonFraming framing_;
+  GeoJsonEncoder encoder_;
+  EncodedFeatures one_;
+  BBoxUnion extent_;
+  std::uint64_t count_ = 0;
+  bool finished_ = false;
+};
+
 }  // namespace
 
 std::unique_ptr<FeatureWriter> open_geojson_writer(const std::string& path, GeoJsonFraming framing,
@@ -441,6 +489,16 @@ std::unique_ptr<FeatureWriter> open_geojson_writer(const std::string& path, GeoJ
                                                    const std::vector<Field>& schema,
                                                    const WriterOptions& options) {
   return std::make_unique<GeoJsonWriter>(path, framing, geometry_type, schema, options);
+}
+
+}  // namespace geovor
+
+namespace geovor {
+
+std::unique_ptr<FeatureWriter> open_geojson_writer(std::function<void(std::string_view)> sink, GeoJsonFraming framing,
+                                                   GeometryType geometry_type, const std::vector<Field>& schema,
+                                                   const WriterOptions& options) {
+  return std::make_unique<GeoJsonSinkWriter>(std::move(sink), framing, geometry_type, schema, options);
 }
 
 }  // namespace geovor

@@ -17,7 +17,9 @@
 ///   GDAL's GeoJSONSeq default. A sequence has no collection and no collection bbox.
 #pragma once
 
+#include <functional>
 #include <memory>
+#include <string_view>
 #include <string>
 #include <vector>
 
@@ -50,6 +52,12 @@ enum class GeoJsonFraming {
 std::unique_ptr<FeatureWriter> open_geojson_writer(const std::string& path, GeoJsonFraming framing,
                                                    GeometryType geometry_type,
                                                    const std::vector<Field>& schema,
+                                                   const WriterOptions& options);
+
+/// As above, the text handed to `sink` as it is made (in order, on the writing thread) instead of
+/// a file: a service's response. The same bytes as the file; finish() adds a collection's end.
+std::unique_ptr<FeatureWriter> open_geojson_writer(std::function<void(std::string_view)> sink, GeoJsonFraming framing,
+                                                   GeometryType geometry_type, const std::vector<Field>& schema,
                                                    const WriterOptions& options);
 
 }  // namespace geovor

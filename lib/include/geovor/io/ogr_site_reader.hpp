@@ -31,6 +31,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
 #include "geovor/geo/site_reader.hpp"
 
@@ -45,6 +46,12 @@ namespace geovor {
 ///   `layer` empty, or an option naming a column that does not exist.
 SiteTable read_sites_ogr(const std::string& path, const SiteReaderOptions& options = {},
                          const std::string& layer = "");
+
+/// As read_sites_ogr, from bytes in memory (a request's body: GeoJSON, GeoJSONSeq, ...) that GDAL
+/// reads as a file named with `extension` (".geojson", ".geojsonl", ...); `name` replaces that
+/// file's name in the table's source and in errors.
+SiteTable read_sites_ogr_bytes(std::string_view bytes, const std::string& name, const std::string& extension,
+                               const SiteReaderOptions& options = {});
 
 /// Makes WGS84 sites of rows read with SiteReaderOptions::s_srs (x in lon_deg, y in lat_deg, in
 /// the coordinates of `srs`): each point is checked against the domain of `srs` (below), then
