@@ -14,6 +14,7 @@ namespace geovor::service {
 namespace {
 
 constexpr std::size_t kDefaultLimit = 10, kMaxLimit = 10000;
+constexpr const char* kOpenApiType = "application/vnd.oai.openapi+json;version=3.0";
 constexpr const char* kCrs84 = "http://www.opengis.net/def/crs/OGC/1.3/CRS84";
 
 struct BadParameter {
@@ -146,7 +147,32 @@ Response FeaturesService::landing(const std::string& base) const {
               link(base + "/", "self", "application/json", "This document") + "," +
               link(base + "/conformance", "conformance", "application/json", "Conformance classes") + "," +
               link(base + "/collections", "data", "application/json", "Collections") + "," +
+              link(base + "/api", "service-desc", kOpenApiType, "The API definition (OpenAPI 3.0)") + "," +
               link(base + "/map", "alternate", "text/html", "Map") + "]}");
+}
+
+Response FeaturesService::api(const std::string& base) const {
+  // The paths and the items' parameters, so that clients (QGIS, GDAL) learn the page limits.
+  const std::string json_response = R"({"200":{"description":"OK","content":{"application/json":{}}}})";
+  const std::string geojson_response = R"({"200":{"description":"OK","content":{"application/geo+json":{}}}})";
+  const std::string id_parameter = R"({"name":"collectionId","in":"path","required":true,"schema":{"type":"string"}})";
+  std::string j = R"({"openapi":"3.0.2","info":{"title":"geovor serve","version":"1.0"},"servers":[{"url":)" + json_string(base) +
+                  R"(}],"paths":{)";
+  j += R"("/":{"get":{"summary":"Landing page","responses":)" + json_response + "}},";
+  j += R"("/conformance":{"get":{"summary":"Conformance classes","responses":)" + json_response + "}},";
+  j += R"("/collections":{"get":{"summary":"Collections","responses":)" + json_response + "}},";
+  j += R"("/collections/{collectionId}":{"get":{"summary":"A collection","parameters":[)" + id_parameter +
+       R"(],"responses":)" + json_response + "}},";
+  j += R"("/collections/{collectionId}/items":{"get":{"summary":"Features","parameters":[)" + id_parameter +
+       R"(,{"name":"limit","in":"query","schema":{"type":"integer","minimum":1,"maximum":)" + std::to_string(kMaxLimit) +
+       R"(,"default":)" + std::to_string(kDefaultLimit) +
+       R"(}},{"name":"offset","in":"query","schema":{"type":"integer","minimum":0,"default":0}},)"
+       R"({"name":"bbox","in":"query","style":"form","explode":false,"schema":{"type":"array","minItems":4,"maxItems":4,"items":{"type":"number"}}}],"responses":)" +
+       geojson_response + "}},";
+  j += R"("/collections/{collectionId}/items/{featureId}":{"get":{"summary":"A feature","parameters":[)" + id_parameter +
+       R"(,{"name":"featureId","in":"path","required":true,"schema":{"type":"string"}}],"responses":)" + geojson_response +
+       "}}}}";
+  return json(j, kOpenApiType);
 }
 
 Response FeaturesService::conformance() const {

@@ -50,6 +50,8 @@ class FeaturesService {
   /// Each takes the base URL of the links ("http://HOST:PORT", from the request's Host header).
   Response landing(const std::string& base) const;
   Response conformance() const;
+  /// /api: the OpenAPI 3.0 definition of these paths (the landing page's "service-desc").
+  Response api(const std::string& base) const;
   Response collections(const std::string& base) const;
   Response collection(const std::string& id, const std::string& base) const;
   Response items(const std::string& id, const Params& params, const std::string& base) const;

@@ -37,6 +37,9 @@ void add_feature_routes(httplib::Server& s, LiveData& data) {
   s.Get("/", [&data](const httplib::Request& req, httplib::Response& res) {
     answer(res, data.current()->features.landing(base_url(req)));
   });
+  s.Get("/api", [&data](const httplib::Request& req, httplib::Response& res) {
+    answer(res, data.current()->features.api(base_url(req)));
+  });
   s.Get("/conformance", [&data](const httplib::Request&, httplib::Response& res) {
     answer(res, data.current()->features.conformance());
   });

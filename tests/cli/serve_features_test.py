@@ -42,6 +42,9 @@ try:
     status, _, landing = get("/")
     rels = {l["rel"] for l in landing.get("links", [])}
     check(status == 200 and {"self", "conformance", "data"} <= rels, f"landing: {status} {landing}")
+    check("service-desc" in rels, "landing: a service-desc link (QGIS needs it)")
+    status, _, api = get("/api")
+    check(status == 200 and "/collections/{collectionId}/items" in api.get("paths", {}), f"/api: {status}")
     status, _, conf = get("/conformance")
     check("http://www.opengis.net/spec/ogcapi-features-1/1.0/conf/core" in conf.get("conformsTo", []), f"conformance {conf}")
     status, _, colls = get("/collections")
@@ -91,7 +94,7 @@ try:
         out = os.path.join(work, f"oapif_{layer}.geojson")
         if os.path.exists(out):
             os.remove(out)
-        r = subprocess.run(["ogr2ogr", "-f", "GeoJSON", "-lco", "COORDINATE_PRECISION=15", out, f"OAPIF:{base}", layer],
+        r = subprocess.run(["ogr2ogr", "-f", "GeoJSON", "-lco", "COORDINATE_PRECISION=15", "-oo", "PAGE_SIZE=1000", out, f"OAPIF:{base}", layer],
                            capture_output=True, text=True)
         check(r.returncode == 0, f"ogr2ogr {layer}: {r.stderr}")
         if r.returncode == 0:

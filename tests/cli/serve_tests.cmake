@@ -25,3 +25,9 @@ add_test(NAME cli.serve.map_in_chromium
   COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/serve_map_test.py $<TARGET_FILE:geovor_cli>
           ${PROJECT_SOURCE_DIR}/datasets/weather_stations.csv ${CMAKE_CURRENT_BINARY_DIR}/serve_map)
 set_tests_properties(cli.serve.map_in_chromium PROPERTIES LABELS "cli" TIMEOUT 240 SKIP_RETURN_CODE 77)
+# QGIS's OAPIF provider reads both layers (tests/cli/serve_qgis_test.py; skipped, 77, without
+# python3-qgis).
+add_test(NAME cli.serve.qgis_reads_layers
+  COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/serve_qgis_test.py $<TARGET_FILE:geovor_cli>
+          ${PROJECT_SOURCE_DIR}/datasets/weather_stations.csv ${CMAKE_CURRENT_BINARY_DIR}/serve_qgis)
+set_tests_properties(cli.serve.qgis_reads_layers PROPERTIES LABELS "cli" TIMEOUT 180 SKIP_RETURN_CODE 77)
