@@ -3,7 +3,8 @@
 // pairs (as a query string decodes); with no line feed they are a GET /nearest, else the rest is a
 // POST /nearest CSV body. Over a fixed index of 300 sites with columns, once unweighted and once
 // weighted. A GET is a 200 GeoJSON FeatureCollection or a 400 naming a parameter; a POST a 200
-// CSV with geovor nearest's header, or a 400 with its reason; never a crash or a hang.
+// CSV with geovor nearest's header, or a 400 with its reason; never a crash or a hang. The same
+// parameters go to the OGC API - Features items of the sites (200 or 400 naming the parameter).
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -12,6 +13,7 @@
 
 #include "fuzz_check.hpp"
 #include "geovor/geo/site_encoder.hpp"
+#include "features_service.hpp"
 #include "nearest_service.hpp"
 
 namespace {
@@ -54,6 +56,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::size_t eq = pair.find('=');
     params.emplace(pair.substr(0, eq), eq == std::string::npos ? std::string() : pair.substr(eq + 1));
     at = amp + 1;
+  }
+  static const service::FeaturesService features({service::sites_collection(plain.index())});
+  if (line_feed == std::string::npos) {
+    const service::Response r = features.items("sites", params, "http://fuzz");
+    FUZZ_CHECK(r.status == 200 || r.status == 400, "items: status %d", r.status);
+    if (r.status == 200)
+      FUZZ_CHECK(r.body.rfind("{\"type\":\"FeatureCollection\",\"numberMatched\":", 0) == 0 && r.body.back() == '}',
+                 "items: body %s", r.body.c_str());
+    else
+      FUZZ_CHECK(r.body.find("\"parameter\":") != std::string::npos, "items: a 400 without its parameter: %s", r.body.c_str());
   }
   for (const service::NearestService* s : {&plain, &weighted}) {
     if (line_feed != std::string::npos) {
