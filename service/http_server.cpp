@@ -2,10 +2,10 @@
 
 #include <httplib.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "geovor/core/error.hpp"
-#include "geovor/core/parallel.hpp"
 #include "geovor/io/json_text.hpp"
 #include "map_page.hpp"
 
@@ -79,12 +79,13 @@ struct HttpServer::Impl {
 HttpServer::HttpServer(LiveData& data, const ServerOptions& options) : impl_(std::make_unique<Impl>(data)) {
   Impl& impl = *impl_;
   httplib::Server& s = impl.server;
-  const unsigned threads = thread_count(options.threads);
-  s.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+  const std::size_t connections = std::max(1u, options.connections);
+  s.new_task_queue = [connections] { return new httplib::ThreadPool(connections); };
   s.set_payload_max_length(options.max_body_bytes);
   s.set_read_timeout(options.read_timeout_s, 0);
   s.set_write_timeout(options.write_timeout_s, 0);
   s.set_keep_alive_timeout(options.keep_alive_timeout_s);
+  s.set_tcp_nodelay(true);  // small responses go out at once, not after a delayed ACK (40 ms)
   s.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
     request_start = std::chrono::steady_clock::now();
     return httplib::Server::HandlerResponse::Unhandled;

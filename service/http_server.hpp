@@ -24,8 +24,10 @@ struct ServerOptions {
   std::string host = "127.0.0.1";
   /// Port; 0 picks a free one (port() says which). DEFAULT: 8080.
   int port = 8080;
-  /// Worker threads answering requests; 0 means one per core. DEFAULT: 0.
-  unsigned threads = 0;
+  /// Connections served at once: cpp-httplib gives each its own thread of a pool for as long as it
+  /// stays open (keep-alive included), so this is the pool's size; more connections wait to be
+  /// accepted. Threads waiting on idle connections cost no CPU. DEFAULT: 256.
+  unsigned connections = 256;
   /// The largest request body (POST /nearest's CSV), in bytes: a larger one is refused with 413
   /// before it is read. DEFAULT: 64 MiB (about 2.5 million lat,lon lines).
   std::size_t max_body_bytes = std::size_t{64} << 20;
