@@ -1,6 +1,7 @@
 #include "http_server.hpp"
 
 #include <httplib.h>
+#include <sys/socket.h>
 
 #include <algorithm>
 #include <chrono>
@@ -16,6 +17,9 @@ void answer(httplib::Response& res, Response&& r) {
   res.status = r.status;
   res.set_content(std::move(r.body), r.content_type.c_str());
 }
+
+// Requests on one keep-alive connection before it is closed.
+constexpr std::size_t kKeepAliveRequests = 100000;
 
 // The routes counted apart in /metrics.
 const std::vector<std::string> kRoutes = {"GET /nearest", "POST /nearest", "GET /healthz", "GET /metrics", "POST /admin/reload",
@@ -74,6 +78,7 @@ struct HttpServer::Impl {
   LiveData& data;
   RequestMetrics metrics;
   httplib::Server server;
+  int listening = -1;  // the listening socket
 };
 
 HttpServer::HttpServer(LiveData& data, const ServerOptions& options) : impl_(std::make_unique<Impl>(data)) {
@@ -86,6 +91,15 @@ HttpServer::HttpServer(LiveData& data, const ServerOptions& options) : impl_(std
   s.set_write_timeout(options.write_timeout_s, 0);
   s.set_keep_alive_timeout(options.keep_alive_timeout_s);
   s.set_tcp_nodelay(true);  // small responses go out at once, not after a delayed ACK (40 ms)
+  s.set_keep_alive_max_count(kKeepAliveRequests);  // cpp-httplib closes after 5 by default: reconnections
+  // The listening socket, to widen its backlog once bound (cpp-httplib's is 5: bursts of
+  // connections waited for SYN retries, 1 s each). Replacing the default options drops its
+  // SO_REUSEADDR, set here again (never SO_REUSEPORT: a port in use stays an error).
+  s.set_socket_options([&impl](int sock) {
+    const int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    impl.listening = sock;
+  });
   s.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
     request_start = std::chrono::steady_clock::now();
     return httplib::Server::HandlerResponse::Unhandled;
@@ -132,6 +146,7 @@ HttpServer::HttpServer(LiveData& data, const ServerOptions& options) : impl_(std
   port_ = options.port == 0 ? s.bind_to_any_port(options.host) : (s.bind_to_port(options.host, options.port) ? options.port : -1);
   if (port_ <= 0)
     throw Error(ErrorCode::Io, options.host + ":" + std::to_string(options.port) + ": cannot listen there (in use, or not an address of this machine)");
+  ::listen(impl.listening, SOMAXCONN);  // a second listen() only sets the backlog
 }
 
 HttpServer::~HttpServer() = default;
