@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build
-  libcgal-dev libgmp-dev libmpfr-dev libgeographiclib-dev libgdal-dev gdal-bin
+  libcgal-dev libgmp-dev libmpfr-dev libgeographiclib-dev libgdal-dev gdal-bin libgeos-dev
   libgtest-dev libgmock-dev libcli11-dev libbenchmark-dev libnanoflann-dev
   clang-14 libclang-rt-14-dev llvm-14
   python3-shapely python3-pyproj python3-numpy python3-geographiclib

@@ -6,6 +6,7 @@
 
 #include "geovor/core/error.hpp"
 #include "geovor/io/ogr_feature_json.hpp"
+#include "geovor/io/ogr_region_reader.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
 #include "io/gdal_writer.hpp"
 
@@ -27,6 +28,10 @@ SiteTable read_sites_ogr_bytes(std::string_view, const std::string& name, const 
 }
 
 void reproject_sites(SiteTable& table, const std::string&) { absent(table.source, "--s-srs (reprojecting sites)"); }
+
+RegionTable read_regions_ogr(const std::string& path, const std::string&, const std::string&) {
+  absent(path, "reading regions");
+}
 
 JsonLayer read_json_features(const std::string& path, const std::string&) { absent(path, "reading an OGR layer"); }
 

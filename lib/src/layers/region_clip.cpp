@@ -1,0 +1,260 @@
+#include "geovor/layers/region_clip.hpp"
+
+#include <geos_c.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <memory>
+
+#include "geovor/core/parallel.hpp"
+#include "geovor/geo/site_encoder.hpp"
+#include "geovor/lonlat/ellipsoid_area.hpp"
+
+namespace geovor {
+namespace {
+
+// The region with points inserted along its straight lon/lat edges, at most kRegionStepDeg apart:
+// the pieces then follow the edges as drawn, and their areas (geodesics between the written
+// vertices) are those of the region as drawn.
+constexpr double kRegionStepDeg = 0.1;
+
+Ring densified(const Ring& ring) {
+  Ring out;
+  for (std::size_t i = 0; i + 1 < ring.size(); ++i) {
+    const LonLat a = ring[i], b = ring[i + 1];
+    const int steps = std::max(1, static_cast<int>(std::ceil(std::max(std::abs(b.lon_deg - a.lon_deg), std::abs(b.lat_deg - a.lat_deg)) / kRegionStepDeg)));
+    for (int k = 0; k < steps; ++k) {
+      const double t = static_cast<double>(k) / steps;
+      out.push_back({a.lon_deg + t * (b.lon_deg - a.lon_deg), a.lat_deg + t * (b.lat_deg - a.lat_deg)});
+    }
+  }
+  if (!ring.empty()) out.push_back(ring.back());
+  return out;
+}
+
+MultiPolygon densified(const MultiPolygon& mp) {
+  MultiPolygon out;
+  for (const Polygon& p : mp) {
+    Polygon d{densified(p.exterior), {}};
+    for (const Ring& h : p.holes) d.holes.push_back(densified(h));
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+// One GEOS context per worker (GEOS's reentrant API), and geometries freed with it.
+class Geos {
+ public:
+  Geos() : h_(GEOS_init_r()) {}
+  ~Geos() { GEOS_finish_r(h_); }
+  Geos(const Geos&) = delete;
+  Geos& operator=(const Geos&) = delete;
+  GEOSContextHandle_t h() const { return h_; }
+
+  struct Free {
+    GEOSContextHandle_t h;
+    void operator()(GEOSGeometry* g) const { GEOSGeom_destroy_r(h, g); }
+  };
+  using Ptr = std::unique_ptr<GEOSGeometry, Free>;
+  Ptr own(GEOSGeometry* g) const { return Ptr(g, Free{h_}); }
+
+  GEOSGeometry* ring(const Ring& r) const {
+    GEOSCoordSequence* seq = GEOSCoordSeq_create_r(h_, static_cast<unsigned>(r.size()), 2);
+    for (unsigned i = 0; i < r.size(); ++i) GEOSCoordSeq_setXY_r(h_, seq, i, r[i].lon_deg, r[i].lat_deg);
+    return GEOSGeom_createLinearRing_r(h_, seq);
+  }
+
+  Ptr multipolygon(const MultiPolygon& mp) const {
+    std::vector<GEOSGeometry*> polygons;
+    for (const Polygon& p : mp) {
+      std::vector<GEOSGeometry*> holes;
+      for (const Ring& h : p.holes) holes.push_back(ring(h));
+      polygons.push_back(GEOSGeom_createPolygon_r(h_, ring(p.exterior), holes.data(), static_cast<unsigned>(holes.size())));
+    }
+    return own(GEOSGeom_createCollection_r(h_, GEOS_MULTIPOLYGON, polygons.data(), static_cast<unsigned>(polygons.size())));
+  }
+
+  // The polygons of g (lines and points of a touching intersection left out), exteriors
+  // counter-clockwise and holes clockwise in (lon, lat), as RFC 7946 wants them.
+  MultiPolygon polygons(const GEOSGeometry* g) const {
+    MultiPolygon out;
+    add_polygons(g, out);
+    return out;
+  }
+
+ private:
+  Ring ring_of(const GEOSGeometry* r, bool counter_clockwise) const {
+    const GEOSCoordSequence* seq = GEOSGeom_getCoordSeq_r(h_, r);
+    unsigned n = 0;
+    GEOSCoordSeq_getSize_r(h_, seq, &n);
+    Ring out(n);
+    for (unsigned i = 0; i < n; ++i) GEOSCoordSeq_getXY_r(h_, seq, i, &out[i].lon_deg, &out[i].lat_deg);
+    if ((planar_area_deg2(out) > 0) != counter_clockwise) std::reverse(out.begin(), out.end());
+    return out;
+  }
+
+  void add_polygons(const GEOSGeometry* g, MultiPolygon& out) const {
+    const int type = GEOSGeomTypeId_r(h_, g);
+    if (type == GEOS_POLYGON) {
+      if (GEOSisEmpty_r(h_, g)) return;
+      Polygon p;
+      p.exterior = ring_of(GEOSGetExteriorRing_r(h_, g), true);
+      for (int i = 0; i < GEOSGetNumInteriorRings_r(h_, g); ++i) p.holes.push_back(ring_of(GEOSGetInteriorRingN_r(h_, g, i), false));
+      out.push_back(std::move(p));
+    } else if (type == GEOS_MULTIPOLYGON || type == GEOS_GEOMETRYCOLLECTION) {
+      for (int i = 0; i < GEOSGetNumGeometries_r(h_, g); ++i) add_polygons(GEOSGetGeometryN_r(h_, g, i), out);
+    }
+  }
+
+  GEOSContextHandle_t h_;
+};
+
+// The grid of the written coordinates (GEOS's grid size), 0 for doubles.
+double grid_size(int precision) { return precision < 0 ? 0.0 : std::pow(10.0, -precision); }
+
+// The site whose cell holds q, by a greedy walk over the cells' neighbours from `start` (exact
+// for unweighted cells up to ties; a caller checks the cell, as a weighted diagram may stop short).
+SiteId walk_to_cell(const VoronoiDiagram& d, const Vec3& q, SiteId start) {
+  SiteId s = start;
+  for (;;) {
+    SiteId best = s;
+    double best_dot = dot(d.site(s), q);
+    for (const SiteId n : d.cell_neighbors(s))
+      if (const double v = dot(d.site(n), q); v > best_dot) best = n, best_dot = v;
+    if (best == s) return s;
+    s = best;
+  }
+}
+
+// The clip of one region: its pieces, its area, its problems.
+struct RegionWork {
+  const VoronoiDiagram& diagram;
+  const CellGeometry& cells;
+  const Geos& geos;
+  double grid;
+  std::vector<std::uint32_t>& stamp;  // the region a cell was last queued for, + 1
+  std::size_t tested = 0;
+
+  // A cell's written polygon as GEOS geometry; null when it was not written (collapsed).
+  Geos::Ptr cell(SiteId s) const {
+    MultiPolygon mp;
+    double area = 0;
+    if (cells.polygon(s, mp, area) != CellStatus::Written || mp.empty()) return geos.own(nullptr);
+    return geos.multipolygon(mp);
+  }
+
+  void clip(std::uint32_t r, const Region& region, std::vector<ClipPiece>& pieces, double& area_m2,
+            std::vector<RegionProblem>& problems) {
+    const GEOSContextHandle_t h = geos.h();
+    Geos::Ptr shape = geos.multipolygon(densified(region.geometry));
+    if (!GEOSisValid_r(h, shape.get())) {
+      char* why = GEOSisValidReason_r(h, shape.get());
+      problems.push_back({r, std::string("invalid polygon (") + (why ? why : "?") + "), repaired with GEOS MakeValid"});
+      GEOSFree_r(h, why);
+      shape = geos.own(GEOSMakeValid_r(h, shape.get()));
+    }
+    if (grid > 0) shape = geos.own(GEOSGeom_setPrecision_r(h, shape.get(), grid, 0));
+    const MultiPolygon snapped = geos.polygons(shape.get());
+    if (snapped.empty()) {
+      problems.push_back({r, "no area at the output's precision"});
+      return;
+    }
+    const GEOSPreparedGeometry* prepared = GEOSPrepare_r(h, shape.get());
+    std::deque<SiteId> queue;
+    auto enqueue = [&](SiteId s) {
+      if (stamp[s] == r + 1) return;
+      stamp[s] = r + 1;
+      queue.push_back(s);
+    };
+    SiteId start = first_live_site();
+    for (const Polygon& part : snapped) {
+      const LonLat v = part.exterior.front();
+      start = walk_to_cell(diagram, SiteEncoder::from_lat_lon(v.lat_deg, v.lon_deg), start);
+      Geos::Ptr c = cell(start);
+      ++tested;
+      if (c && GEOSPreparedIntersects_r(h, prepared, c.get())) enqueue(start);
+      else seed_by_scan(prepared, r, enqueue);  // the walk stopped short (weighted cells, ties)
+    }
+    while (!queue.empty()) {
+      const SiteId s = queue.front();
+      queue.pop_front();
+      Geos::Ptr c = cell(s);
+      ++tested;
+      if (c) {
+        if (!GEOSPreparedIntersects_r(h, prepared, c.get())) continue;
+        Geos::Ptr piece = geos.own(grid > 0 ? GEOSIntersectionPrec_r(h, shape.get(), c.get(), grid)
+                                            : GEOSIntersection_r(h, shape.get(), c.get()));
+        MultiPolygon mp = piece ? geos.polygons(piece.get()) : MultiPolygon{};
+        if (!mp.empty()) {
+          const double a = ellipsoid_area_m2(mp);
+          area_m2 += a;
+          pieces.push_back({s, r, std::move(mp), a, 0.0});
+        }
+      }
+      for (const SiteId n : diagram.cell_neighbors(s)) enqueue(n);  // an unwritten cell passes the walk on
+    }
+    GEOSPreparedGeom_destroy_r(h, prepared);
+    for (ClipPiece& p : pieces) p.region_share = p.area_m2 / area_m2;
+  }
+
+  SiteId first_live_site() const {
+    SiteId s = 0;
+    while (!diagram.has_cell(s)) ++s;
+    return s;
+  }
+
+  template <class Enqueue>
+  void seed_by_scan(const GEOSPreparedGeometry* prepared, std::uint32_t, Enqueue& enqueue) {
+    for (SiteId s = 0; s < diagram.site_capacity(); ++s) {
+      if (!diagram.has_cell(s)) continue;
+      Geos::Ptr c = cell(s);
+      ++tested;
+      if (c && GEOSPreparedIntersects_r(geos.h(), prepared, c.get())) {
+        enqueue(s);
+        return;
+      }
+    }
+  }
+};
+
+}  // namespace
+
+std::vector<ClipPiece> clip_cells_to_regions(const VoronoiDiagram& diagram, const CellGeometry& cells,
+                                             const RegionTable& regions, const RegionClipOptions& options,
+                                             RegionClipReport& report) {
+  const std::size_t n = regions.regions.size();
+  report = {};
+  report.region_area_m2.assign(n, 0.0);
+  std::vector<std::vector<ClipPiece>> by_region(n);
+  std::vector<std::vector<RegionProblem>> problems(n);
+  std::vector<std::size_t> tested(n, 0);
+  const double grid = grid_size(cells.options().precision);
+  if (diagram.num_cells() > 0) {
+    std::vector<std::vector<std::uint32_t>> stamps(thread_count(options.threads));  // per worker
+    parallel_chunks(n, 1, options.threads, [&](unsigned worker, std::size_t begin, std::size_t end) {
+      const Geos geos;
+      std::vector<std::uint32_t>& stamp = stamps[worker];
+      if (stamp.empty()) stamp.assign(diagram.site_capacity(), 0);
+      for (std::size_t r = begin; r < end; ++r) {
+        RegionWork work{diagram, cells, geos, grid, stamp};
+        work.clip(static_cast<std::uint32_t>(r), regions.regions[r], by_region[r], report.region_area_m2[r], problems[r]);
+        tested[r] = work.tested;
+      }
+    });
+  }
+  std::vector<ClipPiece> pieces;
+  for (std::size_t r = 0; r < n; ++r) {
+    for (ClipPiece& p : by_region[r]) pieces.push_back(std::move(p));
+    for (RegionProblem& p : problems[r]) report.problems.push_back(std::move(p));
+    report.cells_tested += tested[r];
+  }
+  std::stable_sort(pieces.begin(), pieces.end(), [](const ClipPiece& a, const ClipPiece& b) { return a.site < b.site; });
+  std::vector<bool> met(diagram.site_capacity(), false);
+  for (const ClipPiece& p : pieces) met[p.site] = true;
+  for (SiteId s = 0; s < diagram.site_capacity(); ++s)
+    if (diagram.has_cell(s) && !met[s]) report.sites_outside.push_back(s);
+  return pieces;
+}
+
+}  // namespace geovor
