@@ -79,7 +79,48 @@ def _warn_unwritten(unwritten, what):
                       GeometryWarning, stacklevel=3)
 
 
-def cells(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, merge_m=0.0, threads=None, weights=None):
+def _region_rings(clip):
+    """The clip regions as lists of polygons of (N, 2) lon/lat arrays, in EPSG:4326."""
+    from shapely.geometry import MultiPolygon, Polygon
+
+    if getattr(clip, "crs", None) is not None and not clip.crs.equals("EPSG:4326"):
+        clip = clip.to_crs("EPSG:4326")
+    regions = []
+    for row, geom in enumerate(clip.geometry):
+        if isinstance(geom, Polygon):
+            parts = [geom]
+        elif isinstance(geom, MultiPolygon):
+            parts = list(geom.geoms)
+        else:
+            kind = "no geometry" if geom is None else f"a {geom.geom_type}"
+            raise ValueError(f"clip row {row}: {kind}, not a Polygon or MultiPolygon")
+        regions.append([[np.asarray(p.exterior.coords, dtype=np.float64)[:, :2]] +
+                        [np.asarray(h.coords, dtype=np.float64)[:, :2] for h in p.interiors] for p in parts if not p.is_empty])
+    return clip, regions
+
+
+def _clipped(out, carried, clip):
+    """The pieces' GeoDataFrame: ours, the sites' carried columns, then region_<name> columns."""
+    frame = _frame(out, carried, out["site_first_row"])
+    taken = clip.drop(columns=[clip.geometry.name]).iloc[frame["region_index"].to_numpy()].reset_index(drop=True)
+    names = {str(c).lower() for c in frame.columns}
+    renamed = []
+    for c in taken.columns:
+        name = f"region_{c}"
+        while name.lower() in names:
+            name = f"src_{name}"
+        names.add(name.lower())
+        renamed.append(name)
+    taken.columns = renamed
+    import geopandas as gpd
+    import pandas as pd
+
+    return gpd.GeoDataFrame(pd.concat([frame.drop(columns=frame.geometry.name), taken], axis=1),
+                            geometry=frame.geometry.values, crs="EPSG:4326")
+
+
+def cells(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, merge_m=0.0, threads=None, weights=None,
+          clip=None):
     """The Voronoi cell of every site, as `geovor cells` writes them, in a GeoDataFrame.
 
     Parameters
@@ -115,8 +156,29 @@ def cells(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, merge_m=0
     GeometryWarning lists it. `attrs["merged"]` lists (input row, row it was merged into); with
     weights, `attrs["hidden"]` lists (input row, row of a site holding its position) of the
     sites whose power cell is empty (empty geometry; a HiddenSiteWarning lists them too).
+
+    With ``clip`` (a GeoDataFrame of Polygons/MultiPolygons, reprojected to EPSG:4326 when it
+    has another CRS), the pieces of the cells inside each region instead, as `geovor cells
+    --clip` makes them (layers/region_clip.hpp; GEOS's overlay in longitude/latitude, the
+    regions' edges as drawn): one row per non-empty (site, region) piece, by site then region,
+    with site_index, site_id, region_index (the clip row's position), region_id, area_m2,
+    region_share (the piece's share of its region: the Thiessen weight), the sites' carried
+    columns and the region's columns as region_<name>. `attrs["outside"]` lists the site
+    indices whose cell meets no region, `attrs["problems"]` the (region_index, reason) of
+    regions repaired (invalid polygons, made valid) or empty; a GeometryWarning names them.
     """
     lat_deg, lon_deg, id_list, carried = _sites(data, lat, lon, ids)
+    if clip is not None:
+        clip, regions = _region_rings(clip)
+        out = _geovor.cells_clipped(lat_deg, lon_deg, id_list, float(densify_m), float(merge_m),
+                                    0 if threads is None else int(threads), _values(data, weights), regions)
+        if out["problems"]:
+            listed = ", ".join(f"region {r}: {why}" for r, why in out["problems"][:20])
+            warnings.warn(f"{len(out['problems'])} clip regions: {listed}", GeometryWarning, stacklevel=2)
+        frame = _clipped(out, carried, clip)
+        frame.attrs["outside"] = list(out["outside"])
+        frame.attrs["problems"] = list(out["problems"])
+        return frame
     out = _geovor.cells(lat_deg, lon_deg, id_list, float(densify_m), float(merge_m), 0 if threads is None else int(threads),
                         _values(data, weights))
     _warn_unwritten(out["unwritten"], "cells (by site index)")

@@ -17,6 +17,8 @@
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/geo/site_weights.hpp"
 #include "geovor/layers/cell_layer.hpp"
+#include "geovor/layers/clipped_cell_layer.hpp"
+#include "geovor/layers/region_clip.hpp"
 #include "geovor/layers/delaunay_layers.hpp"
 #include "geovor/lonlat/delaunay_geometry.hpp"
 #include "geovor/relax/balance.hpp"
@@ -103,6 +105,60 @@ py::dict cells(const Doubles& lat, const Doubles& lon, Ids ids, double densify_m
   py::dict out = cell_layer(b, densify_m, threads);
   out["site_first_row"] = site_first_rows(b, rows);
   out["merged"] = merged_pairs(b, rows);
+  out["hidden"] = hidden_pairs(b, rows);
+  return out;
+}
+
+// Regions from Python: each a list of polygons, each a list of rings (N x 2 arrays of lon, lat).
+RegionTable regions_from_python(const py::list& regions) {
+  RegionTable t;
+  t.source = "clip";
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    Region region;
+    region.row = r + 1;
+    region.id = std::to_string(r);
+    for (const py::handle polygon : regions[r].cast<py::list>()) {
+      Polygon p;
+      bool first = true;
+      for (const py::handle ring : polygon.cast<py::list>()) {
+        const auto xy = ring.cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
+        if (xy.ndim() != 2 || xy.shape(1) != 2) throw Error(ErrorCode::InvalidArgument, "clip: a ring is not an N x 2 array");
+        Ring out;
+        for (py::ssize_t i = 0; i < xy.shape(0); ++i) out.push_back({xy.at(i, 0), xy.at(i, 1)});
+        if (first) p.exterior = std::move(out);
+        else p.holes.push_back(std::move(out));
+        first = false;
+      }
+      region.geometry.push_back(std::move(p));
+    }
+    t.regions.push_back(std::move(region));
+  }
+  return t;
+}
+
+py::dict cells_clipped(const Doubles& lat, const Doubles& lon, Ids ids, double densify_m, double merge_m, unsigned threads,
+                       const Radii& weights_m, const py::list& clip) {
+  const Built b = build(lat, lon, std::move(ids), merge_m, weights_m);
+  const SiteRows rows = rows_of_sites(b.report, b.dt.site_capacity());
+  const RegionTable regions = regions_from_python(clip);
+  MemoryFeatureWriter writer(clipped_cell_layer_schema(b.table, regions));
+  RegionClipReport report;
+  {
+    py::gil_scoped_release unlocked;
+    const VoronoiDiagram diagram(b.dt, threads == 0 ? 0 : threads);
+    CellGeometryOptions geometry;
+    geometry.densify_m = densify_m;
+    geometry.threads = threads;
+    const CellGeometry cells(diagram, geometry);
+    const std::vector<ClipPiece> pieces = clip_cells_to_regions(diagram, cells, regions, {.threads = threads}, report);
+    write_clipped_cells(writer, b.table, rows, regions, pieces);
+  }
+  py::dict out = writer.to_python();
+  out["site_first_row"] = site_first_rows(b, rows);
+  out["outside"] = report.sites_outside;
+  py::list problems;
+  for (const RegionProblem& p : report.problems) problems.append(py::make_tuple(p.region, p.reason));
+  out["problems"] = problems;
   out["hidden"] = hidden_pairs(b, rows);
   return out;
 }
@@ -229,6 +285,8 @@ py::dict relax(const Doubles& lat, const Doubles& lon, Ids ids, int iterations, 
 void bind_layers(py::module_& m) {
   m.def("cells", &cells, py::arg("lat"), py::arg("lon"), py::arg("ids"), py::arg("densify_m"), py::arg("merge_m"),
         py::arg("threads"), py::arg("weights_m") = py::none());
+  m.def("cells_clipped", &cells_clipped, py::arg("lat"), py::arg("lon"), py::arg("ids"), py::arg("densify_m"),
+        py::arg("merge_m"), py::arg("threads"), py::arg("weights_m"), py::arg("clip"));
   m.def("delaunay", &delaunay, py::arg("lat"), py::arg("lon"), py::arg("ids"), py::arg("densify_m"),
         py::arg("no_ghosts"), py::arg("merge_m"), py::arg("weights_m") = py::none());
   m.def("balance", &balance, py::arg("lat"), py::arg("lon"), py::arg("ids"), py::arg("shares"), py::arg("tolerance"),
