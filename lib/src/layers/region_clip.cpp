@@ -14,30 +14,40 @@
 namespace geovor {
 namespace {
 
-// The region with points inserted along its straight lon/lat edges, at most kRegionStepDeg apart:
+// The region with points inserted along its straight lon/lat edges where a straight piece and
+// the geodesic between its ends part by more than densify_m (as the cells' edges are densified):
 // the pieces then follow the edges as drawn, and their areas (geodesics between the written
 // vertices) are those of the region as drawn.
-constexpr double kRegionStepDeg = 0.1;
+constexpr int kMaxRegionSplits = 16;  // halvings of one edge at most
 
-Ring densified(const Ring& ring) {
-  Ring out;
-  for (std::size_t i = 0; i + 1 < ring.size(); ++i) {
-    const LonLat a = ring[i], b = ring[i + 1];
-    const int steps = std::max(1, static_cast<int>(std::ceil(std::max(std::abs(b.lon_deg - a.lon_deg), std::abs(b.lat_deg - a.lat_deg)) / kRegionStepDeg)));
-    for (int k = 0; k < steps; ++k) {
-      const double t = static_cast<double>(k) / steps;
-      out.push_back({a.lon_deg + t * (b.lon_deg - a.lon_deg), a.lat_deg + t * (b.lat_deg - a.lat_deg)});
-    }
+void densify_edge(LonLat a, LonLat b, double densify_m, int depth, Ring& out) {
+  const LonLat mid{(a.lon_deg + b.lon_deg) / 2, (a.lat_deg + b.lat_deg) / 2};
+  const Vec3 ua = SiteEncoder::from_lat_lon(a.lat_deg, a.lon_deg), ub = SiteEncoder::from_lat_lon(b.lat_deg, b.lon_deg);
+  const Vec3 um = SiteEncoder::from_lat_lon(mid.lat_deg, mid.lon_deg);
+  const Vec3 sum{ua.x + ub.x, ua.y + ub.y, ua.z + ub.z};
+  const double norm = std::sqrt(dot(sum, sum));
+  const double apart = norm < 1e-9 ? INFINITY  // ends opposite (or one point 360 degrees round)
+                                   : std::acos(std::clamp(dot(um, sum) / norm, -1.0, 1.0)) * SiteEncoder::kEarthRadiusM;
+  if (depth < kMaxRegionSplits && apart > densify_m) {
+    densify_edge(a, mid, densify_m, depth + 1, out);
+    densify_edge(mid, b, densify_m, depth + 1, out);
+    return;
   }
+  out.push_back(a);
+}
+
+Ring densified(const Ring& ring, double densify_m) {
+  Ring out;
+  for (std::size_t i = 0; i + 1 < ring.size(); ++i) densify_edge(ring[i], ring[i + 1], densify_m, 0, out);
   if (!ring.empty()) out.push_back(ring.back());
   return out;
 }
 
-MultiPolygon densified(const MultiPolygon& mp) {
+MultiPolygon densified(const MultiPolygon& mp, double densify_m) {
   MultiPolygon out;
   for (const Polygon& p : mp) {
-    Polygon d{densified(p.exterior), {}};
-    for (const Ring& h : p.holes) d.holes.push_back(densified(h));
+    Polygon d{densified(p.exterior, densify_m), {}};
+    for (const Ring& h : p.holes) d.holes.push_back(densified(h, densify_m));
     out.push_back(std::move(d));
   }
   return out;
@@ -147,7 +157,7 @@ struct RegionWork {
   void clip(std::uint32_t r, const Region& region, std::vector<ClipPiece>& pieces, double& area_m2,
             std::vector<RegionProblem>& problems) {
     const GEOSContextHandle_t h = geos.h();
-    Geos::Ptr shape = geos.multipolygon(densified(region.geometry));
+    Geos::Ptr shape = geos.multipolygon(densified(region.geometry, cells.options().densify_m));
     if (!GEOSisValid_r(h, shape.get())) {
       char* why = GEOSisValidReason_r(h, shape.get());
       problems.push_back({r, std::string("invalid polygon (") + (why ? why : "?") + "), repaired with GEOS MakeValid"});
@@ -183,9 +193,25 @@ struct RegionWork {
       ++tested;
       if (c) {
         if (!GEOSPreparedIntersects_r(h, prepared, c.get())) continue;
-        Geos::Ptr piece = geos.own(grid > 0 ? GEOSIntersectionPrec_r(h, shape.get(), c.get(), grid)
-                                            : GEOSIntersection_r(h, shape.get(), c.get()));
-        MultiPolygon mp = piece ? geos.polygons(piece.get()) : MultiPolygon{};
+        // A cell inside the region is its own piece (its vertices are on the grid already).
+        MultiPolygon mp;
+        if (GEOSPreparedContains_r(h, prepared, c.get())) {
+          mp = geos.polygons(c.get());
+        } else {
+          // The region near the cell first (a rectangle a degree wider than the cell's box, cut by
+          // GEOS's rectangle clipper: linear in the region's size), then the overlay.
+          double w = 0, s_ = 0, e = 0, n = 0;
+          GEOSGeom_getXMin_r(h, c.get(), &w);
+          GEOSGeom_getYMin_r(h, c.get(), &s_);
+          GEOSGeom_getXMax_r(h, c.get(), &e);
+          GEOSGeom_getYMax_r(h, c.get(), &n);
+          Geos::Ptr near = geos.own(GEOSClipByRect_r(h, shape.get(), std::floor(w) - 1, std::floor(s_) - 1, std::ceil(e) + 1,
+                                                     std::ceil(n) + 1));
+          const GEOSGeometry* part = near ? near.get() : shape.get();
+          Geos::Ptr piece = geos.own(grid > 0 ? GEOSIntersectionPrec_r(h, part, c.get(), grid)
+                                              : GEOSIntersection_r(h, part, c.get()));
+          if (piece) mp = geos.polygons(piece.get());
+        }
         if (!mp.empty()) {
           const double a = ellipsoid_area_m2(mp);
           area_m2 += a;

@@ -9,10 +9,10 @@
 /// robust overlay (OverlayNG snap-rounded to the grid of the output's decimals): the pieces tile
 /// each region as QGIS draws it, and each piece is valid at the precision written.
 ///
-/// The region's straight edges get points every 0.1 degree at most (in longitude and latitude)
-/// before the clip, so that the pieces follow them as drawn and their geodesic measures are those
-/// of the region as drawn (a 90-degree edge along -70 latitude, as Natural Earth draws
-/// Antarctica, is not the geodesic between its ends).
+/// The region's straight edges are halved before the clip while a piece's midpoint and the
+/// geodesic between its ends part by more than the cells' densify_m, so that the pieces follow
+/// them as drawn and their geodesic measures are those of the region as drawn (a 90-degree edge
+/// along -70 latitude, as Natural Earth draws Antarctica, is not the geodesic between its ends).
 ///
 /// Measures: a piece's area_m2 is that of its rings as written on the WGS84 ellipsoid
 /// (ellipsoid_area_m2: geodesics between the written vertices, as PolygonArea); a region's area
