@@ -6,6 +6,7 @@
 #include <cmath>
 #include <deque>
 #include <memory>
+#include <string>
 
 #include "geovor/core/parallel.hpp"
 #include "geovor/geo/site_encoder.hpp"
@@ -56,7 +57,10 @@ MultiPolygon densified(const MultiPolygon& mp, double densify_m) {
 // One GEOS context per worker (GEOS's reentrant API), and geometries freed with it.
 class Geos {
  public:
-  Geos() : h_(GEOS_init_r()) {}
+  Geos() : h_(GEOS_init_r()) {
+    GEOSContext_setErrorMessageHandler_r(h_, [](const char* message, void* self) { static_cast<Geos*>(self)->error_ = message; }, this);
+  }
+  const std::string& last_error() const { return error_; }
   ~Geos() { GEOS_finish_r(h_); }
   Geos(const Geos&) = delete;
   Geos& operator=(const Geos&) = delete;
@@ -118,6 +122,7 @@ class Geos {
   }
 
   GEOSContextHandle_t h_;
+  std::string error_;
 };
 
 // The grid of the written coordinates (GEOS's grid size), 0 for doubles.
@@ -164,12 +169,14 @@ struct RegionWork {
       GEOSFree_r(h, why);
       shape = geos.own(GEOSMakeValid_r(h, shape.get()));
     }
-    if (grid > 0) shape = geos.own(GEOSGeom_setPrecision_r(h, shape.get(), grid, 0));
-    const MultiPolygon snapped = geos.polygons(shape.get());
+    if (grid > 0 && shape) shape = geos.own(GEOSGeom_setPrecision_r(h, shape.get(), grid, 0));
+    // Only the polygons: MakeValid leaves the lines of a collapsed part beside them.
+    const MultiPolygon snapped = shape ? geos.polygons(shape.get()) : MultiPolygon{};
     if (snapped.empty()) {
       problems.push_back({r, "no area at the output's precision"});
       return;
     }
+    shape = geos.multipolygon(snapped);
     const GEOSPreparedGeometry* prepared = GEOSPrepare_r(h, shape.get());
     std::deque<SiteId> queue;
     auto enqueue = [&](SiteId s) {
@@ -207,10 +214,13 @@ struct RegionWork {
           GEOSGeom_getYMax_r(h, c.get(), &n);
           Geos::Ptr near = geos.own(GEOSClipByRect_r(h, shape.get(), std::floor(w) - 1, std::floor(s_) - 1, std::ceil(e) + 1,
                                                      std::ceil(n) + 1));
-          const GEOSGeometry* part = near ? near.get() : shape.get();
-          Geos::Ptr piece = geos.own(grid > 0 ? GEOSIntersectionPrec_r(h, part, c.get(), grid)
-                                              : GEOSIntersection_r(h, part, c.get()));
-          if (piece) mp = geos.polygons(piece.get());
+          Geos::Ptr piece = intersection(near ? near.get() : shape.get(), c.get());
+          if (!piece && near) piece = intersection(shape.get(), c.get());  // the rectangle's cut did not overlay
+          if (!piece) {
+            problems.push_back({r, "GEOS could not overlay the cell of site " + std::to_string(s) + ": " + geos.last_error()});
+            continue;
+          }
+          mp = geos.polygons(piece.get());
         }
         if (!mp.empty()) {
           const double a = ellipsoid_area_m2(mp);
@@ -222,6 +232,11 @@ struct RegionWork {
     }
     GEOSPreparedGeom_destroy_r(h, prepared);
     for (ClipPiece& p : pieces) p.region_share = p.area_m2 / area_m2;
+  }
+
+  // The overlay on the output's grid; null when GEOS throws (its message in last_error()).
+  Geos::Ptr intersection(const GEOSGeometry* region, const GEOSGeometry* cell) const {
+    return geos.own(grid > 0 ? GEOSIntersectionPrec_r(geos.h(), region, cell, grid) : GEOSIntersection_r(geos.h(), region, cell));
   }
 
   SiteId first_live_site() const {
