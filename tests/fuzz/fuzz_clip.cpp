@@ -5,7 +5,7 @@
 // coarse or a fine lattice), self-intersecting or not. Every piece must be valid (GEOS) and on
 // the grid, the shares of each region with pieces must sum to 1 within 1e-9, and the pieces of a
 // region must cover the (repaired, snapped) region: their planar areas sum to its area within
-// 1e-6. Never a crash or a hang.
+// 1e-6. Never a crash or a hang. FUZZ_CLIP_DUMP=1 prints the regions decoded (for triage).
 #include <geos_c.h>
 
 #include <cmath>
