@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "geovor/core/coordinate_grid.hpp"
 #include "geovor/core/parallel.hpp"
 #include "geovor/geo/site_encoder.hpp"
 #include "geovor/lonlat/ellipsoid_area.hpp"
@@ -19,7 +20,7 @@ namespace {
 // the geodesic between its ends part by more than densify_m (as the cells' edges are densified):
 // the pieces then follow the edges as drawn, and their areas (geodesics between the written
 // vertices) are those of the region as drawn.
-constexpr int kMaxRegionSplits = 16;  // halvings of one edge at most
+constexpr int kMaxRegionSplits = 20;  // halvings of one edge at most
 
 void densify_edge(LonLat a, LonLat b, double densify_m, int depth, Ring& out) {
   const LonLat mid{(a.lon_deg + b.lon_deg) / 2, (a.lat_deg + b.lat_deg) / 2};
@@ -29,7 +30,11 @@ void densify_edge(LonLat a, LonLat b, double densify_m, int depth, Ring& out) {
   const double norm = std::sqrt(dot(sum, sum));
   const double apart = norm < 1e-9 ? INFINITY  // ends opposite (or one point 360 degrees round)
                                    : std::acos(std::clamp(dot(um, sum) / norm, -1.0, 1.0)) * SiteEncoder::kEarthRadiusM;
-  if (depth < kMaxRegionSplits && apart > densify_m) {
+  // Near a pole, also until the piece is within an eighth of its distance to the pole (as the
+  // cells' edges there): a straight lon/lat line and the geodesic part fast near a pole, and a
+  // piece measured by geodesics would fold.
+  const double to_pole_m = (90 - std::abs(mid.lat_deg)) * (M_PI / 180) * SiteEncoder::kEarthRadiusM;
+  if (depth < kMaxRegionSplits && apart > std::min(densify_m, to_pole_m / 8)) {
     densify_edge(a, mid, densify_m, depth + 1, out);
     densify_edge(mid, b, densify_m, depth + 1, out);
     return;
@@ -223,7 +228,11 @@ struct RegionWork {
           mp = geos.polygons(piece.get());
         }
         if (!mp.empty()) {
+          on_grid(mp);
           const double a = ellipsoid_area_m2(mp);
+          if (!(a > 0))  // its geodesics between the written vertices fold (an edge meeting a pole askew)
+            problems.push_back({r, "the piece of site " + std::to_string(s) + " measures " + std::to_string(a) +
+                                       " m^2 as written: the region's edges meet at a pole off its meridians"});
           area_m2 += a;
           pieces.push_back({s, r, std::move(mp), a, 0.0});
         }
@@ -237,6 +246,22 @@ struct RegionWork {
   // The overlay on the output's grid; null when GEOS throws (its message in last_error()).
   Geos::Ptr intersection(const GEOSGeometry* region, const GEOSGeometry* cell) const {
     return geos.own(grid > 0 ? GEOSIntersectionPrec_r(geos.h(), region, cell, grid) : GEOSIntersection_r(geos.h(), region, cell));
+  }
+
+  // Every coordinate as a reader of the file gets it back (GEOS's grid arithmetic can be an ulp
+  // off the nearest double of the decimal: 30.410160000000005 for 30.41016).
+  void on_grid(MultiPolygon& mp) const {
+    if (grid <= 0) return;
+    const int precision = cells.options().precision;
+    for (Polygon& p : mp)
+      for (Ring* ring : rings(p))
+        for (LonLat& v : *ring) v = {snap_to_decimals(v.lon_deg, precision), snap_to_decimals(v.lat_deg, precision)};
+  }
+
+  static std::vector<Ring*> rings(Polygon& p) {
+    std::vector<Ring*> all{&p.exterior};
+    for (Ring& h : p.holes) all.push_back(&h);
+    return all;
   }
 
   SiteId first_live_site() const {

@@ -18,7 +18,10 @@
 /// (ellipsoid_area_m2: geodesics between the written vertices, as PolygonArea); a region's area
 /// is the sum of its pieces' (the region as the cells tile it), so that its shares sum to 1
 /// within rounding. A region polygon that GEOS finds invalid (a self-intersection, a bow tie) is
-/// repaired with GEOS's MakeValid and reported.
+/// repaired with GEOS's MakeValid and reported. Where a region's vertex sits on a pole between
+/// edges that are neither meridians nor the pole's own line (not how GIS data draws a polar
+/// region: Natural Earth's Antarctica runs along -90), the wedge it draws folds on the sphere,
+/// and a piece there can measure 0 or less as written: such a piece is kept and reported.
 ///
 /// Speed: each region's candidate cells are found from our structures, not by testing every
 /// cell: the cell of each of its polygons' first vertex is found by a greedy walk over the cells'
@@ -64,7 +67,9 @@ struct RegionProblem {
 struct RegionClipReport {
   std::vector<double> region_area_m2;      ///< by region: the sum of its pieces' area_m2
   std::vector<SiteId> sites_outside;        ///< live sites whose cell meets no region, in order
-  std::vector<RegionProblem> problems;      ///< regions repaired (MakeValid) or empty at this precision
+  /// Regions repaired (MakeValid), empty at this precision, with an overlay GEOS refused, or with a
+  /// piece that measures 0 or less as written.
+  std::vector<RegionProblem> problems;
   std::size_t cells_tested = 0;             ///< cells tested against a region (the walk's cost)
 };
 
