@@ -34,16 +34,29 @@ std::vector<Vec3> sites(int recipe) {
     x ^= x << 13, x ^= x >> 7, x ^= x << 17;
     return static_cast<double>(x >> 11) * 0x1p-53;
   };
+  // One call of next() per statement: the order of a call's arguments is unspecified.
+  auto at = [&](double lat, double lon) { p.push_back(SiteEncoder::from_lat_lon(lat, lon)); };
   if (recipe == 0) {
-    for (int i = 0; i < 300; ++i) p.push_back(SiteEncoder::from_lat_lon(std::asin(2 * next() - 1) * 180 / M_PI, 360 * next() - 180));
+    for (int i = 0; i < 300; ++i) {
+      const double lat = std::asin(2 * next() - 1) * 180 / M_PI;
+      const double lon = 360 * next() - 180;
+      at(lat, lon);
+    }
   } else if (recipe == 1) {
     for (int lat = -90; lat <= 90; lat += 15)
       for (int lon = -180; lon < 180; lon += (lat == -90 || lat == 90) ? 360 : 20) p.push_back(SiteEncoder::from_lat_lon(lat, lon));
   } else {
     for (int i = 0; i < 100; ++i) {
-      p.push_back(SiteEncoder::from_lat_lon(89 + next(), 360 * next() - 180));
-      p.push_back(SiteEncoder::from_lat_lon(-89 - next(), 360 * next() - 180));
-      p.push_back(SiteEncoder::from_lat_lon(60 * next() - 30, next() < 0.5 ? 179.5 + 0.5 * next() : -180 + 0.5 * next()));
+      const double north = 89 + next();
+      const double north_lon = 360 * next() - 180;
+      const double south = -89 - next();
+      const double south_lon = 360 * next() - 180;
+      const double lat = 60 * next() - 30;
+      const bool east = next() < 0.5;
+      const double lon = east ? 179.5 + 0.5 * next() : -180 + 0.5 * next();
+      at(north, north_lon);
+      at(south, south_lon);
+      at(lat, lon);
     }
   }
   return p;
@@ -107,6 +120,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   RegionClipReport report;
   const std::vector<ClipPiece> pieces = clip_cells_to_regions(diagram, cells, regions, {.threads = 1}, report);
 
+  if (std::getenv("FUZZ_CLIP_DUMP"))
+    std::fprintf(stderr, "pieces %zu, cells tested %zu, outside %zu\n", pieces.size(), report.cells_tested, report.sites_outside.size());
+  if (std::getenv("FUZZ_CLIP_DUMP"))
+    for (const RegionProblem& problem : report.problems) std::fprintf(stderr, "problem: region %u: %s\n", problem.region, problem.reason.c_str());
   GEOSContextHandle_t h = GEOS_init_r();
   std::vector<double> shares(regions.regions.size(), 0), planar(regions.regions.size(), 0);
   std::vector<int> count(regions.regions.size(), 0);
@@ -163,6 +180,40 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     GEOSArea_r(h, snapped, &area);
     GEOSLength_r(h, snapped, &length);
     const double slack = 1e-6 * area + (scale > 0 ? 2 * length / scale : 1e-9);
+    if (std::getenv("FUZZ_CLIP_DUMP") && std::abs(planar[r] - area) > slack) {
+      char* wkt = GEOSGeomToWKT_r(h, snapped);
+      std::fprintf(stderr, "region %zu as GEOS repairs it: %.2000s\n", r, wkt);
+      GEOSFree_r(h, wkt);
+      for (SiteId site = 0; site < diagram.site_capacity(); ++site) {
+        MultiPolygon mp;
+        double a = 0;
+        if (cells.polygon(site, mp, a) != CellStatus::Written) continue;
+        std::vector<GEOSGeometry*> cp;
+        for (const Polygon& poly : mp) {
+          GEOSCoordSequence* s = GEOSCoordSeq_create_r(h, static_cast<unsigned>(poly.exterior.size()), 2);
+          for (unsigned i = 0; i < poly.exterior.size(); ++i) GEOSCoordSeq_setXY_r(h, s, i, poly.exterior[i].lon_deg, poly.exterior[i].lat_deg);
+          cp.push_back(GEOSGeom_createPolygon_r(h, GEOSGeom_createLinearRing_r(h, s), nullptr, 0));
+        }
+        GEOSGeometry* cell = GEOSGeom_createCollection_r(h, GEOS_MULTIPOLYGON, cp.data(), static_cast<unsigned>(cp.size()));
+        GEOSGeometry* i = GEOSIntersection_r(h, snapped, cell);
+        double ia = 0;
+        if (i) GEOSArea_r(h, i, &ia);
+        bool have = false;
+        double mine = 0;
+        for (const ClipPiece& piece : pieces)
+          if (piece.site == site && piece.region == r) have = true, mine += planar_area(piece.geometry);
+        if (have && std::abs(mine - ia) > 1e-6) {
+          const LatLon ll = SiteEncoder::to_lat_lon(diagram.site(site));
+          std::fprintf(stderr, "site %u at (%g, %g): piece %g square degrees, GEOS %g\n", site, ll.lat_deg, ll.lon_deg, mine, ia);
+        }
+        if (ia > 1e-6 && !have) {
+          const LatLon ll = SiteEncoder::to_lat_lon(diagram.site(site));
+          std::fprintf(stderr, "missed site %u at (%g, %g): %g square degrees\n", site, ll.lat_deg, ll.lon_deg, ia);
+        }
+        if (i) GEOSGeom_destroy_r(h, i);
+        GEOSGeom_destroy_r(h, cell);
+      }
+    }
     FUZZ_CHECK(std::abs(planar[r] - area) <= slack, "region %zu: pieces cover %.17g square degrees of %.17g", r, planar[r], area);
     for (GEOSGeometry* x : {g, valid, snapped}) GEOSGeom_destroy_r(h, x);
   }

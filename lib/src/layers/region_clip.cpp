@@ -219,6 +219,7 @@ struct RegionWork {
           GEOSGeom_getYMax_r(h, c.get(), &n);
           Geos::Ptr near = geos.own(GEOSClipByRect_r(h, shape.get(), std::floor(w) - 1, std::floor(s_) - 1, std::ceil(e) + 1,
                                                      std::ceil(n) + 1));
+          if (near && GEOSisValid_r(h, near.get()) != 1) near.reset();  // GEOS's clipper may touch itself: the whole region then
           Geos::Ptr piece = intersection(near ? near.get() : shape.get(), c.get());
           if (!piece && near) piece = intersection(shape.get(), c.get());  // the rectangle's cut did not overlay
           if (!piece) {
