@@ -43,7 +43,7 @@ class BalanceAlgorithm(GeovorAlgorithm):
         return "balance"
 
     def displayName(self):  # noqa: N802
-        return tr("Balanced territories (power cells of given areas)")
+        return tr("Balanced territories on the Earth")
 
     def tags(self):
         return tr("balance,territories,capacity,power,weighted,voronoi,optimal transport,equal area").split(",")

@@ -407,7 +407,7 @@ def id_field_parameter(name="ID_FIELD", parent="INPUT", description=None):
     from qgis.core import QgsProcessingParameterField
 
     return QgsProcessingParameterField(
-        name, description or tr("Site id field (default: id, icao, code or name; else the feature number)"),
+        name, description or tr("Site id field (default: id, icao, code or name)"),
         None, parent, QgsProcessingParameterField.Any, False, True)
 
 
@@ -415,7 +415,7 @@ def weight_field_parameter(name="WEIGHT_FIELD", parent="INPUT"):
     from qgis.core import QgsProcessingParameterField
 
     return QgsProcessingParameterField(
-        name, tr("Weight field: each site's radius in metres (power cells; optional)"),
+        name, tr("Weight field: radius in metres (power cells)"),
         None, parent, QgsProcessingParameterField.Numeric, False, True)
 
 

@@ -84,7 +84,7 @@ class NearestAlgorithm(GeovorAlgorithm):
             self.INPUT, tr("Input points"), [QgsProcessing.TypeVectorPoint]))
         self.addParameter(id_field_parameter(
             self.QUERY_ID_FIELD, self.INPUT,
-            tr("Input id field (default: query_id, id, icao, code or name; else the feature number)")))
+            tr("Input id field (default: query_id, id, icao, code or name)")))
         self.addParameter(QgsProcessingParameterFeatureSource(
             self.SITES, tr("Sites (points)"), [QgsProcessing.TypeVectorPoint]))
         self.addParameter(id_field_parameter(self.SITES_ID_FIELD, self.SITES))
@@ -93,7 +93,7 @@ class NearestAlgorithm(GeovorAlgorithm):
         self.addParameter(QgsProcessingParameterNumber(
             self.K, tr("Number of nearest sites (k)"), QgsProcessingParameterNumber.Integer, 1, False, 1))
         self.addParameter(QgsProcessingParameterNumber(
-            self.MAX_DISTANCE_M, tr("Maximum distance (m; optional)"), QgsProcessingParameterNumber.Double,
+            self.MAX_DISTANCE_M, tr("Maximum distance (m)"), QgsProcessingParameterNumber.Double,
             None, True, 0.0))
         self.addParameter(QgsProcessingParameterEnum(
             self.METRIC, tr("Distance"), [tr(text) for _, text in METRICS], False, 0))
