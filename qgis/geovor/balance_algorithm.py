@@ -84,7 +84,7 @@ class BalanceAlgorithm(GeovorAlgorithm):
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT, tr("Balanced cells"), QgsProcessing.TypeVectorPolygon))
 
-    def run(self, parameters, context, feedback):
+    def process(self, parameters, context, feedback):
         geovor = self.package()
         source = self.parameterAsSource(parameters, self.INPUT, context)
         if source is None:

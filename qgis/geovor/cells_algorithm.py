@@ -76,7 +76,7 @@ class CellsAlgorithm(GeovorAlgorithm):
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT, tr("Voronoi cells"), QgsProcessing.TypeVectorPolygon))
 
-    def run(self, parameters, context, feedback):
+    def process(self, parameters, context, feedback):
         geovor = self.package()
         source = self.parameterAsSource(parameters, self.INPUT, context)
         if source is None:

@@ -94,6 +94,9 @@ class Progress:
                 raise Canceled()
             self.feedback.setProgress(self.start + self.span * min(i, self.total) / self.total)
 
+    def finish(self):
+        self.feedback.setProgress(self.start + self.span)
+
 
 class GeovorAlgorithm(QgsProcessingAlgorithm):
     """The algorithms' base: group, instance creation, the package, and the run wrapped so that
@@ -120,7 +123,7 @@ class GeovorAlgorithm(QgsProcessingAlgorithm):
 
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802
         try:
-            return self.run(parameters, context, feedback)
+            return self.process(parameters, context, feedback)
         except Canceled:
             return {}
 
@@ -285,6 +288,7 @@ def read_points(source, context, feedback, progress, *, what, id_field=None, id_
         points.lat.append(xy[1])
         points.point[i] = xy
         points.ids.append(points.id_of(i))
+    progress.finish()
     if skipped:
         feedback.pushWarning(tr(f"{what}: {skipped} of {len(points.attributes)} features left out"))
     if not points.used and not allow_none:
@@ -368,6 +372,7 @@ def write_frame(sink, fields, frame, own, carried_attributes, progress):
         feature.setGeometry(shapes[i])
         if not sink.addFeature(feature, QgsFeatureSink.FastInsert):
             raise QgsProcessingException(tr(f"could not write feature {i + 1}: {sink.lastError()}"))
+    progress.finish()
 
 
 def report_merged(feedback, points, merged, what):

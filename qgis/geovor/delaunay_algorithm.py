@@ -78,7 +78,7 @@ class DelaunayAlgorithm(GeovorAlgorithm):
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.EDGES, tr("Delaunay edges"), QgsProcessing.TypeVectorLine, None, True, False))
 
-    def run(self, parameters, context, feedback):
+    def process(self, parameters, context, feedback):
         geovor = self.package()
         source = self.parameterAsSource(parameters, self.INPUT, context)
         if source is None:

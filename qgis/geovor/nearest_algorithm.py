@@ -101,7 +101,7 @@ class NearestAlgorithm(GeovorAlgorithm):
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT, tr("Joined points"), QgsProcessing.TypeVectorPoint))
 
-    def run(self, parameters, context, feedback):
+    def process(self, parameters, context, feedback):
         geovor = self.package()
         import numpy as np
 
@@ -194,6 +194,7 @@ class NearestAlgorithm(GeovorAlgorithm):
                 if not sink.addFeature(feature, QgsFeatureSink.FastInsert):
                     raise QgsProcessingException(tr(f"could not write feature {written + 1}: {sink.lastError()}"))
                 written += 1
+        progress.finish()
         feedback.pushInfo(tr(f"{len(queries.attributes)} input points, {written} features written"
                              + (f", {unmatched} without a site" if unmatched else "")))
         return {self.OUTPUT: dest_id}

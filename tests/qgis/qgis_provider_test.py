@@ -11,7 +11,8 @@ layer (GEOVOR cells / delaunay / nearest / balance -o *.gpkg, doubles in both): 
 the same ids in the same order, areas and distances equal within 1e-9 relative, geometries equal
 (shapely equals_exact, 1e-9 degrees), the command's other fields equal. Also: sites in a projected
 CRS, reprojected by the plugin (QgsCoordinateTransform) and by the command (OGR), to the same
-cells; and the error when the geovor package cannot be found. The geovor package is the sources
+cells; the error when the geovor package cannot be found; and, in this process through PyQGIS,
+progress from 0 to 100 and cancel while reading or writing. The geovor package is the sources
 of SOURCE_DIR/python/geovor with the EXTENSION just built, copied to WORK_DIR/pylib/geovor, which
 GEOVOR_PYTHONPATH names.
 
@@ -221,11 +222,62 @@ def main():
         check("GEOVOR_PYTHONPATH" in done.stdout + done.stderr,
               f"without the package: no message naming GEOVOR_PYTHONPATH:\n{done.stdout[-2000:]}\n{done.stderr[-2000:]}")
 
+    check_progress_and_cancel(source, work, stations, env)
+
     if failures:
         print(f"{len(failures)} checks failed")
         return 1
     print("all checks passed")
     return 0
+
+
+def check_progress_and_cancel(source, work, stations, env):
+    """In this process (PyQGIS, no qgis_process): geovor:cells reports progress from 0 to 100 through
+    the feedback object, and stops when the feedback is canceled while it reads the layer (no
+    output) or writes the cells (fewer than all written, no result)."""
+    os.environ.update({k: env[k] for k in ("HOME", "XDG_RUNTIME_DIR", "QT_QPA_PLATFORM", "GEOVOR_PYTHONPATH")})
+    from qgis.core import QgsApplication, QgsProcessingContext, QgsProcessingFeedback, QgsVectorLayer
+
+    app = QgsApplication([], False)
+    app.initQgis()
+    sys.path.insert(0, str(source / "qgis"))
+    import geovor  # the plugin
+
+    plugin = geovor.classFactory(None)
+    plugin.initProcessing()
+    algorithm = QgsApplication.processingRegistry().createAlgorithmById("geovor:cells")
+    if not check(algorithm is not None, f"in-process: no geovor:cells ({geovor.__file__}, providers "
+                 f"{[p.id() for p in QgsApplication.processingRegistry().providers()]})"):
+        return
+
+    def run_until(cancel_at, output):
+        feedback, context, seen = QgsProcessingFeedback(), QgsProcessingContext(), []
+
+        def progressed(value):
+            seen.append(value)
+            if cancel_at is not None and value >= cancel_at:
+                feedback.cancel()
+
+        feedback.progressChanged.connect(progressed)
+        results = algorithm.run({"INPUT": str(stations), "OUTPUT": str(output)}, context, feedback)
+        if isinstance(results, tuple):  # (results, ok) where the bindings return both
+            results = results[0]
+        layer = QgsVectorLayer(str(output), "out", "ogr")
+        count = layer.featureCount() if output.exists() and layer.isValid() else 0
+        return results, seen, count
+
+    results, seen, count = run_until(None, work / "progress.gpkg")
+    check(count == 5631 and "OUTPUT" in results, f"in-process cells: {count} cells, results {results}")
+    check(seen and seen == sorted(seen) and seen[-1] == 100 and len(seen) > 10,
+          f"progress: not rising to 100 in steps: {seen[:5]} ... {seen[-5:]}")
+    results, seen, count = run_until(5, work / "cancel_reading.gpkg")
+    check(not results and count == 0 and max(seen) < 20, f"canceled while reading: results {results}, "
+          f"{count} cells, progress up to {max(seen)}")
+    results, seen, count = run_until(80, work / "cancel_writing.gpkg")
+    check(not results and 0 < count < 5631 and max(seen) < 90, f"canceled while writing: results {results}, "
+          f"{count} cells, progress up to {max(seen)}")
+    print(f"cancel: {count} of 5631 cells written when canceled at 80%")
+    app.exitQgis()
 
 
 if __name__ == "__main__":
