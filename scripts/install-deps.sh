@@ -13,6 +13,7 @@ packages=(
   python3-scipy python3-pandas python3-geopandas python3-dask python3-distributed python3-sklearn
   python3-mpmath libeigen3-dev libcpp-httplib-dev libjs-leaflet
   chromium chromium-driver python3-selenium python3-qgis qgis-providers
+  qgis  # qgis_process.bin: the QGIS plugin's test (tests/qgis)
 )
 
 missing=()
