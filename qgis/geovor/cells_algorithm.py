@@ -21,6 +21,7 @@ from .common import (
     merge_parameter,
     optional_text,
     read_points,
+    read_regions,
     report_merged,
     threads,
     tr,
@@ -33,9 +34,7 @@ class CellsAlgorithm(GeovorAlgorithm):
     INPUT = "INPUT"
     ID_FIELD = "ID_FIELD"
     WEIGHT_FIELD = "WEIGHT_FIELD"
-    # CLIP (issue 35, to come): an optional polygon layer that cuts the cells to regions. Its
-    # parameter is declared in initAlgorithm below and the layer handed to geovor.cells in run();
-    # see the two places marked "CLIP".
+    CLIP = "CLIP"  # optional regions (polygons): the cells cut by them, with Thiessen weights
     OUTPUT = "OUTPUT"
 
     def name(self):
@@ -61,6 +60,13 @@ class CellsAlgorithm(GeovorAlgorithm):
             "cells (geovor's docs/weighted.md); a site that a larger circle hides has an empty cell, listed "
             "as a warning. Edges are great-circle arcs, written with vertices close enough that no point "
             "of an edge is farther than the densify distance from the arc.</p>" + SITES_HELP +
+            "<p>With <b>Clip to regions</b> (basins, districts, countries: polygons in any CRS), one feature per "
+            "non-empty piece of a cell inside a region instead, with site_index, site_id, region_index (the "
+            "region's feature number from 0), region_id, area_m2 (of the piece) and region_share (the piece's "
+            "share of its region: the site's Thiessen weight there; a region's shares sum to 1), the region's "
+            "fields as region_NAME, then the site's fields. The clip is GEOS's overlay in longitude/latitude, "
+            "as QGIS draws the layers; an invalid region is repaired (a warning names it) and the sites whose "
+            "cell meets no region are listed.</p>"
             "<p>The same cells as the command <code>geovor cells</code>.</p>")
 
     def initAlgorithm(self, config=None):  # noqa: N802
@@ -68,9 +74,9 @@ class CellsAlgorithm(GeovorAlgorithm):
             self.INPUT, tr("Sites (points)"), [QgsProcessing.TypeVectorPoint]))
         self.addParameter(id_field_parameter(self.ID_FIELD))
         self.addParameter(weight_field_parameter(self.WEIGHT_FIELD))
-        # CLIP: the optional region layer's parameter goes here, e.g.
-        #   QgsProcessingParameterFeatureSource("CLIP", tr("Clip to regions (polygons)"),
-        #                                       [QgsProcessing.TypeVectorPolygon], optional=True)
+        self.addParameter(QgsProcessingParameterFeatureSource(
+            self.CLIP, tr("Clip to regions (polygons; optional: Thiessen weights)"),
+            [QgsProcessing.TypeVectorPolygon], optional=True))
         self.addParameter(densify_parameter())
         self.addParameter(merge_parameter())
         self.addParameter(QgsProcessingParameterFeatureSink(
@@ -86,13 +92,20 @@ class CellsAlgorithm(GeovorAlgorithm):
                              what=tr("sites"), id_field=optional_text(parameters, self.ID_FIELD, self, context),
                              numbers=[("weight", weight_field)])
         feedback.pushInfo(tr(f"{len(points.used)} points; site ids from {points.id_field or 'the feature numbers'}"))
-        # CLIP: read the region layer here (in EPSG:4326) and pass it as geovor.cells(..., clip=...).
+        regions = self.parameterAsSource(parameters, self.CLIP, context) if parameters.get(self.CLIP) else None
+        clip = read_regions(regions, context, feedback) if regions is not None else None
         feedback.setProgress(20)
         cells = self.call(
             feedback, geovor.cells, points.frame(), lat=LAT, lon=LON, ids=ID, weights=points.array("weight"),
             densify_m=self.parameterAsDouble(parameters, "DENSIFY_M", context),
-            merge_m=self.parameterAsDouble(parameters, "MERGE_M", context), threads=threads(), points=points)
+            merge_m=self.parameterAsDouble(parameters, "MERGE_M", context), threads=threads(), points=points,
+            **({"clip": clip} if clip is not None else {}))
         report_merged(feedback, points, cells.attrs.get("merged", []), tr("sites"))
+        if clip is not None:
+            outside = cells.attrs.get("outside", [])
+            if outside:
+                feedback.pushWarning(tr(f"{len(outside)} sites' cells meet no region (site_index: "
+                                        f"{', '.join(map(str, outside[:20]))}{' ...' if len(outside) > 20 else ''})"))
         feedback.setProgress(70)
 
         own = frame_columns(cells)
@@ -102,5 +115,5 @@ class CellsAlgorithm(GeovorAlgorithm):
         if sink is None:
             raise self.invalid_sink(parameters, self.OUTPUT)
         self.write(sink, fields, cells, own, points, Progress(feedback, 70, 100, len(cells)))
-        feedback.pushInfo(tr(f"{len(cells)} cells written"))
+        feedback.pushInfo(tr(f"{len(cells)} {'pieces' if clip is not None else 'cells'} written"))
         return {self.OUTPUT: dest_id}

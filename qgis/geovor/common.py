@@ -296,6 +296,28 @@ def read_points(source, context, feedback, progress, *, what, id_field=None, id_
     return points
 
 
+def read_regions(source, context, feedback):
+    """The polygons of `source` (any CRS) as a GeoDataFrame in EPSG:4326 with their attributes,
+    for geovor.cells(clip=...); a feature without a polygon is left out with a warning naming it."""
+    import geopandas as gpd
+    from shapely import wkb
+
+    request = QgsFeatureRequest().setDestinationCrs(wgs84(), context.transformContext())
+    names = [field.name() for field in source.fields()]
+    rows, shapes = [], []
+    for i, feature in enumerate(source.getFeatures(request)):
+        geometry = feature.geometry()
+        if geometry is None or geometry.isNull() or geometry.isEmpty() or \
+                QgsWkbTypes.geometryType(geometry.wkbType()) != QgsWkbTypes.PolygonGeometry:
+            feedback.pushWarning(tr(f"regions: feature {i + 1} (FID {feature.id()}) has no polygon: left out"))
+            continue
+        rows.append([None if is_null(v) else v for v in feature.attributes()])
+        shapes.append(wkb.loads(bytes(geometry.asWkb())))
+    if not shapes:
+        raise QgsProcessingException(tr("regions: no feature has a polygon"))
+    return gpd.GeoDataFrame(rows, columns=names, geometry=shapes, crs="EPSG:4326")
+
+
 def output_name(name, taken, prefix):
     """`name`, or prefix + name (repeated) while it equals, case-insensitively, a name in `taken`
     (lower case) or a reserved one; the result is added to `taken`."""

@@ -241,7 +241,8 @@ struct RegionWork {
       for (const SiteId n : diagram.cell_neighbors(s)) enqueue(n);  // an unwritten cell passes the walk on
     }
     GEOSPreparedGeom_destroy_r(h, prepared);
-    for (ClipPiece& p : pieces) p.region_share = p.area_m2 / area_m2;
+    if (!pieces.empty() && !(area_m2 > 0)) problems.push_back({r, "its pieces measure no area as written: shares 0"});
+    for (ClipPiece& p : pieces) p.region_share = area_m2 > 0 ? p.area_m2 / area_m2 : 0.0;
   }
 
   // The overlay on the output's grid; null when GEOS throws (its message in last_error()).
