@@ -18,7 +18,7 @@
 #include "geovor/core/output_target.hpp"
 #include "geovor/relax/balance.hpp"
 #include "numeric_options.hpp"
-#include "output_file.hpp"
+#include "geovor/core/output_file.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {

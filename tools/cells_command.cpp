@@ -16,7 +16,7 @@
 #include "geovor/core/output_target.hpp"
 #include "cell_output.hpp"
 #include "numeric_options.hpp"
-#include "output_file.hpp"
+#include "geovor/core/output_file.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {

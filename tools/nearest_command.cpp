@@ -23,7 +23,7 @@
 #include "geovor/locate/locator.hpp"
 #include "numeric_options.hpp"
 #include "output_model.hpp"
-#include "output_file.hpp"
+#include "geovor/core/output_file.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
