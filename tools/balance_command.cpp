@@ -185,8 +185,8 @@ int run(BalanceArgs& args) {
   table.weighted = true;
   BuildReport report;
   const SphericalDelaunay dt = balanced_triangulation(points, result, delaunay_options(args.sites), report);
-  if (!args.cells.quiet) report_merges(table, report);
-  report_hidden(table, report);
+  if (!args.cells.quiet) list_merges(stderr, table, report);
+  list_hidden(stderr, table, report);
   const std::size_t written = write_cells(args.cells, table, report, dt).cells_written;
   if (!args.sites_output.empty()) write_sites_csv(args.sites_output, args.cells.overwrite, table, report, result);
   if (!args.cells.quiet)

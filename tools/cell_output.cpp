@@ -26,7 +26,7 @@ CellLayerReport write_cells(const CellOutputArgs& args, const SiteTable& table, 
                             const SphericalDelaunay& dt, const std::function<void(const CellLayerReport&)>& before_finish,
                             const CellIdTexts* id_texts, const VoronoiDiagram* diagram) {
   const auto writer = open_cell_layer_writer(args.output, table, cell_writer_options(args));
-  Progress progress(dt.num_sites(), args.quiet);
+  Progress progress(dt.num_sites(), Progress::on_terminal(stderr, args.quiet));
   CellLayerOptions options;
   options.densify_m = args.densify_m;
   options.precision = args.precision;

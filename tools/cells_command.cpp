@@ -98,8 +98,8 @@ int run(CellsArgs& args) {
   const VoronoiDiagram diagram(dt, static_cast<unsigned>(args.out.threads));
   const SiteTable& table = input.table();
   args.out.ids_repeat = input.ids_repeat();
-  if (!args.out.quiet) report_merges(table, report);  // merged rows stay in the cells' ids and the report
-  report_hidden(table, report);  // listed even with --quiet: an empty cell must not pass unseen
+  if (!args.out.quiet) list_merges(stderr, table, report);  // merged rows stay in the cells' ids and the report
+  list_hidden(stderr, table, report);  // listed even with --quiet: an empty cell must not pass unseen
   const int precision = writes_geojson(args.out) ? args.out.precision : kFullPrecision;
   const std::size_t written = write_cells(
       args.out, table, report, dt,

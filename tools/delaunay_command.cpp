@@ -70,8 +70,8 @@ int run(DelaunayArgs& args) {
   BuildReport report;
   const SphericalDelaunay dt = build_sites(points, table.weighted ? site_lifts(table) : std::vector<double>(),
                                            args.sites, report);
-  if (!args.quiet) report_merges(table, report);  // merged rows stay in the counts
-  report_hidden(table, report);                   // a hidden site is no vertex of any triangle
+  if (!args.quiet) list_merges(stderr, table, report);  // merged rows stay in the counts
+  list_hidden(stderr, table, report);                   // a hidden site is no vertex of any triangle
   const SiteRows rows = rows_of_sites(report, dt.site_capacity());
   DelaunayGeometryOptions geometry_options;
   geometry_options.densify_m = args.densify_m;
@@ -83,7 +83,7 @@ int run(DelaunayArgs& args) {
   const DelaunayGeometry geometry(dt, geometry_options);
   const std::size_t total = (args.triangles.empty() ? 0 : dt.num_triangles()) +
                             (args.edges.empty() ? 0 : dt.halfedges().size() / 2);
-  Progress progress(total, args.quiet);
+  Progress progress(total, Progress::on_terminal(stderr, args.quiet));
   DelaunayLayerOptions layer_options;
   layer_options.no_ghosts = args.no_ghosts;
   layer_options.progress = [&](std::size_t done) { progress.advance(done); };

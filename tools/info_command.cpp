@@ -47,8 +47,7 @@ int run(InfoArgs& args) {
   const SphericalDelaunay dt = build_sites(points, table.weighted ? site_lifts(table) : std::vector<double>(),
                                            args.sites, report);
   const double build_s = seconds_since(t0);
-  if (!args.sites.quiet) report_merges(table, report);  // counted in `merged` either way
-  report_hidden(table, report);                         // listed even with --quiet, as rejected rows
+  list_build(args.sites, table, report);  // merged rows counted in `merged` either way; hidden ones listed even with --quiet
   t0 = Clock::now();
   const Validation valid = dt.validate(&report, args.global_check);
   const double validate_s = seconds_since(t0);

@@ -178,10 +178,6 @@ int run(NearestArgs& args) {
 
 }  // namespace
 
-bool is_index_path(const std::string& path) {
-  return path != "-" && (is_index_file(path) || (path.size() > 4 && path.ends_with(".gvi")));
-}
-
 Command add_nearest_command(CLI::App& app) {
   auto args = std::make_shared<NearestArgs>();
   CLI::App* cmd = app.add_subcommand(

@@ -89,7 +89,7 @@ int run(RelaxArgs& args) {
   const std::vector<Vec3> points = site_points(table);
   BuildReport report;
   SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
-  if (!args.cells.quiet) report_merges(table, report);  // merged rows stay in the cells' ids
+  if (!args.cells.quiet) list_merges(stderr, table, report);  // merged rows stay in the cells' ids
   const std::vector<Vec3> start(dt.sites().begin(), dt.sites().end());
 
   // Site ids never change (no site is removed), so the build's row report still names the rows.
