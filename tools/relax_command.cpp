@@ -2,7 +2,6 @@
 // Voronoi tessellation; writes the final cells as `geovor cells` does and, optionally, the sites.
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,13 +28,6 @@ struct RelaxArgs {
   double tolerance_m = 0;
   std::string sites_output;
 };
-
-// Refused before the iterations run, so that a long run is not lost to an existing file.
-void check_writable(const std::string& path, bool overwrite) {
-  if (path.empty() || path == "-" || overwrite) return;
-  std::error_code ec;
-  if (std::filesystem::exists(path, ec)) throw Error(ErrorCode::Io, output_exists(path));
-}
 
 // The final sites as points (geovor/layers/site_layer.hpp).
 void write_sites(const RelaxArgs& args, const SiteTable& table, const BuildReport& report, const SphericalDelaunay& dt,
@@ -76,10 +68,11 @@ int run(RelaxArgs& args) {
     sites.format = one_source ? args.cells.format : "";
     check_writer_options(args.sites_output, GeometryType::Point, sites);
   }
-  check_writable(args.cells.output, args.cells.overwrite || args.cells.model.update);
+  // Refused before the iterations run, so that a long run is not lost to an existing file.
+  refuse_existing_output(args.cells.output, args.cells.overwrite || args.cells.model.update);
   if (!one_source)
-    check_writable(args.sites_output, args.cells.overwrite || (args.cells.model.update && !args.sites_output.empty() &&
-                                                               format_holds_layers(args.sites_output, "")));
+    refuse_existing_output(args.sites_output, args.cells.overwrite || (args.cells.model.update && !args.sites_output.empty() &&
+                                                                       format_holds_layers(args.sites_output, "")));
 
   DuplicateIds duplicates;
   if (!args.sites.weight_field.empty())
