@@ -1,5 +1,5 @@
-// The cells file of `geovor cells` and `geovor relax`: the library's cell layer
-// (geovor/layers/cell_layer.hpp) written to the --output path, with the tool's messages.
+// The cells file of `geovor cells`, `relax` and `balance`: their output options, and the library's
+// cell file (geovor/layers/cell_file.hpp) written with them.
 #pragma once
 
 #include <functional>
@@ -7,7 +7,7 @@
 
 #include "geovor/delaunay/spherical_delaunay.hpp"
 #include "geovor/geo/site_reader.hpp"
-#include "geovor/layers/cell_layer.hpp"
+#include "geovor/layers/cell_file.hpp"
 #include "output_model.hpp"
 
 namespace geovor::tools {
@@ -32,12 +32,10 @@ WriterOptions cell_writer_options(const CellOutputArgs& args);
 /// Whether args.output is GeoJSON or GeoJSONSeq (the formats written natively, which use CellIdTexts).
 bool writes_geojson(const CellOutputArgs& args);
 
-/// Writes the cell layer of `dt` to args.output (progress on stderr unless quiet); lists the
-/// cells written with an empty geometry on stderr (even when quiet), then runs `before_finish`
-/// (so that a companion file that fails, such as the row report, leaves no cells file either)
-/// and moves the file into place. `id_texts`, if given, is make_cell_id_texts(table, ...);
+/// write_cell_file() of `dt` to args.output with these options, its messages on stderr naming
+/// --precision and --report. `id_texts`, if given, is make_cell_id_texts(table, ...);
 /// `diagram`, if given, is VoronoiDiagram(dt) (CellLayerOptions).
-/// @exception Error as open_feature_writer and the writer.
+/// @exception Error as write_cell_file().
 CellLayerReport write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
                             const SphericalDelaunay& dt,
                             const std::function<void(const CellLayerReport&)>& before_finish = {},

@@ -3,20 +3,19 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "commands.hpp"
-#include "geovor/core/ascii.hpp"
-#include "geovor/core/error.hpp"
-#include "geovor/core/parallel.hpp"
-#include "geovor/core/output_target.hpp"
 #include "cell_output.hpp"
-#include "numeric_options.hpp"
+#include "commands.hpp"
+#include "geovor/core/error.hpp"
 #include "geovor/core/output_file.hpp"
+#include "geovor/core/output_target.hpp"
+#include "geovor/core/parallel.hpp"
+#include "geovor/layers/row_report.hpp"
+#include "numeric_options.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -27,44 +26,6 @@ struct CellsArgs {
   CellOutputArgs out;
   std::string report;
 };
-
-// Every input row and what became of it, for --report.
-void write_report(OutputFile& out, const SiteTable& table, const BuildReport& report,
-                  const std::vector<UnwrittenCell>& unwritten, int precision) {
-  std::FILE* f = out.get();
-  std::fprintf(f, "row,line,id,status,site_index,detail\n");
-  // Control characters escaped (printable): one line per row, and a NUL cannot cut a field.
-  auto quoted = [](const std::string& raw) {
-    std::string q = "\"";
-    for (const char c : printable(raw)) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return q + "\"";
-  };
-  std::vector<char> merged(table.sites.size(), 0);
-  for (const Merge& m : report.merges) merged[m.input] = 1;
-  const std::string where = precision >= 0 ? "at --precision " + std::to_string(precision) : "at full precision";
-  for (std::size_t i = 0; i < table.sites.size(); ++i) {
-    const InputSite& row = table.sites[i];
-    const SiteId site = report.site_of_input[i];
-    const auto it = std::lower_bound(unwritten.begin(), unwritten.end(), site,
-                                     [](const UnwrittenCell& c, SiteId s) { return c.site < s; });
-    std::string detail;
-    const char* status = merged[i] ? "merged" : "site";
-    const auto hidden = std::lower_bound(report.hidden.begin(), report.hidden.end(), site,
-                                         [](const Hidden& h, SiteId s) { return h.site < s; });
-    if (hidden != report.hidden.end() && hidden->site == site && !merged[i]) {
-      status = "hidden";
-      detail = quoted("power cell empty: site " + std::to_string(hidden->by) + " holds its position");
-    } else if (it != unwritten.end() && it->site == site)
-      detail = quoted("cell " + std::string(to_string(it->status)) + " " + where + ": empty geometry");
-    std::fprintf(f, "%llu,%llu,%s,%s,%u,%s\n", static_cast<unsigned long long>(row.row),
-                 static_cast<unsigned long long>(row.line), quoted(row.id).c_str(), status,
-                 site, detail.c_str());
-  }
-  for (const RejectedRow& r : table.rejected)
-    std::fprintf(f, "%llu,%llu,,rejected,,%s\n", static_cast<unsigned long long>(r.row),
-                 static_cast<unsigned long long>(r.line), quoted(r.reason).c_str());
-  out.flush();  // a full disk fails here, before the cells are renamed into place
-}
 
 int run(CellsArgs& args) {
   // Two outputs that are one file (a path, an alias, a link; `-` twice): refused before any work.
@@ -100,18 +61,19 @@ int run(CellsArgs& args) {
   args.out.ids_repeat = input.ids_repeat();
   if (!args.out.quiet) list_merges(stderr, table, report);  // merged rows stay in the cells' ids and the report
   list_hidden(stderr, table, report);  // listed even with --quiet: an empty cell must not pass unseen
-  const int precision = writes_geojson(args.out) ? args.out.precision : kFullPrecision;
+  const std::string at = writes_geojson(args.out) ? "at --precision " + std::to_string(args.out.precision) : "at full precision";
   const std::size_t written = write_cells(
       args.out, table, report, dt,
       [&](const CellLayerReport& cells) {
-        if (report_file) write_report(*report_file, table, report, cells.unwritten, precision);
+        if (!report_file) return;
+        write_row_report(report_file->get(), table, report, cells.unwritten, at);
+        report_file->flush();  // a full disk fails here, before the cells are renamed into place
       },
       &ids, &diagram).cells_written;
   if (report_file) report_file->commit();
   if (!args.out.quiet)
-    std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s\n",
-                 table.source.c_str(), static_cast<unsigned long long>(table.rows_read), dt.num_sites(),
-                 report.merges.size(), table.rejected.size(), written, args.out.output.c_str());
+    std::fprintf(stderr, "%s; %zu cells written to %s\n", row_counts(table, dt.num_sites(), report.merges.size()).c_str(),
+                 written, args.out.output.c_str());
   return finish_command(kOk);  // every output is complete: no need to free the data
 }
 
