@@ -1,10 +1,6 @@
 #include "cell_output.hpp"
 
-#include "commands.hpp"
-
 namespace geovor::tools {
-
-bool writes_geojson(const CellOutputArgs& args) { return !output_needs_gdal(args.output, args.format); }
 
 WriterOptions cell_writer_options(const CellOutputArgs& args) {
   WriterOptions writer_options;
@@ -17,18 +13,23 @@ WriterOptions cell_writer_options(const CellOutputArgs& args) {
   return writer_options;
 }
 
-CellLayerReport write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
-                            const SphericalDelaunay& dt, const std::function<void(const CellLayerReport&)>& before_finish,
-                            const CellIdTexts* id_texts, const VoronoiDiagram* diagram) {
+CellFileOptions cell_file_options(const CellOutputArgs& args) {
   CellFileOptions options;
   options.writer = cell_writer_options(args);
   options.layer.densify_m = args.densify_m;
   options.layer.threads = static_cast<unsigned>(args.threads);
-  options.layer.id_texts = id_texts;
-  options.layer.diagram = diagram;
   options.quiet = args.quiet;
   options.precision_name = "--precision";
   options.report_name = "--report";
+  return options;
+}
+
+CellLayerReport write_cells(const CellOutputArgs& args, const SiteTable& table, const BuildReport& report,
+                            const SphericalDelaunay& dt, const std::function<void(const CellLayerReport&)>& before_finish,
+                            const CellIdTexts* id_texts, const VoronoiDiagram* diagram) {
+  CellFileOptions options = cell_file_options(args);
+  options.layer.id_texts = id_texts;
+  options.layer.diagram = diagram;
   return write_cell_file(args.output, table, report, dt, options, before_finish);
 }
 

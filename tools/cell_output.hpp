@@ -29,8 +29,9 @@ struct CellOutputArgs {
 /// The writer options of the cells file (layer `cells` unless --nln).
 WriterOptions cell_writer_options(const CellOutputArgs& args);
 
-/// Whether args.output is GeoJSON or GeoJSONSeq (the formats written natively, which use CellIdTexts).
-bool writes_geojson(const CellOutputArgs& args);
+/// The library's options of the cells file: the writer's, the layer's, quiet, and the messages
+/// naming --precision and --report.
+CellFileOptions cell_file_options(const CellOutputArgs& args);
 
 /// write_cell_file() of `dt` to args.output with these options, its messages on stderr naming
 /// --precision and --report. `id_texts`, if given, is make_cell_id_texts(table, ...);

@@ -1,20 +1,12 @@
 // geovor cells INPUT -o OUTPUT: the Voronoi cell of every site, as GIS polygons with the site's
 // attributes, its areas and its neighbours.
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cstdio>
 #include <memory>
 #include <string>
-#include <vector>
 
 #include "cell_output.hpp"
 #include "commands.hpp"
-#include "geovor/core/error.hpp"
-#include "geovor/core/output_file.hpp"
 #include "geovor/core/output_target.hpp"
-#include "geovor/core/parallel.hpp"
-#include "geovor/layers/row_report.hpp"
+#include "geovor/layers/site_cells.hpp"
 #include "numeric_options.hpp"
 #include "site_input.hpp"
 
@@ -31,49 +23,12 @@ int run(CellsArgs& args) {
   // Two outputs that are one file (a path, an alias, a link; `-` twice): refused before any work.
   check_distinct_outputs({{"--output", args.out.output}, {"--report", args.report}});
   check_writer_options(args.out.output, GeometryType::MultiPolygon, cell_writer_options(args.out));  // --update or --lco with GeoJSON: before any work
-  // Opened first, so that an existing report is refused before any work; renamed into place last.
-  std::unique_ptr<OutputFile> report_file;
-  if (!args.report.empty()) report_file = std::make_unique<OutputFile>(args.report, args.out.overwrite);
-  args.sites.reader.threads = static_cast<unsigned>(args.out.threads);  // 0: one per core
-  // The triangulation (one thread) starts on the positions while another core makes the rows'
-  // strings (CSV input) and then the ids' GeoJSON text.
-  CellIdTexts ids;
-  StagedSiteInput input(args.sites, args.out.threads != 1, [&, geojson = writes_geojson(args.out)](const SiteTable& table) {
-    if (geojson) ids = make_cell_id_texts(table, 1);
-  });
-  const std::span<const Vec3> points = input.positions();
-  // A value not of its --field-type fails the rows' stage: before an old output is removed below.
-  if (!args.sites.reader.field_types.empty()) input.table();
-  // With --overwrite, an existing GeoJSON output (one regular file; the input is read by now) is
-  // removed on another core while the triangulation is built: freeing a large file's blocks
-  // takes tens of milliseconds that the final rename over it would otherwise spend.
-  TaskGroup removal;
-  struct stat st;
-  if (args.out.overwrite && args.out.output != "-" && writes_geojson(args.out) &&
-      ::lstat(args.out.output.c_str(), &st) == 0 && S_ISREG(st.st_mode))
-    removal.run([path = args.out.output] { ::unlink(path.c_str()); });
-  BuildReport report;
-  const SphericalDelaunay dt = build_sites(points, input.lifts(), args.sites, report);
-  removal.wait();
-  // The diagram while the rows' strings and ids are finished on the other core.
-  const VoronoiDiagram diagram(dt, static_cast<unsigned>(args.out.threads));
-  const SiteTable& table = input.table();
-  args.out.ids_repeat = input.ids_repeat();
-  if (!args.out.quiet) list_merges(stderr, table, report);  // merged rows stay in the cells' ids and the report
-  list_hidden(stderr, table, report);  // listed even with --quiet: an empty cell must not pass unseen
-  const std::string at = writes_geojson(args.out) ? "at --precision " + std::to_string(args.out.precision) : "at full precision";
-  const std::size_t written = write_cells(
-      args.out, table, report, dt,
-      [&](const CellLayerReport& cells) {
-        if (!report_file) return;
-        write_row_report(report_file->get(), table, report, cells.unwritten, at);
-        report_file->flush();  // a full disk fails here, before the cells are renamed into place
-      },
-      &ids, &diagram).cells_written;
-  if (report_file) report_file->commit();
-  if (!args.out.quiet)
-    std::fprintf(stderr, "%s; %zu cells written to %s\n", row_counts(table, dt.num_sites(), report.merges.size()).c_str(),
-                 written, args.out.output.c_str());
+  args.sites.quiet = args.out.quiet;  // merged rows stay in the cells' ids and the report
+  SiteCellsOptions options;
+  options.file = cell_file_options(args.out);
+  options.report_path = args.report;
+  options.threads = static_cast<unsigned>(args.out.threads);  // 0: one per core
+  const SiteCells cells(args.sites, args.out.output, options);
   return finish_command(kOk);  // every output is complete: no need to free the data
 }
 
