@@ -3,17 +3,13 @@
 // `geovor cells --weight-field` does and, optionally, the sites with their radii.
 #include <cstdio>
 #include <memory>
-#include <span>
 #include <string>
-#include <vector>
 
 #include "cell_output.hpp"
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/core/output_target.hpp"
-#include "geovor/relax/balance.hpp"
-#include "geovor/relax/balanced_sites.hpp"
-#include "geovor/relax/capacities.hpp"
+#include "geovor/layers/balanced_cells.hpp"
 #include "numeric_options.hpp"
 #include "site_input.hpp"
 
@@ -39,31 +35,15 @@ int run(BalanceArgs& args) {
   check_writer_options(args.cells.output, GeometryType::MultiPolygon, cell_writer_options(args.cells));
   refuse_existing_output(args.cells.output, args.cells.overwrite || args.cells.model.update);  // before the solve
   refuse_existing_output(args.sites_output, args.cells.overwrite);
-
-  DuplicateIds duplicates;
-  SiteTable table = read_site_input(args.sites, &duplicates);
-  const CapacityReport capacities = read_capacities(table, args.capacity_field);
-  for (const RejectedRow& r : capacities.rejected)  // listed as the readers list theirs
-    std::fprintf(stderr, "%s: row %llu (line %llu) rejected: %s\n", table.source.c_str(),
-                 static_cast<unsigned long long>(r.row), static_cast<unsigned long long>(r.line), r.reason.c_str());
-  if (table.sites.empty()) throw Error(ErrorCode::BadData, table.source + ": no row has a positive capacity");
-  args.cells.ids_repeat = duplicates.rows > 0;
-  const std::vector<Vec3> points = site_points(table);
-
-  BalanceOptions options;
-  options.tolerance = args.tolerance;
-  options.max_iterations = args.max_iterations;
-  options.threads = static_cast<unsigned>(args.cells.threads);
-  const EllipsoidAreaMeasure area;
-  int k = 0;
-  if (!args.cells.quiet)
-    std::fprintf(stderr, "%s: %zu sites, tolerance %g\n%9s %22s %12s %9s\n", table.source.c_str(), points.size(),
-                 args.tolerance, "iteration", "max_relative_error", "step", "seconds");
-  const BalanceReport result =
-      balance(points, capacities.capacities, area, options, delaunay_options(args.sites), [&](const BalanceIteration& it) {
-        if (!args.cells.quiet)
-          std::fprintf(stderr, "%9d %22.3e %12g %9.3f\n", ++k, it.max_relative_error, it.step, it.seconds);
-      });
+  BalancedCellsOptions options;
+  options.balance.tolerance = args.tolerance;
+  options.balance.max_iterations = args.max_iterations;
+  options.balance.threads = static_cast<unsigned>(args.cells.threads);
+  options.capacity_field = args.capacity_field;
+  options.cells = cell_file_options(args.cells);
+  options.sites_path = args.sites_output;
+  args.sites.quiet = args.cells.quiet;
+  const BalanceReport result = balance_to_files(args.sites, args.cells.output, options);
   if (!result.converged) {
     const double error = result.iterations.empty() ? result.initial_relative_error
                                                    : result.iterations.back().max_relative_error;
@@ -73,21 +53,6 @@ int run(BalanceArgs& args) {
                  result.iterations.size(), error, args.tolerance);
     return finish_command(kNotConverged);
   }
-
-  // The cells of the exact lifts balance() ended with, through the path of `geovor cells`.
-  if (!apply_balance(table, result))
-    std::fprintf(stderr, "%s: has a column '%s' already: the targets are not written\n", table.source.c_str(), kTargetField);
-  BuildReport report;
-  const SphericalDelaunay dt = balanced_triangulation(points, result, delaunay_options(args.sites), report);
-  if (!args.cells.quiet) list_merges(stderr, table, report);
-  list_hidden(stderr, table, report);
-  const std::size_t written = write_cells(args.cells, table, report, dt).cells_written;
-  if (!args.sites_output.empty()) write_balanced_sites(args.sites_output, args.cells.overwrite, table, report, result);
-  if (!args.cells.quiet)
-    std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s%s%s\n",
-                 table.source.c_str(), static_cast<unsigned long long>(table.rows_read), dt.num_sites(),
-                 report.merges.size(), table.rejected.size(), written, args.cells.output.c_str(),
-                 args.sites_output.empty() ? "" : ", sites to ", args.sites_output.c_str());
   return finish_command(kOk);
 }
 
