@@ -1,9 +1,7 @@
 // geovor delaunay INPUT -o TRIANGLES [--edges EDGES]: the Delaunay triangulation of the sites as
 // GIS polygons (its triangles) and lines (its edges, with their great-circle length).
-#include <cstdio>
 #include <memory>
 #include <string>
-#include <vector>
 
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
@@ -42,26 +40,13 @@ int run(DelaunayArgs& args) {
   options.layer = args.model.layer.empty() ? "triangles" : args.model.layer;
   const DelaunayOutput output = delaunay_output(args.triangles, args.edges, options, args.edges_format, args.edges_layer);
   check_delaunay_output(output, "--output", "--edges");  // before any work
-  const SiteTable table = read_site_input(args.sites);
-  BuildReport report;
-  const SphericalDelaunay dt = build_sites(site_points(table), table.weighted ? site_lifts(table) : std::vector<double>(),
-                                           args.sites, report);
-  if (!args.quiet) list_merges(stderr, table, report);  // merged rows stay in the counts
-  list_hidden(stderr, table, report);                   // a hidden site is no vertex of any triangle
+  args.sites.quiet = args.quiet;  // merged rows stay in the counts
   DelaunayFilesOptions files;
   files.densify_m = args.densify_m;
   files.no_ghosts = args.no_ghosts;
   files.quiet = args.quiet;
   files.precision_name = "--precision";
-  const DelaunayLayersReport written = write_delaunay_files(output, table, report, dt, files);
-  if (!args.quiet) {
-    std::fprintf(stderr, "%s; triangles %zu (ghost %zu)", row_counts(table, dt.num_sites(), report.merges.size()).c_str(),
-                 dt.num_triangles(), dt.num_ghost_triangles());
-    if (!args.triangles.empty())
-      std::fprintf(stderr, ", %zu written to %s", written.triangles.triangles_written, args.triangles.c_str());
-    if (!args.edges.empty()) std::fprintf(stderr, "; edges %zu written to %s", written.edges.edges_written, args.edges.c_str());
-    std::fprintf(stderr, "\n");
-  }
+  delaunay_to_files(args.sites, output, files);
   return kOk;
 }
 

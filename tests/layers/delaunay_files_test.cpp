@@ -9,6 +9,7 @@
 
 #include "geovor/core/error.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
+#include "geovor/layers/site_input.hpp"
 #include "support/file_text.hpp"
 #include "support/memory_stream.hpp"
 #include "support/temp_dir.hpp"
@@ -94,6 +95,32 @@ TEST(DelaunayFiles, WritesAtTheTextPrecisionAndListsWhatCouldNotBeWritten) {
       write_delaunay_files(delaunay_output(dir / "t.gpkg", "", options, "", "edges"), table, report, dt, files);
   EXPECT_TRUE(binary.triangles.unwritten.empty());
   EXPECT_EQ(quiet.text(), "");
+}
+
+TEST(DelaunayFiles, TheLayersOfAJobsSites) {
+  testing::TempDir dir("geovor_delaunay_files");
+  MemoryStream log;
+  SiteInput input;
+  input.input = std::string(GEOVOR_SOURCE_DIR) + "/datasets/fixtures/weighted_hidden.csv";
+  input.weight_field = "radius_m";
+  input.log = log.get();
+  DelaunayFilesOptions files;
+  files.log = log.get();
+  const DelaunayOutput output = delaunay_output(dir / "t.geojson", dir / "e.geojson", {}, "", "edges");
+  const DelaunayLayersReport written = delaunay_to_files(input, output, files);
+  EXPECT_EQ(written.triangles.triangles_written, 8u);  // 6 live sites: G is hidden
+  const std::string text = log.text();
+  EXPECT_TRUE(contains(text, "row 7 (id 'G', radius 0 m) is hidden")) << text;
+  EXPECT_TRUE(contains(text, input.input + ": rows 7, sites 6, merged 0, rejected 0; triangles 8 (ghost 0), 8 written to " +
+                                 dir / "t.geojson" + "; edges " + std::to_string(written.edges.edges_written) +
+                                 " written to " + dir / "e.geojson" + "\n"))
+      << text;
+  MemoryStream quiet;
+  input.log = files.log = quiet.get();
+  files.quiet = true;
+  delaunay_to_files(input, delaunay_output(dir / "t2.geojson", "", {}, "", "edges"), files);
+  EXPECT_EQ(quiet.text(), input.input + ": row 7 (id 'G', radius 0 m) is hidden: its power cell is empty (row 1, id "
+                                        "'A', radius 600000 m, holds its position)\n");
 }
 
 }  // namespace

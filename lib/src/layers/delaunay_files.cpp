@@ -3,6 +3,8 @@
 #include "geovor/core/output_target.hpp"
 #include "geovor/core/progress.hpp"
 #include "geovor/delaunay/site_rows.hpp"
+#include "geovor/geo/site_weights.hpp"
+#include "geovor/layers/row_accounting.hpp"
 #include "geovor/lonlat/cell_geometry.hpp"
 
 namespace geovor {
@@ -33,6 +35,18 @@ void list_unwritten(const DelaunayLayersReport& written, const SphericalDelaunay
   if (written.edges.collapsed > 0)
     std::fprintf(options.log, "%zu edge(s) written with an empty geometry: their ends are one position at %s\n",
                  written.edges.collapsed, where.c_str());
+}
+
+// The counts of the run (delaunay_to_files()).
+void say_counts(std::FILE* log, const SiteTable& table, const BuildReport& report, const SphericalDelaunay& dt,
+                const DelaunayOutput& output, const DelaunayLayersReport& written) {
+  std::fprintf(log, "%s; triangles %zu (ghost %zu)", row_counts(table, dt.num_sites(), report.merges.size()).c_str(),
+               dt.num_triangles(), dt.num_ghost_triangles());
+  if (!output.triangles_path.empty())
+    std::fprintf(log, ", %zu written to %s", written.triangles.triangles_written, output.triangles_path.c_str());
+  if (!output.edges_path.empty())
+    std::fprintf(log, "; edges %zu written to %s", written.edges.edges_written, output.edges_path.c_str());
+  std::fprintf(log, "\n");
 }
 
 }  // namespace
@@ -86,6 +100,18 @@ DelaunayLayersReport write_delaunay_files(const DelaunayOutput& output, const Si
                                                              geometry, layer_options);
   progress.finish();
   list_unwritten(written, dt, geometry_options.precision, options);
+  return written;
+}
+
+DelaunayLayersReport delaunay_to_files(const SiteInput& input, const DelaunayOutput& output,
+                                       const DelaunayFilesOptions& options) {
+  const SiteTable table = read_site_input(input);
+  BuildReport report;
+  const SphericalDelaunay dt =
+      build_sites(site_points(table), table.weighted ? site_lifts(table) : std::vector<double>(), input, report);
+  list_build(input, table, report);  // merged rows stay in the counts
+  const DelaunayLayersReport written = write_delaunay_files(output, table, report, dt, options);
+  if (!options.quiet && options.log != nullptr) say_counts(options.log, table, report, dt, output, written);
   return written;
 }
 

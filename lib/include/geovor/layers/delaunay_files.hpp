@@ -1,8 +1,8 @@
 /// \file delaunay_files.hpp
-/// \brief The Delaunay layers (delaunay_layers.hpp) written to files as `geovor delaunay` writes
-/// them: one set of writer options for both outputs, checked before any work, the geometry at the
-/// precision of the text outputs, progress on a terminal, and what could not be written listed on
-/// a log.
+/// \brief The Delaunay layers (delaunay_layers.hpp) of a job's sites written to files, what
+/// `geovor delaunay` does: one set of writer options for both outputs, checked before any work,
+/// the geometry at the precision of the text outputs, progress on a terminal, and what could not
+/// be written listed on a log.
 #pragma once
 
 #include <cstdio>
@@ -12,6 +12,7 @@
 #include "geovor/geo/site_reader.hpp"
 #include "geovor/io/feature_writer.hpp"
 #include "geovor/layers/delaunay_layers.hpp"
+#include "geovor/layers/site_input.hpp"
 
 namespace geovor {
 
@@ -40,7 +41,7 @@ struct DelaunayFilesOptions {
   /// Where what could not be written is listed (and the progress printed when it is a terminal);
   /// null: nowhere. DEFAULT: stderr.
   std::FILE* log = stderr;
-  /// No progress. DEFAULT: false.
+  /// No progress, no summary (delaunay_to_files()). DEFAULT: false.
   bool quiet = false;
   /// What the caller's users call WriterOptions::precision, in messages (the geovor command:
   /// --precision). DEFAULT: "precision".
@@ -56,5 +57,14 @@ struct DelaunayFilesOptions {
 /// @exception Error as write_delaunay_layers().
 DelaunayLayersReport write_delaunay_files(const DelaunayOutput& output, const SiteTable& table, const BuildReport& report,
                                           const SphericalDelaunay& dt, const DelaunayFilesOptions& options = {});
+
+/// Reads `input`'s sites (read_site_input()), builds them (weighted sites with their radii),
+/// lists the build on the log (list_build(): the merged rows unless input.quiet, the hidden sites,
+/// which are no vertex of any triangle, always) and writes their layers (write_delaunay_files());
+/// unless options.quiet, says the counts on options.log: "SOURCE: rows N, sites S, merged M,
+/// rejected R; triangles T (ghost G), W written to PATH; edges E written to PATH".
+/// @exception Error as read_site_input(), the build and write_delaunay_files().
+DelaunayLayersReport delaunay_to_files(const SiteInput& input, const DelaunayOutput& output,
+                                       const DelaunayFilesOptions& options = {});
 
 }  // namespace geovor
