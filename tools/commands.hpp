@@ -27,10 +27,6 @@ struct Command {
   std::function<bool()> needs_gdal;
 };
 
-/// Whether writing `path` in `format` ("" for the extension's) needs GDAL: output_kind() (the
-/// library's rule) is Gdal. Reading sites: site_input_needs_gdal() in site_input.hpp.
-bool output_needs_gdal(const std::string& path, const std::string& format);
-
 /// Runs the geovor tool: parses the arguments, then runs the chosen command, or re-executes the
 /// same arguments with geovor-gdal (found beside this executable, or in its install's libexec
 /// directory) when the job needs GDAL and `has_gdal` is false. Returns the exit code.
