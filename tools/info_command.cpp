@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "geovor/core/ascii.hpp"
 #include "geovor/delaunay/degenerate_case.hpp"
+#include "geovor/geo/site_weights.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {

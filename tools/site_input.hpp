@@ -7,16 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "geovor/core/progress.hpp"
 #include "geovor/geo/site_reader.hpp"
-#include "geovor/geo/site_weights.hpp"
-#include "geovor/layers/row_accounting.hpp"
 #include "geovor/layers/site_input.hpp"
-#include "geovor/layers/staged_site_input.hpp"
 
 namespace geovor::tools {
 
-/// The sites of a command (-q sets `quiet` where the command has no other output options).
+/// The sites of a command (its -q sets `quiet`: no list of merged rows).
 using SiteInputArgs = SiteInput;
 
 /// Adds INPUT and the column options to a subcommand.

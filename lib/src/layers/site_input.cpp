@@ -1,6 +1,7 @@
 #include "geovor/layers/site_input.hpp"
 
 #include <algorithm>
+#include <chrono>
 
 #include "geovor/core/error.hpp"
 #include "geovor/geo/site_encoder.hpp"

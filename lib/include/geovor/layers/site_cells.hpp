@@ -17,6 +17,7 @@
 #include <string>
 
 #include "geovor/core/output_file.hpp"
+#include "geovor/core/parallel.hpp"
 #include "geovor/layers/cell_file.hpp"
 #include "geovor/layers/id_lists.hpp"
 #include "geovor/layers/site_input.hpp"

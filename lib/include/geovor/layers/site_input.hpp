@@ -11,7 +11,6 @@
 /// (staged_site_input.hpp) reads the same table in two stages.
 #pragma once
 
-#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <optional>
