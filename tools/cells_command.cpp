@@ -1,22 +1,13 @@
 // geovor cells INPUT -o OUTPUT: the Voronoi cell of every site, as GIS polygons with the site's
 // attributes, its areas and its neighbours.
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <algorithm>
-#include <cstdio>
 #include <memory>
 #include <string>
-#include <vector>
 
-#include "commands.hpp"
-#include "geovor/core/ascii.hpp"
-#include "geovor/core/error.hpp"
-#include "geovor/core/parallel.hpp"
-#include "geovor/core/output_target.hpp"
 #include "cell_output.hpp"
+#include "commands.hpp"
+#include "geovor/core/output_target.hpp"
+#include "geovor/layers/site_cells.hpp"
 #include "numeric_options.hpp"
-#include "output_file.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -28,90 +19,16 @@ struct CellsArgs {
   std::string report;
 };
 
-// Every input row and what became of it, for --report.
-void write_report(OutputFile& out, const SiteTable& table, const BuildReport& report,
-                  const std::vector<UnwrittenCell>& unwritten, int precision) {
-  std::FILE* f = out.get();
-  std::fprintf(f, "row,line,id,status,site_index,detail\n");
-  // Control characters escaped (printable): one line per row, and a NUL cannot cut a field.
-  auto quoted = [](const std::string& raw) {
-    std::string q = "\"";
-    for (const char c : printable(raw)) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return q + "\"";
-  };
-  std::vector<char> merged(table.sites.size(), 0);
-  for (const Merge& m : report.merges) merged[m.input] = 1;
-  const std::string where = precision >= 0 ? "at --precision " + std::to_string(precision) : "at full precision";
-  for (std::size_t i = 0; i < table.sites.size(); ++i) {
-    const InputSite& row = table.sites[i];
-    const SiteId site = report.site_of_input[i];
-    const auto it = std::lower_bound(unwritten.begin(), unwritten.end(), site,
-                                     [](const UnwrittenCell& c, SiteId s) { return c.site < s; });
-    std::string detail;
-    const char* status = merged[i] ? "merged" : "site";
-    const auto hidden = std::lower_bound(report.hidden.begin(), report.hidden.end(), site,
-                                         [](const Hidden& h, SiteId s) { return h.site < s; });
-    if (hidden != report.hidden.end() && hidden->site == site && !merged[i]) {
-      status = "hidden";
-      detail = quoted("power cell empty: site " + std::to_string(hidden->by) + " holds its position");
-    } else if (it != unwritten.end() && it->site == site)
-      detail = quoted("cell " + std::string(to_string(it->status)) + " " + where + ": empty geometry");
-    std::fprintf(f, "%llu,%llu,%s,%s,%u,%s\n", static_cast<unsigned long long>(row.row),
-                 static_cast<unsigned long long>(row.line), quoted(row.id).c_str(), status,
-                 site, detail.c_str());
-  }
-  for (const RejectedRow& r : table.rejected)
-    std::fprintf(f, "%llu,%llu,,rejected,,%s\n", static_cast<unsigned long long>(r.row),
-                 static_cast<unsigned long long>(r.line), quoted(r.reason).c_str());
-  out.flush();  // a full disk fails here, before the cells are renamed into place
-}
-
 int run(CellsArgs& args) {
   // Two outputs that are one file (a path, an alias, a link; `-` twice): refused before any work.
   check_distinct_outputs({{"--output", args.out.output}, {"--report", args.report}});
   check_writer_options(args.out.output, GeometryType::MultiPolygon, cell_writer_options(args.out));  // --update or --lco with GeoJSON: before any work
-  // Opened first, so that an existing report is refused before any work; renamed into place last.
-  std::unique_ptr<OutputFile> report_file;
-  if (!args.report.empty()) report_file = std::make_unique<OutputFile>(args.report, args.out.overwrite);
-  args.sites.reader.threads = static_cast<unsigned>(args.out.threads);  // 0: one per core
-  // The triangulation (one thread) starts on the positions while another core makes the rows'
-  // strings (CSV input) and then the ids' GeoJSON text.
-  CellIdTexts ids;
-  StagedSiteInput input(args.sites, args.out.threads != 1, [&, geojson = writes_geojson(args.out)](const SiteTable& table) {
-    if (geojson) ids = make_cell_id_texts(table, 1);
-  });
-  const std::span<const Vec3> points = input.positions();
-  // A value not of its --field-type fails the rows' stage: before an old output is removed below.
-  if (!args.sites.reader.field_types.empty()) input.table();
-  // With --overwrite, an existing GeoJSON output (one regular file; the input is read by now) is
-  // removed on another core while the triangulation is built: freeing a large file's blocks
-  // takes tens of milliseconds that the final rename over it would otherwise spend.
-  TaskGroup removal;
-  struct stat st;
-  if (args.out.overwrite && args.out.output != "-" && writes_geojson(args.out) &&
-      ::lstat(args.out.output.c_str(), &st) == 0 && S_ISREG(st.st_mode))
-    removal.run([path = args.out.output] { ::unlink(path.c_str()); });
-  BuildReport report;
-  const SphericalDelaunay dt = build_sites(points, input.lifts(), args.sites, report);
-  removal.wait();
-  // The diagram while the rows' strings and ids are finished on the other core.
-  const VoronoiDiagram diagram(dt, static_cast<unsigned>(args.out.threads));
-  const SiteTable& table = input.table();
-  args.out.ids_repeat = input.ids_repeat();
-  if (!args.out.quiet) report_merges(table, report);  // merged rows stay in the cells' ids and the report
-  report_hidden(table, report);  // listed even with --quiet: an empty cell must not pass unseen
-  const int precision = writes_geojson(args.out) ? args.out.precision : kFullPrecision;
-  const std::size_t written = write_cells(
-      args.out, table, report, dt,
-      [&](const CellLayerReport& cells) {
-        if (report_file) write_report(*report_file, table, report, cells.unwritten, precision);
-      },
-      &ids, &diagram).cells_written;
-  if (report_file) report_file->commit();
-  if (!args.out.quiet)
-    std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s\n",
-                 table.source.c_str(), static_cast<unsigned long long>(table.rows_read), dt.num_sites(),
-                 report.merges.size(), table.rejected.size(), written, args.out.output.c_str());
+  args.sites.quiet = args.out.quiet;  // merged rows stay in the cells' ids and the report
+  SiteCellsOptions options;
+  options.file = cell_file_options(args.out);
+  options.report_path = args.report;
+  options.threads = static_cast<unsigned>(args.out.threads);  // 0: one per core
+  const SiteCells cells(args.sites, args.out.output, options);
   return finish_command(kOk);  // every output is complete: no need to free the data
 }
 

@@ -4,14 +4,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include <cstdint>
 #include <functional>
-#include <optional>
 #include <string>
-
-namespace geovor {
-struct SiteIndex;  // geovor/locate/index_file.hpp
-}  // namespace geovor
 
 namespace geovor::tools {
 
@@ -33,10 +27,6 @@ struct Command {
   std::function<bool()> needs_gdal;
 };
 
-/// Whether writing `path` in `format` ("" for the extension's) needs GDAL: output_kind() (the
-/// library's rule) is Gdal. Reading sites: site_input_needs_gdal() in site_input.hpp.
-bool output_needs_gdal(const std::string& path, const std::string& format);
-
 /// Runs the geovor tool: parses the arguments, then runs the chosen command, or re-executes the
 /// same arguments with geovor-gdal (found beside this executable, or in its install's libexec
 /// directory) when the job needs GDAL and `has_gdal` is false. Returns the exit code.
@@ -48,18 +38,6 @@ Command add_index_command(CLI::App& app);
 /// Adds `geovor nearest` (tools/nearest_command.cpp).
 Command add_nearest_command(CLI::App& app);
 
-/// What build_index_from_table did, for the summary lines of index and nearest.
-struct TableBuild {
-  std::string source;
-  std::uint64_t rows = 0, sites = 0, merged = 0, rejected = 0;
-  std::optional<std::uint64_t> hidden;  // weighted sites only
-  double read_seconds = 0, build_seconds = 0;
-};
-struct SiteInputArgs;  // site_input.hpp
-/// Reads the site table (read_site_input: CSV or OGR), lists its rejected rows and merged sites
-/// on stderr as `geovor info` does, and builds the nearest-site index (tools/index_command.cpp).
-/// @exception Error as the readers and the build; Error(BadData) if no row is a site.
-SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary);
 Command add_cells_command(CLI::App& app);
 /// Adds `geovor delaunay` (tools/delaunay_command.cpp).
 Command add_delaunay_command(CLI::App& app);
@@ -69,8 +47,5 @@ Command add_relax_command(CLI::App& app);
 Command add_balance_command(CLI::App& app);
 /// Adds `geovor serve` (tools/serve_command.cpp, over service/).
 Command add_serve_command(CLI::App& app);
-/// Whether a --sites / INPUT path names an index file (its header, or a .gvi name) rather than a
-/// site table (tools/nearest_command.cpp).
-bool is_index_path(const std::string& path);
 
 }  // namespace geovor::tools

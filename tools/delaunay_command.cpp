@@ -1,17 +1,12 @@
 // geovor delaunay INPUT -o TRIANGLES [--edges EDGES]: the Delaunay triangulation of the sites as
 // GIS polygons (its triangles) and lines (its edges, with their great-circle length).
-#include <cstdio>
 #include <memory>
 #include <string>
-#include <vector>
 
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
-#include "geovor/delaunay/site_rows.hpp"
 #include "geovor/io/feature_writer.hpp"
-#include "geovor/core/output_target.hpp"
-#include "geovor/layers/delaunay_layers.hpp"
-#include "geovor/lonlat/cell_geometry.hpp"
+#include "geovor/layers/delaunay_files.hpp"
 #include "numeric_options.hpp"
 #include "output_model.hpp"
 #include "site_input.hpp"
@@ -34,88 +29,24 @@ struct DelaunayArgs {
   bool quiet = false;
 };
 
-// The options of one output: its format and layer, the output model's data-source options.
-WriterOptions writer_options(const DelaunayArgs& args, const std::string& format, const std::string& layer) {
-  WriterOptions o;
-  o.format = format;
-  o.precision = args.precision;
-  o.overwrite = args.overwrite;
-  apply_output_model(args.model, o);
-  o.layer = layer;
-  return o;
-}
-
 int run(DelaunayArgs& args) {
   if (args.triangles.empty() && args.edges.empty())
     throw Error(ErrorCode::InvalidArgument, "nothing to write: give -o TRIANGLES and/or --edges EDGES");
-  DelaunayOutput output;
-  output.triangles_path = args.triangles;
-  output.triangles = writer_options(args, args.format, args.model.layer.empty() ? "triangles" : args.model.layer);
-  output.edges_path = args.edges;
-  output.edges = writer_options(args, args.edges_format, args.edges_layer);
-  // --update concerns the outputs whose format holds several layers, --lco/--dsco those GDAL
-  // writes; an edges file of another format is created as it would be without them.
-  if (!args.edges.empty() && !one_data_source(output)) {
-    if (!output_needs_gdal(args.edges, args.edges_format)) output.edges.layer_options.clear(), output.edges.dataset_options.clear();
-    if (!format_holds_layers(args.edges, output.edges.format)) output.edges.update = false;
-  }
-  // Two outputs that are one file (a path, an alias, a link; `-` twice) are refused before any
-  // work, unless it is one data source that holds both layers (GPKG, ...).
-  if (!(one_data_source(output) && format_holds_layers(args.triangles, output.triangles.format)))
-    check_distinct_outputs({{"--output", args.triangles}, {"--edges", args.edges}});
-  if (!args.triangles.empty()) check_writer_options(args.triangles, GeometryType::MultiPolygon, output.triangles);  // before any work
-  if (!args.edges.empty()) check_writer_options(args.edges, GeometryType::MultiLineString, output.edges);
-  const SiteTable table = read_site_input(args.sites);
-  const std::vector<Vec3> points = site_points(table);
-  BuildReport report;
-  const SphericalDelaunay dt = build_sites(points, table.weighted ? site_lifts(table) : std::vector<double>(),
-                                           args.sites, report);
-  if (!args.quiet) report_merges(table, report);  // merged rows stay in the counts
-  report_hidden(table, report);                   // a hidden site is no vertex of any triangle
-  const SiteRows rows = rows_of_sites(report, dt.site_capacity());
-  DelaunayGeometryOptions geometry_options;
-  geometry_options.densify_m = args.densify_m;
-  // Positions as the text outputs (GeoJSON) write them; the binary formats store doubles, and
-  // a binary output beside a text one gets the rounded positions (as doubles) too.
-  const bool text = (!args.triangles.empty() && !output_needs_gdal(args.triangles, args.format)) ||
-                    (!args.edges.empty() && !output_needs_gdal(args.edges, args.edges_format));
-  geometry_options.precision = text ? args.precision : kFullPrecision;
-  const DelaunayGeometry geometry(dt, geometry_options);
-  const std::size_t total = (args.triangles.empty() ? 0 : dt.num_triangles()) +
-                            (args.edges.empty() ? 0 : dt.halfedges().size() / 2);
-  Progress progress(total, args.quiet);
-  DelaunayLayerOptions layer_options;
-  layer_options.no_ghosts = args.no_ghosts;
-  layer_options.progress = [&](std::size_t done) { progress.advance(done); };
-  const DelaunayLayersReport written = write_delaunay_layers(output, table, rows, geometry, layer_options);
-  const TriangleLayerReport& triangles = written.triangles;
-  const EdgeLayerReport& edges = written.edges;
-  progress.finish();
-  const std::string where =
-      geometry_options.precision >= 0 ? "--precision " + std::to_string(geometry_options.precision) : "full precision";
-  const std::vector<UnwrittenTriangle>& unwritten = triangles.unwritten;
-  if (!unwritten.empty()) {
-    // Listed even with --quiet, as rejected rows are: a feature without geometry must not pass unseen.
-    std::fprintf(stderr, "%zu triangle(s) written with an empty geometry: at %s they collapse or would not be valid polygons (raise --precision):\n",
-                 unwritten.size(), where.c_str());
-    for (std::size_t i = 0; i < unwritten.size() && i < 20; ++i) {
-      const TriId t = unwritten[i].triangle;
-      std::fprintf(stderr, "  triangle %u (sites %u, %u, %u): %s\n", t, dt.tri_site(t, 0), dt.tri_site(t, 1),
-                   dt.tri_site(t, 2), to_string(unwritten[i].status));
-    }
-    if (unwritten.size() > 20) std::fprintf(stderr, "  ... (%zu more)\n", unwritten.size() - 20);
-  }
-  if (edges.collapsed > 0)
-    std::fprintf(stderr, "%zu edge(s) written with an empty geometry: their ends are one position at %s\n", edges.collapsed,
-                 where.c_str());
-  if (!args.quiet) {
-    std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; triangles %zu (ghost %zu)",
-                 table.source.c_str(), static_cast<unsigned long long>(table.rows_read), dt.num_sites(),
-                 report.merges.size(), table.rejected.size(), dt.num_triangles(), dt.num_ghost_triangles());
-    if (!args.triangles.empty()) std::fprintf(stderr, ", %zu written to %s", triangles.triangles_written, args.triangles.c_str());
-    if (!args.edges.empty()) std::fprintf(stderr, "; edges %zu written to %s", edges.edges_written, args.edges.c_str());
-    std::fprintf(stderr, "\n");
-  }
+  WriterOptions options;  // of both outputs
+  options.format = args.format;
+  options.precision = args.precision;
+  options.overwrite = args.overwrite;
+  apply_output_model(args.model, options);
+  options.layer = args.model.layer.empty() ? "triangles" : args.model.layer;
+  const DelaunayOutput output = delaunay_output(args.triangles, args.edges, options, args.edges_format, args.edges_layer);
+  check_delaunay_output(output, "--output", "--edges");  // before any work
+  args.sites.quiet = args.quiet;  // merged rows stay in the counts
+  DelaunayFilesOptions files;
+  files.densify_m = args.densify_m;
+  files.no_ghosts = args.no_ghosts;
+  files.quiet = args.quiet;
+  files.precision_name = "--precision";
+  delaunay_to_files(args.sites, output, files);
   return kOk;
 }
 

@@ -17,7 +17,6 @@
 #include "commands.hpp"
 #include "geovor/core/ascii.hpp"
 #include "geovor/core/error.hpp"
-#include "geovor/io/feature_writer.hpp"
 #include "geovor/core/output_target.hpp"
 
 namespace geovor::tools {
@@ -90,10 +89,6 @@ int unknown_command(const std::string& name, const std::vector<std::string>& com
 }
 
 }  // namespace
-
-bool output_needs_gdal(const std::string& path, const std::string& format) {
-  return output_kind(path, format) == OutputKind::Gdal;
-}
 
 int finish_command(int code) {
   check_stdout();

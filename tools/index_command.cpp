@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
-#include <optional>
 #include <string>
 
 #include "commands.hpp"
@@ -54,33 +53,6 @@ int run(IndexArgs& args) {
 }
 
 }  // namespace
-
-SiteIndex build_index_from_table(SiteInputArgs& args, TableBuild* summary) {
-  using Clock = std::chrono::steady_clock;
-  auto t0 = Clock::now();
-  const SiteTable table = read_site_input(args);  // lists the rejected rows
-  const double read_s = seconds_since(t0);
-  if (table.sites.empty())
-    throw Error(ErrorCode::BadData, table.source + ": no usable site (" + std::to_string(table.rows_read) +
-                                        " rows, " + std::to_string(table.rejected.size()) + " rejected)");
-  t0 = Clock::now();
-  BuildReport report;
-  SiteIndex index = build_site_index(table, delaunay_options(args), {}, &report);
-  const double build_s = seconds_since(t0);
-  if (!args.quiet) report_merges(table, report);  // the merges stay in the index and its counts
-  report_hidden(table, report);                   // listed even with --quiet, as rejected rows
-  if (summary) {
-    summary->source = table.source;
-    summary->rows = table.rows_read;
-    summary->sites = index.hierarchy.base().num_sites();
-    summary->merged = report.merges.size();
-    summary->hidden = table.weighted ? std::optional<std::uint64_t>(report.hidden.size()) : std::nullopt;
-    summary->rejected = table.rejected.size();
-    summary->read_seconds = read_s;
-    summary->build_seconds = build_s;
-  }
-  return index;
-}
 
 Command add_index_command(CLI::App& app) {
   auto args = std::make_shared<IndexArgs>();

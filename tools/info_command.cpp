@@ -7,7 +7,8 @@
 
 #include "commands.hpp"
 #include "geovor/core/ascii.hpp"
-#include "geovor/kernel/predicates.hpp"
+#include "geovor/delaunay/degenerate_case.hpp"
+#include "geovor/geo/site_weights.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -22,20 +23,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// What kind of input this was, in the terms of docs/: the degenerate cases are named.
-std::string degenerate_case(const SphericalDelaunay& dt) {
-  if (dt.num_sites() == 0) return "no sites";
-  if (dt.num_sites() == 1) return "one site";
-  if (dt.num_sites() == 2) return "two sites";
-  bool all_flat = true;
-  for (TriId t = 0; t < dt.num_triangles() && all_flat; ++t)
-    all_flat = kernel::orient(dt.site(dt.tri_site(t, 0)), dt.site(dt.tri_site(t, 1)),
-                              dt.site(dt.tri_site(t, 2))) == Sign::Zero;
-  if (all_flat) return "all sites on one great circle";
-  if (dt.num_ghost_triangles() > 0) return "all sites in one open hemisphere";
-  return "none";
-}
-
 int run(InfoArgs& args) {
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
@@ -47,8 +34,7 @@ int run(InfoArgs& args) {
   const SphericalDelaunay dt = build_sites(points, table.weighted ? site_lifts(table) : std::vector<double>(),
                                            args.sites, report);
   const double build_s = seconds_since(t0);
-  if (!args.sites.quiet) report_merges(table, report);  // counted in `merged` either way
-  report_hidden(table, report);                         // listed even with --quiet, as rejected rows
+  list_build(args.sites, table, report);  // merged rows counted in `merged` either way; hidden ones listed even with --quiet
   t0 = Clock::now();
   const Validation valid = dt.validate(&report, args.global_check);
   const double validate_s = seconds_since(t0);
@@ -62,7 +48,7 @@ int run(InfoArgs& args) {
   std::printf("rejected: %zu\n", table.rejected.size());
   std::printf("triangles: %zu\n", dt.num_triangles());
   std::printf("ghost_triangles: %zu\n", dt.num_ghost_triangles());
-  std::printf("degenerate: %s\n", degenerate_case(dt).c_str());
+  std::printf("degenerate: %s\n", degenerate_case(dt));
   std::printf("valid: %s\n", valid.ok() ? "yes" : "no");
   std::printf("read_seconds: %.3f\n", read_s);
   std::printf("build_seconds: %.3f\n", build_s);

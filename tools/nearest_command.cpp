@@ -3,13 +3,10 @@
 // file or a table) and the streams; the join itself is layers/nearest_join.hpp.
 #include <sys/stat.h>
 
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <limits>
 #include <memory>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "commands.hpp"
@@ -17,13 +14,12 @@
 #include "geovor/core/output_target.hpp"
 #include "geovor/io/feature_writer.hpp"
 #include "geovor/io/ogr_site_reader.hpp"
-#include "geovor/layers/nearest_join.hpp"
+#include "geovor/layers/nearest_join_files.hpp"
 #include "geovor/locate/index_file.hpp"
 #include "geovor/locate/knn.hpp"
 #include "geovor/locate/locator.hpp"
 #include "numeric_options.hpp"
 #include "output_model.hpp"
-#include "output_file.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -32,9 +28,7 @@ namespace {
 struct NearestArgs {
   SiteInputArgs sites;
   std::vector<CLI::Option*> site_options;  // the table-only options, refused with an index
-  std::string queries = "-";
-  std::string output = "-";
-  bool overwrite = false;
+  NearestJoinFiles files;  // --queries, --layer, -o, --format, --overwrite
   std::string locator = "keep-jump-climb";
   std::size_t k = 1;
   CLI::Option* k_option = nullptr;
@@ -42,77 +36,51 @@ struct NearestArgs {
   int threads = 1;
   bool strict = false;
   QueryColumns query_columns;
-  std::string query_layer;  // --layer: the queries' OGR layer
   std::vector<std::string> site_fields;
   double max_distance_m = std::numeric_limits<double>::infinity();
-  std::string format;
   OutputModelArgs model;                              // --nln, --update, --lco, --dsco
   std::vector<FieldTypeOverride> query_field_types;  // --query-field-type
 };
 
-struct FileCloser {
-  void operator()(std::FILE* f) const {
-    if (f != stdin && f != stdout) std::fclose(f);
-  }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
-
-
-// Whether the queries are an OGR layer (read through GDAL) rather than a CSV stream.
-bool queries_are_ogr(const NearestArgs& args) {
-  return !args.query_layer.empty() || (args.queries != "-" && !is_csv_site_path(args.queries));
-}
-
-// Whether the output is geovor's CSV (no geometry) rather than point features (output_kind).
-bool writes_csv(const NearestArgs& args) { return output_kind(args.output, args.format, true) == OutputKind::Text; }
-
 int run(NearestArgs& args) {
   const std::string& sites_path = args.sites.input;
-  if (args.queries == "-" && sites_path == "-")
+  NearestJoinFiles& files = args.files;
+  if (files.queries == "-" && sites_path == "-")
     throw Error(ErrorCode::InvalidArgument, "--sites and --queries cannot both be standard input");
   if (args.k < 1) throw Error(ErrorCode::InvalidArgument, "--k must be at least 1");
   if (args.threads < 1) throw Error(ErrorCode::InvalidArgument, "--threads must be at least 1");
   if (!(args.max_distance_m >= 0))
     throw Error(ErrorCode::InvalidArgument, "--max-distance-m must be a number of metres, at least 0");
-  if (queries_are_ogr(args) && is_csv_site_path(args.queries))
-    throw Error(ErrorCode::InvalidArgument, args.queries + ": --layer is for OGR query sources; a CSV stream has one table");
-  const bool csv = writes_csv(args);
-  if (!csv && args.output == "-" && output_needs_gdal(args.output, args.format))
-    throw Error(ErrorCode::InvalidArgument, "--format " + args.format + " cannot be written to standard output; give -o FILE");
+  if (queries_are_ogr(files) && is_csv_site_path(files.queries))
+    throw Error(ErrorCode::InvalidArgument, files.queries + ": --layer is for OGR query sources; a CSV stream has one table");
+  const bool csv = writes_csv(files);
+  if (!csv && files.output == "-" && output_needs_gdal(files.output, files.writer.format))
+    throw Error(ErrorCode::InvalidArgument, "--format " + files.writer.format + " cannot be written to standard output; give -o FILE");
   if (csv && !args.query_field_types.empty())
     throw Error(ErrorCode::InvalidArgument, "--query-field-type types the query columns of point features (GeoPackage, "
                                             "FlatGeobuf, ...); geovor's CSV output has no types");
   if (csv && sets_gdal_options(args.model))
     throw Error(ErrorCode::InvalidArgument, "--nln, --update, --lco and --dsco apply to OGR point outputs (GeoPackage, "
                                             "FlatGeobuf, ...); geovor writes its CSV itself, one table");
-  WriterOptions writer_options;  // of a point output
-  writer_options.format = args.format;
-  writer_options.layer = "nearest";
-  writer_options.overwrite = args.overwrite;
-  apply_output_model(args.model, writer_options);
+  apply_output_model(args.model, files.writer);
   if (!csv)  // a format that cannot hold the points (GPX without extensions, ...): before any work
-    check_writer_options(args.output, GeometryType::Point, writer_options);
+    check_writer_options(files.output, GeometryType::Point, files.writer);
   if (!args.metric.empty() && args.metric != "sphere" && args.metric != "geodesic" && args.metric != "power")
     throw Error(ErrorCode::InvalidArgument, "--metric must be sphere, geodesic or power, not '" + args.metric + "'");
   LocatorOptions locator_options;
   locator_options.strategy = parse_strategy(args.locator);
   struct stat st;
-  if (args.output != "-" && !args.overwrite && !args.model.update && stat(args.output.c_str(), &st) == 0 &&
+  if (files.output != "-" && !files.writer.overwrite && !args.model.update && stat(files.output.c_str(), &st) == 0 &&
       S_ISREG(st.st_mode))
-    throw Error(ErrorCode::Io, output_exists(args.output, " (or --update to add a layer)"));
+    throw Error(ErrorCode::Io, output_exists(files.output, " (or --update to add a layer)"));
 
   // The sites: an index file, or a table built here.
-  const bool is_index = is_index_path(sites_path);
-  SiteIndex index;
-  if (is_index) {
+  if (is_index_path(sites_path))
     for (const CLI::Option* o : args.site_options)
       if (o->count() > 0)
         throw Error(ErrorCode::InvalidArgument, o->get_name() + " applies to a site table; " + sites_path +
                                                     " is an index (its columns were chosen by geovor index)");
-    index = load_index(sites_path, static_cast<unsigned>(args.threads));
-  } else {
-    index = build_index_from_table(args.sites, nullptr);
-  }
+  const SiteIndex index = load_site_index(args.sites, static_cast<unsigned>(args.threads));
 
   NearestJoinOptions options;
   options.k = args.k;
@@ -124,48 +92,12 @@ int run(NearestArgs& args) {
   options.columns = args.query_columns;
   options.site_fields = args.site_fields;
   options.max_distance_m = args.max_distance_m;
-  if (!queries_are_ogr(args)) options.query_field_types = args.query_field_types;  // a table has them from its reader
+  options.query_field_types = args.query_field_types;  // an OGR layer's through its reader
   nearest_join_fields(index, {}, options);  // an unknown --site-fields column before any output
 
-  // The queries: an OGR layer read whole, or a CSV stream.
-  const bool ogr = queries_are_ogr(args);
-  SiteTable table;
-  File in;
-  if (ogr) {
-    SiteReaderOptions reader;
-    reader.lat_field = args.query_columns.lat_field;
-    reader.lon_field = args.query_columns.lon_field;
-    reader.id_field = args.query_columns.id_field;
-    reader.field_types = args.query_field_types;  // over the layer's own types, checked as it is read
-    table = read_sites_ogr(args.queries, reader, args.query_layer);
-  } else {
-    in.reset(args.queries == "-" ? stdin : std::fopen(args.queries.c_str(), "rb"));
-    if (!in) throw Error(ErrorCode::Io, args.queries + ": cannot open: " + std::strerror(errno));
-  }
-  const std::string qname = ogr ? table.source : args.queries == "-" ? "<stdin>" : args.queries;
-  auto on_malformed = [&](const MalformedQuery& m) {
-    if (m.line > 0)
-      std::fprintf(stderr, "%s: line %llu: %s\n", qname.c_str(), static_cast<unsigned long long>(m.line), m.reason.c_str());
-    else
-      std::fprintf(stderr, "%s: %s\n", qname.c_str(), m.reason.c_str());  // an OGR reason names the feature
-  };
-
-  NearestJoinReport report;
-  if (csv) {
-    OutputFile out(args.output, args.overwrite);  // a temporary file renamed by commit(): never half-written
-    auto write = [&](std::string_view s) { out.write(s.data(), s.size()); };
-    report = ogr ? nearest_join(index, table, options, write, on_malformed)
-                 : nearest_join(index, in.get(), qname, options, write, on_malformed);
-    out.commit();  // with --strict, the answers before the malformed line are kept
-  } else {
-    const OpenJoinWriter open = [&](const std::vector<Field>& fields) {
-      return open_feature_writer(args.output, GeometryType::Point, fields, writer_options);
-    };
-    report = ogr ? nearest_join(index, table, options, open, on_malformed)
-                 : nearest_join(index, in.get(), qname, options, open, on_malformed);
-  }
+  const NearestJoinReport report = nearest_join_files(index, files, options);
   if (report.stopped)
-    throw Error(ErrorCode::BadData, qname + ": stopped at the first malformed query (--strict); " +
+    throw Error(ErrorCode::BadData, query_source(files) + ": stopped at the first malformed query (--strict); " +
                                         std::to_string(report.answered) + " queries answered before it");
   if (report.malformed > 0 || (report.unmatched > 0 && !args.sites.quiet))
     std::fprintf(stderr,
@@ -178,10 +110,6 @@ int run(NearestArgs& args) {
 
 }  // namespace
 
-bool is_index_path(const std::string& path) {
-  return path != "-" && (is_index_file(path) || (path.size() > 4 && path.ends_with(".gvi")));
-}
-
 Command add_nearest_command(CLI::App& app) {
   auto args = std::make_shared<NearestArgs>();
   CLI::App* cmd = app.add_subcommand(
@@ -189,14 +117,14 @@ Command add_nearest_command(CLI::App& app) {
   cmd->add_option("--sites", args->sites.input,
                   "An index file (geovor index), or sites: CSV with a header (- for stdin) or any OGR point layer")
       ->required();
-  cmd->add_option("--queries", args->queries,
+  cmd->add_option("--queries", args->files.queries,
                   "Queries: CSV, lat,lon[,id] lines with or without a header (default -: stdin; a pipe or FIFO is read as CSV), or any OGR point layer");
   cmd->add_option("--query-lat-field", args->query_columns.lat_field, "Latitude column of the queries (default: found by name as for sites: lat, Latitude (deg), stop_lat, decimalLatitude, y...)");
   cmd->add_option("--query-lon-field", args->query_columns.lon_field,
                   "Longitude column of the queries (default: found by name as for sites: lon, lng, Longitude, stop_lon, x...)");
   cmd->add_option("--query-id-field", args->query_columns.id_field,
                   "Identifier column of the queries (default: query_id, id, icao, code or name; else the line number)");
-  cmd->add_option("--layer", args->query_layer, "Layer of a multi-layer OGR query source (GeoPackage, ...); not for CSV");
+  cmd->add_option("--layer", args->files.query_layer, "Layer of a multi-layer OGR query source (GeoPackage, ...); not for CSV");
   add_field_type_option(cmd, "--query-field-type", args->query_field_types,
                         "Declare a query column's type in a point output: NAME=TYPE (String, Integer, Integer64, Real, "
                         "Date, DateTime; case-insensitive), repeatable or NAME=TYPE,NAME2=TYPE2; a value not of that type "
@@ -205,9 +133,9 @@ Command add_nearest_command(CLI::App& app) {
       ->delimiter(',');
   cmd->add_option("--max-distance-m", args->max_distance_m,
                   "No site farther than this many metres: a query without one gets a row with an empty match");
-  cmd->add_option("-o,--output", args->output,
+  cmd->add_option("-o,--output", args->files.output,
                   "Output: CSV (-: stdout, .csv, .txt or no extension), or points with attributes in any OGR format (.gpkg, .geojson, .fgb, .shp, ...)");
-  add_output_model_options(cmd, args->format, args->overwrite, args->model, "nearest");
+  add_output_model_options(cmd, args->files.writer.format, args->files.writer.overwrite, args->model, "nearest");
   cmd->add_option("--locator", args->locator,
                   "Strategy: walk, jump-walk, keep-jump-walk, hierarchy, climb or keep-jump-climb (default)");
   args->k_option = cmd->add_option("--k", args->k, "The k nearest sites, one row each with a rank column")
@@ -241,8 +169,9 @@ Command add_nearest_command(CLI::App& app) {
       "    --query-lon-field pickup_longitude --site-fields name --max-distance-m 5000 -o trips.gpkg");
   return {[args] { return run(*args); },
           [args] {
-            return (!is_index_path(args->sites.input) && site_input_needs_gdal(args->sites)) || queries_are_ogr(*args) ||
-                   (!writes_csv(*args) && output_needs_gdal(args->output, args->format));
+            return (!is_index_path(args->sites.input) && site_input_needs_gdal(args->sites)) ||
+                   queries_are_ogr(args->files) ||
+                   (!writes_csv(args->files) && output_needs_gdal(args->files.output, args->files.writer.format));
           }};
 }
 

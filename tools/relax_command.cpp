@@ -1,8 +1,6 @@
 // geovor relax INPUT -o OUTPUT --iterations N: Lloyd's iterations toward a spherical centroidal
 // Voronoi tessellation; writes the final cells as `geovor cells` does and, optionally, the sites.
 #include <algorithm>
-#include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -10,11 +8,8 @@
 #include "cell_output.hpp"
 #include "commands.hpp"
 #include "geovor/core/error.hpp"
-#include "geovor/delaunay/site_rows.hpp"
 #include "geovor/geo/site_encoder.hpp"
-#include "geovor/core/output_target.hpp"
-#include "geovor/layers/site_layer.hpp"
-#include "geovor/relax/lloyd.hpp"
+#include "geovor/layers/relaxed_cells.hpp"
 #include "numeric_options.hpp"
 #include "site_input.hpp"
 
@@ -30,97 +25,26 @@ struct RelaxArgs {
   std::string sites_output;
 };
 
-// Refused before the iterations run, so that a long run is not lost to an existing file.
-void check_writable(const std::string& path, bool overwrite) {
-  if (path.empty() || path == "-" || overwrite) return;
-  std::error_code ec;
-  if (std::filesystem::exists(path, ec)) throw Error(ErrorCode::Io, output_exists(path));
-}
-
-// The final sites as points (geovor/layers/site_layer.hpp).
-void write_sites(const RelaxArgs& args, const SiteTable& table, const BuildReport& report, const SphericalDelaunay& dt,
-                 const std::vector<Vec3>& start, bool into_cells_source) {
-  WriterOptions options;
-  options.format = into_cells_source ? args.cells.format : "";
-  options.layer = "sites";
-  options.precision = args.cells.precision;
-  options.overwrite = args.cells.overwrite;
-  options.update = into_cells_source || (args.cells.model.update && format_holds_layers(args.sites_output, ""));
-  if (args.cells.ids_repeat) options.id_field = "site_index";  // feature ids stay unique
-  const auto writer = open_site_layer_writer(args.sites_output, table, options);
-  write_site_layer(*writer, table, rows_of_sites(report, dt.site_capacity()), dt, start);
-  writer->finish();
-}
-
 int run(RelaxArgs& args) {
-  LloydOptions options;
-  options.iterations = args.iterations;
-  options.tolerance_rad = args.tolerance_m / SiteEncoder::kEarthRadiusM;
-  options.threads = static_cast<unsigned>(args.cells.threads);
-  if (args.relocation == "filtered")
-    options.relocation = Relocation::Filtered;
-  else if (args.relocation == "naive")
-    options.relocation = Relocation::Naive;
-  else if (args.relocation == "rebuild")
-    options.relocation = Relocation::Rebuild;
-  else
+  RelaxedCellsOptions options;
+  options.lloyd.iterations = args.iterations;
+  options.lloyd.tolerance_rad = args.tolerance_m / SiteEncoder::kEarthRadiusM;
+  options.lloyd.threads = static_cast<unsigned>(args.cells.threads);
+  const auto relocations = {Relocation::Filtered, Relocation::Naive, Relocation::Rebuild};
+  const auto r = std::find_if(relocations.begin(), relocations.end(),
+                              [&](Relocation x) { return args.relocation == to_string(x); });
+  if (r == relocations.end())
     throw Error(ErrorCode::InvalidArgument, "--relocation: expected filtered, naive or rebuild, got '" + args.relocation + "'");
-  // Two outputs that are one file (a path, an alias, a link; `-` twice): refused before any work.
-  // The sites may be a second layer of the cells' data source (GPKG, ...), added once the cells are in place.
-  const bool one_source = !args.sites_output.empty() && same_output_file(args.cells.output, args.sites_output) &&
-                          format_holds_layers(args.cells.output, args.cells.format);
-  if (!one_source) check_distinct_outputs({{"--output", args.cells.output}, {"--sites-output", args.sites_output}});
-  check_writer_options(args.cells.output, GeometryType::MultiPolygon, cell_writer_options(args.cells));  // before the iterations
-  if (!args.sites_output.empty()) {
-    WriterOptions sites;
-    sites.format = one_source ? args.cells.format : "";
-    check_writer_options(args.sites_output, GeometryType::Point, sites);
-  }
-  check_writable(args.cells.output, args.cells.overwrite || args.cells.model.update);
-  if (!one_source)
-    check_writable(args.sites_output, args.cells.overwrite || (args.cells.model.update && !args.sites_output.empty() &&
-                                                               format_holds_layers(args.sites_output, "")));
-
-  DuplicateIds duplicates;
+  options.lloyd.relocation = *r;
+  options.cells = cell_file_options(args.cells);
+  options.sites_path = args.sites_output;
+  // Two outputs that are one file (a path, an alias, a link; `-` twice) or existing outputs: refused
+  // before any work. The sites may be a second layer of the cells' data source (GPKG, ...).
+  check_relaxed_outputs(args.cells.output, options, "--output", "--sites-output");
   if (!args.sites.weight_field.empty())
     throw Error(ErrorCode::InvalidArgument, "--weight-field: Lloyd's iterations move unweighted sites only");
-  const SiteTable table = read_site_input(args.sites, &duplicates);
-  args.cells.ids_repeat = duplicates.rows > 0;
-  const std::vector<Vec3> points = site_points(table);
-  BuildReport report;
-  SphericalDelaunay dt = SphericalDelaunay::build(points, delaunay_options(args.sites), &report);
-  if (!args.cells.quiet) report_merges(table, report);  // merged rows stay in the cells' ids
-  const std::vector<Vec3> start(dt.sites().begin(), dt.sites().end());
-
-  // Site ids never change (no site is removed), so the build's row report still names the rows.
-  if (!args.cells.quiet)
-    std::fprintf(stderr, "%s: %zu sites, %d iterations (%s relocation)\n%9s %22s %14s %14s %9s %9s\n",
-                 table.source.c_str(), dt.num_sites(), args.iterations, to_string(options.relocation), "iteration",
-                 "energy", "max_move_m", "mean_move_m", "filtered", "seconds");
-  const LloydReport lloyd_report = lloyd(dt, options, [&](const LloydIteration& it) {
-    if (args.cells.quiet) return;
-    std::fprintf(stderr, "%9d %22.15e %14.3f %14.3f %9zu %9.3f\n", it.iteration, it.energy, it.max_move_m,
-                 it.mean_move_m, it.moves.filtered, it.seconds);
-  });
-  std::size_t refused = 0, undefined = 0;
-  for (const LloydIteration& it : lloyd_report.iterations) {
-    refused += it.moves.refused;
-    undefined = std::max(undefined, it.undefined);
-  }
-  if (!args.cells.quiet) {
-    std::fprintf(stderr, "final energy %.15e", lloyd_report.final_energy);
-    if (refused) std::fprintf(stderr, "; %zu moves refused (centroid within the merge distance of a site)", refused);
-    if (undefined) std::fprintf(stderr, "; %zu site(s) without a centroid kept in place", undefined);
-    std::fprintf(stderr, "\n");
-  }
-
-  const std::size_t written = write_cells(args.cells, table, report, dt).cells_written;
-  if (!args.sites_output.empty()) write_sites(args, table, report, dt, start, one_source);
-  if (!args.cells.quiet)
-    std::fprintf(stderr, "%s: rows %llu, sites %zu, merged %zu, rejected %zu; %zu cells written to %s%s%s\n",
-                 table.source.c_str(), static_cast<unsigned long long>(table.rows_read), dt.num_sites(),
-                 report.merges.size(), table.rejected.size(), written, args.cells.output.c_str(),
-                 args.sites_output.empty() ? "" : ", sites to ", args.sites_output.c_str());
+  args.sites.quiet = args.cells.quiet;  // merged rows stay in the cells' ids
+  relax_to_files(args.sites, args.cells.output, options);
   return kOk;
 }
 

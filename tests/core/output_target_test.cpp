@@ -37,6 +37,20 @@ TEST(OutputTarget, OneMessageForAnExistingOutput) {
   EXPECT_EQ(output_exists("x.gpkg", ", or --update"), "x.gpkg: exists; use --overwrite to replace it, or --update");
 }
 
+TEST(OutputTarget, AnExistingOutputIsRefusedBeforeALongJob) {
+  TempDir dir;
+  spit(dir / "old", "old");
+  const Error e = error_of([&] { refuse_existing_output(dir / "old", false); });
+  EXPECT_EQ(e.code(), ErrorCode::Io);
+  EXPECT_EQ(std::string(e.what()), output_exists(dir / "old"));
+  EXPECT_EQ(error_of([&] { refuse_existing_output("/dev/null", false); }).code(), ErrorCode::Io);  // a device too
+  refuse_existing_output(dir / "old", true);
+  refuse_existing_output(dir / "new", false);
+  refuse_existing_output("-", false);
+  refuse_existing_output("", false);
+  EXPECT_EQ(slurp(dir / "old"), "old");
+}
+
 TEST(OutputTarget, RenameIntoPlace) {
   TempDir dir;
   spit(dir / "new", "new");

@@ -263,6 +263,15 @@ TEST(SiteReader, DuplicateIdsAreFound) {
   EXPECT_EQ(d.examples[1].rows, (std::vector<std::uint64_t>{2, 5}));
 }
 
+TEST(SiteReader, SitePointsAreTheAcceptedRowsUnitVectors) {
+  const SiteTable t = read("id,lat,lon\na,10,20\nb,x,0\nc,-30,40\n");
+  const std::vector<Vec3> points = site_points(t);
+  ASSERT_EQ(points.size(), 2u);
+  EXPECT_EQ(points[0], SiteEncoder::from_lat_lon(10, 20));
+  EXPECT_EQ(points[1], SiteEncoder::from_lat_lon(-30, 40));
+  EXPECT_TRUE(site_points(SiteTable{}).empty());
+}
+
 // Against a std::map: the count of rows repeating an earlier id, and each example's first rows,
 // with ids from small alphabets (many repeats, long probe chains) and tables up to 20,000 rows.
 TEST(SiteReader, DuplicateIdsAsAMapCountsThem) {

@@ -853,6 +853,10 @@ TEST(FeatureWriter, OutputKind) {
   EXPECT_EQ(output_kind("b.xyz", ""), OutputKind::Gdal);
   EXPECT_EQ(output_kind("b.gpkg", "GeoJSONSeq"), OutputKind::Native);
   EXPECT_EQ(output_kind("b.geojson", "FlatGeobuf"), OutputKind::Gdal);
+  EXPECT_FALSE(output_needs_gdal("-", ""));
+  EXPECT_FALSE(output_needs_gdal("b.gpkg", "GeoJSON"));
+  EXPECT_TRUE(output_needs_gdal("b.gpkg", ""));
+  EXPECT_TRUE(output_needs_gdal("b.csv", ""));
   // Where the caller has its own CSV text (the nearest join).
   EXPECT_EQ(output_kind("-", "", true), OutputKind::Text);
   EXPECT_EQ(output_kind("d/b.CSV", "", true), OutputKind::Text);

@@ -413,6 +413,12 @@ TEST_F(IndexFile, NotAnIndex) {
   EXPECT_NE(load_error(path).find("not a geovor index"), std::string::npos);
   EXPECT_FALSE(is_index_file(path));
   EXPECT_TRUE(is_index_file(*path_));
+  // A path for sites: an index by its bytes, or by its name when it is none yet (a missing one).
+  EXPECT_TRUE(is_index_path(*path_));
+  EXPECT_TRUE(is_index_path(temp_path("no_such_file.gvi")));
+  EXPECT_FALSE(is_index_path(temp_path("no_such_file.csv")));
+  EXPECT_FALSE(is_index_path("-"));
+  EXPECT_FALSE(is_index_path(".gvi"));
   write_bytes(path, "");
   EXPECT_NE(load_error(path).find("not a geovor index"), std::string::npos);
   try {

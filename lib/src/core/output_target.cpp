@@ -139,6 +139,12 @@ std::string output_exists(const std::string& path, const std::string& more) {
   return path + ": exists; use --overwrite to replace it" + more;
 }
 
+void refuse_existing_output(const std::string& path, bool overwrite) {
+  if (path.empty() || path == "-" || overwrite) return;
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec)) throw Error(ErrorCode::Io, output_exists(path));
+}
+
 OutputTargetState check_output_target(const std::string& path, bool overwrite) {
   if (path == "-") return OutputTargetState::Special;
   struct stat st;

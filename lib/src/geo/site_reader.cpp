@@ -45,6 +45,13 @@ void require_sites(const SiteTable& table) {
   throw Error(ErrorCode::BadData, message);
 }
 
+std::vector<Vec3> site_points(const SiteTable& table) {
+  std::vector<Vec3> points;
+  points.reserve(table.sites.size());
+  for (const InputSite& s : table.sites) points.push_back(s.unit);
+  return points;
+}
+
 DuplicateIds find_duplicate_ids(const SiteTable& table) {
   DuplicateIds out;
   if (table.id_column < 0) return out;

@@ -110,6 +110,10 @@ OutputKind output_kind(const std::string& path, const std::string& format, bool 
   return f == "geojson" || f == "geojsonseq" ? OutputKind::Native : OutputKind::Gdal;
 }
 
+bool output_needs_gdal(const std::string& path, const std::string& format) {
+  return output_kind(path, format) == OutputKind::Gdal;
+}
+
 std::unique_ptr<FeatureWriter> open_feature_writer(const std::string& path, GeometryType geometry_type,
                                                    const std::vector<Field>& schema,
                                                    const WriterOptions& options) {

@@ -587,6 +587,10 @@ bool is_index_file(const std::string& path) {
   return std::fread(magic, 1, 8, f.get()) == 8 && std::memcmp(magic, kIndexMagic, 8) == 0;
 }
 
+bool is_index_path(const std::string& path) {
+  return path != "-" && (is_index_file(path) || (path.size() > 4 && path.ends_with(".gvi")));
+}
+
 SiteIndex load_index(const std::string& path, unsigned threads) {
   Reader in(path);
   in.open();

@@ -37,6 +37,11 @@ enum class OutputTargetState {
 /// it", then `more` (a writer's other way out, e.g. ", or --update to add a layer to it").
 std::string output_exists(const std::string& path, const std::string& more = {});
 
+/// Refuses an output that exists before a long job (the writers check again, atomically, when
+/// they commit): Error(Io) output_exists(path) when anything exists at `path` (a link followed; a
+/// device too), unless `overwrite`, or `path` is "" (no output) or "-" (stdout).
+void refuse_existing_output(const std::string& path, bool overwrite);
+
 /// Checks an output path before any work. "-" (stdout) is Special.
 /// @exception Error(Io) "PATH: is a directory"; "PATH: exists; use --overwrite to replace it"
 ///   if something exists there, is not a device or a FIFO, and `overwrite` is false.

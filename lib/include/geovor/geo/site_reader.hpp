@@ -151,6 +151,9 @@ struct DuplicateIds {
 /// The ids of `table.sites` that repeat; none when the ids are row numbers (id_column < 0).
 DuplicateIds find_duplicate_ids(const SiteTable& table);
 
+/// The unit vectors of `table.sites`, in order: the points a triangulation of the table is built from.
+std::vector<Vec3> site_points(const SiteTable& table);
+
 /// Index of the column whose name, trimmed and case-insensitive, is `name`; -1 if none.
 int find_column(const std::vector<std::string>& columns, std::string_view name);
 /// The first of `names` (in that order of preference) that is a column, as find_column; -1 if none.

@@ -224,5 +224,8 @@ enum class OutputKind {
 };
 /// The kind of output `path` with `format` (empty: from the extension) is. Needs no GDAL.
 OutputKind output_kind(const std::string& path, const std::string& format, bool text_allowed = false);
+/// Whether writing features to `path` in `format` needs GDAL: output_kind() is Gdal (the geovor
+/// command hands such a job to geovor-gdal).
+bool output_needs_gdal(const std::string& path, const std::string& format);
 
 }  // namespace geovor

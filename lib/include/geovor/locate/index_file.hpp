@@ -149,6 +149,10 @@ SiteIndex load_index(const std::string& path, unsigned threads = 1);
 /// a pipe or FIFO, whose first bytes would be consumed).
 bool is_index_file(const std::string& path);
 
+/// Whether a path given for sites names an index file rather than a site table: is_index_file(),
+/// or a name ending in .gvi (so that a missing index is said to be one); never "-".
+bool is_index_path(const std::string& path);
+
 /// XXH64 of `size` bytes (Yann Collet's xxHash, 64-bit variant), the checksum of index files.
 std::uint64_t xxh64(const void* data, std::size_t size, std::uint64_t seed = 0);
 

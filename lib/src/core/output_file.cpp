@@ -1,4 +1,4 @@
-#include "output_file.hpp"
+#include "geovor/core/output_file.hpp"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -10,7 +10,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/core/output_target.hpp"
 
-namespace geovor::tools {
+namespace geovor {
 
 OutputFile::OutputFile(const std::string& path, bool overwrite)
     : path_(path), name_(path == "-" ? "<stdout>" : path), overwrite_(overwrite) {
@@ -72,4 +72,4 @@ void OutputFile::discard() noexcept {
   temp_.discard();
 }
 
-}  // namespace geovor::tools
+}  // namespace geovor

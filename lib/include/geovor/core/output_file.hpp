@@ -1,5 +1,7 @@
-// A text output of the tool (nearest's CSV, cells' --report) that never leaves a half-written
-// file: written under a temporary name next to the target and renamed into place by commit().
+/// @file
+/// OutputFile: a text output (the nearest join's CSV, the cells' row report, the balanced sites)
+/// that never leaves a half-written file: written under a temporary name next to the target and
+/// renamed into place by commit() (the rules of output_target.hpp).
 #pragma once
 
 #include <cstdio>
@@ -7,7 +9,7 @@
 
 #include "geovor/core/output_target.hpp"
 
-namespace geovor::tools {
+namespace geovor {
 
 class OutputFile {
  public:
@@ -45,4 +47,4 @@ class OutputFile {
   bool committed_ = false;
 };
 
-}  // namespace geovor::tools
+}  // namespace geovor
