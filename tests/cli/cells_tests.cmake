@@ -76,3 +76,10 @@ geovor_cli_expect(cli.cells.quiet_keeps_rejections 0 STDOUT "^merged 0 rejected 
   "\"$0\" cells ${fixtures}/duplicates.csv -o ${cells_out}/quiet_dup.geojson --overwrite -q 2>${cells_out}/quiet_dup.err && \"$0\" cells ${fixtures}/bad_rows.csv -o ${cells_out}/quiet_bad.geojson --overwrite -q 2>${cells_out}/quiet_bad.err && echo merged $(grep -c 'merged into' ${cells_out}/quiet_dup.err) rejected $(grep -c rejected ${cells_out}/quiet_bad.err)")
 geovor_cli_expect(cli.cells.lists_merges 0 STDERR "row 2 .id 2. merged into the site of row 1 .id 1.: same position"
   COMMAND cells ${fixtures}/duplicates.csv -o ${cells_out}/loud_dup.geojson --overwrite)
+# geovor cells --clip (issue 35): the stations cut by Natural Earth's countries against brute
+# force, GEOS and geographiclib, the weights table, threads, CRS, the Python package, bad regions
+# (tests/cli/clip_test.py).
+add_test(NAME cli.cells.clip_to_regions
+  COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/clip_test.py $<TARGET_FILE:geovor_cli> ${CMAKE_CURRENT_BINARY_DIR}/clip
+          $<$<TARGET_EXISTS:_geovor>:$<TARGET_FILE:_geovor>>)
+set_tests_properties(cli.cells.clip_to_regions PROPERTIES LABELS "cli" TIMEOUT 300)
