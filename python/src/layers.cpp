@@ -116,7 +116,7 @@ RegionTable regions_from_python(const py::list& regions) {
   for (std::size_t r = 0; r < regions.size(); ++r) {
     Region region;
     region.row = r + 1;
-    region.id = std::to_string(r);
+    region.id = std::to_string(r + 1);  // the row number, as the command numbers regions without an id field
     for (const py::handle polygon : regions[r].cast<py::list>()) {
       Polygon p;
       bool first = true;

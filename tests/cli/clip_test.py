@@ -154,7 +154,8 @@ try:
 
     py = geovor_py.cells(pd.read_csv(stations), clip=world)
     cmd = gpd.read_file(gpkg)
-    check(len(py) == len(cmd) and np.allclose(py.region_share.to_numpy(), cmd.region_share.to_numpy(), rtol=1e-12, atol=0),
+    check(len(py) == len(cmd) and np.allclose(py.region_share.to_numpy(), cmd.region_share.to_numpy(), rtol=1e-12, atol=0)
+          and (py.region_index.to_numpy() == cmd.region_index.to_numpy()).all(),
           "geovor.cells(clip=) = geovor cells --clip (GeoPackage)")
 except ImportError:
     print("no geovor Python package: the comparison with geovor.cells(clip=) is skipped")

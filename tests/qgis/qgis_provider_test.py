@@ -126,6 +126,8 @@ def main():
     def cli(*args):
         return run([geovor, *args, "-q"])
 
+    for old in work.glob("[qc]_clip.gpkg"):
+        old.unlink()
     out = {name: work / f"{name}.gpkg" for name in (
         "q_cells", "c_cells", "q_triangles", "q_edges", "c_triangles", "c_edges", "q_nearest", "c_nearest",
         "q_balance", "c_balance", "q_cells_4087", "c_cells_4087")}
@@ -139,6 +141,12 @@ def main():
         "--site-fields", "name,lat_deg", "-o", out["c_nearest"])
     qgis("balance", INPUT=capacities, CAPACITY="capacity", OUTPUT=out["q_balance"])
     cli("balance", capacities, "--capacity-field", "capacity", "-o", out["c_balance"])
+    # CLIP: the stations cut by Natural Earth's countries (Debian's python3-geopandas).
+    countries = work / "countries.gpkg"
+    gpd.read_file(gpd.datasets.get_path("naturalearth_lowres")).to_file(countries, layer="countries", driver="GPKG")
+    out["q_clip"], out["c_clip"] = work / "q_clip.gpkg", work / "c_clip.gpkg"
+    qgis("cells", INPUT=stations, CLIP=countries, OUTPUT=out["q_clip"])
+    cli("cells", stations, "--clip", countries, "-o", out["c_clip"])
     qgis("cells", INPUT=projected, OUTPUT=out["q_cells_4087"])
     cli("cells", projected, "-o", out["c_cells_4087"])
 
@@ -185,6 +193,8 @@ def main():
 
     compare("cells", out["q_cells"], out["c_cells"], ["site_index", "site_id", "ids", "neighbors"],
             ["area_m2", "area_sr"])
+    compare("cells clipped to countries", out["q_clip"], out["c_clip"], ["site_index", "site_id", "region_index", "region_id"],
+            ["area_m2", "region_share"])
     compare("delaunay triangles", out["q_triangles"], out["c_triangles"],
             ["tri_index", "kind", "site_a", "site_b", "site_c", "id_a", "id_b", "id_c"],
             ["area_m2", "area_sr", "circumradius_m"])
