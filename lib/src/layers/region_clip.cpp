@@ -21,6 +21,7 @@ namespace {
 // the pieces then follow the edges as drawn, and their areas (geodesics between the written
 // vertices) are those of the region as drawn.
 constexpr int kMaxRegionSplits = 20;  // halvings of one edge at most
+constexpr int kLargeRegion = 2000;     // vertices from which a cell meets only the region near it
 
 void densify_edge(LonLat a, LonLat b, double densify_m, int depth, Ring& out) {
   const LonLat mid{(a.lon_deg + b.lon_deg) / 2, (a.lat_deg + b.lat_deg) / 2};
@@ -183,6 +184,7 @@ struct RegionWork {
     }
     shape = geos.multipolygon(snapped);
     const GEOSPreparedGeometry* prepared = GEOSPrepare_r(h, shape.get());
+    const bool large = GEOSGetNumCoordinates_r(h, shape.get()) > kLargeRegion;
     std::deque<SiteId> queue;
     auto enqueue = [&](SiteId s) {
       if (stamp[s] == r + 1) return;
@@ -210,18 +212,9 @@ struct RegionWork {
         if (GEOSPreparedContains_r(h, prepared, c.get())) {
           mp = geos.polygons(c.get());
         } else {
-          // The region near the cell first (a rectangle a degree wider than the cell's box, cut by
-          // GEOS's rectangle clipper: linear in the region's size), then the overlay.
-          double w = 0, s_ = 0, e = 0, n = 0;
-          GEOSGeom_getXMin_r(h, c.get(), &w);
-          GEOSGeom_getYMin_r(h, c.get(), &s_);
-          GEOSGeom_getXMax_r(h, c.get(), &e);
-          GEOSGeom_getYMax_r(h, c.get(), &n);
-          Geos::Ptr near = geos.own(GEOSClipByRect_r(h, shape.get(), std::floor(w) - 1, std::floor(s_) - 1, std::ceil(e) + 1,
-                                                     std::ceil(n) + 1));
-          if (near && GEOSisValid_r(h, near.get()) != 1) near.reset();  // GEOS's clipper may touch itself: the whole region then
-          Geos::Ptr piece = intersection(near ? near.get() : shape.get(), c.get());
-          if (!piece && near) piece = intersection(shape.get(), c.get());  // the rectangle's cut did not overlay
+          // A large region near the cell first (a rectangle a degree wider than the cell's box, cut
+          // by GEOS's rectangle clipper: linear in the region's size), then the overlay.
+          Geos::Ptr piece = large ? intersection_near(shape.get(), c.get()) : intersection(shape.get(), c.get());
           if (!piece) {
             problems.push_back({r, "GEOS could not overlay the cell of site " + std::to_string(s) + ": " + geos.last_error()});
             continue;
@@ -266,6 +259,21 @@ struct RegionWork {
     return all;
   }
 
+  // The overlay with the part of the region near the cell (GEOS's rectangle clipper), or with the
+  // whole region when that part is invalid (the clipper's ring can touch itself) or will not overlay.
+  Geos::Ptr intersection_near(const GEOSGeometry* region, const GEOSGeometry* cell) const {
+    const GEOSContextHandle_t h = geos.h();
+    double w = 0, s = 0, e = 0, n = 0;
+    GEOSGeom_getXMin_r(h, cell, &w);
+    GEOSGeom_getYMin_r(h, cell, &s);
+    GEOSGeom_getXMax_r(h, cell, &e);
+    GEOSGeom_getYMax_r(h, cell, &n);
+    Geos::Ptr near = geos.own(GEOSClipByRect_r(h, region, std::floor(w) - 1, std::floor(s) - 1, std::ceil(e) + 1, std::ceil(n) + 1));
+    if (near && GEOSisValid_r(h, near.get()) == 1)
+      if (Geos::Ptr piece = intersection(near.get(), cell)) return piece;
+    return intersection(region, cell);
+  }
+
   SiteId first_live_site() const {
     SiteId s = 0;
     while (!diagram.has_cell(s)) ++s;
@@ -300,11 +308,19 @@ std::vector<ClipPiece> clip_cells_to_regions(const VoronoiDiagram& diagram, cons
   const double grid = grid_size(cells.options().precision);
   if (diagram.num_cells() > 0) {
     std::vector<std::vector<std::uint32_t>> stamps(thread_count(options.threads));  // per worker
+    // The largest regions first, so that no core is left with one at the end.
+    std::vector<std::size_t> order(n), size(n, 0);
+    for (std::size_t r = 0; r < n; ++r) {
+      order[r] = r;
+      for (const Polygon& p : regions.regions[r].geometry) size[r] += p.exterior.size();
+    }
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return size[a] > size[b]; });
     parallel_chunks(n, 1, options.threads, [&](unsigned worker, std::size_t begin, std::size_t end) {
       const Geos geos;
       std::vector<std::uint32_t>& stamp = stamps[worker];
       if (stamp.empty()) stamp.assign(diagram.site_capacity(), 0);
-      for (std::size_t r = begin; r < end; ++r) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const std::size_t r = order[i];
         RegionWork work{diagram, cells, geos, grid, stamp};
         work.clip(static_cast<std::uint32_t>(r), regions.regions[r], by_region[r], report.region_area_m2[r], problems[r]);
         tested[r] = work.tested;
