@@ -59,8 +59,9 @@ TEST_F(StagedSiteInputTest, TheSameAsReadingWholeInTheForegroundAndTheBackground
     MemoryStream log;
     input_.log = log.get();
     std::atomic<int> thens = 0;
+    const std::size_t expected_sites = expected.sites.size();  // clang 14 captures no structured binding
     StagedSiteInput staged(input_, background, [&](const SiteTable& t) {
-      EXPECT_EQ(t.sites.size(), expected.sites.size());
+      EXPECT_EQ(t.sites.size(), expected_sites);
       ++thens;
     });
     EXPECT_EQ(staged.positions().size(), expected.sites.size());
