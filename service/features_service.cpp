@@ -21,11 +21,6 @@ struct BadParameter {
   std::string parameter, why;
 };
 
-void append_real(std::string& out, double v) {
-  char buf[40];
-  out.append(buf, format_real(buf, v));
-}
-
 std::string json_string(std::string_view s) {
   std::string out;
   append_json_string(out, s);

@@ -114,11 +114,6 @@ Response bad_parameter_response(const BadParameter& bad) {
   return error_response(400, bad.parameter.empty() ? bad.why : bad.parameter + ": " + bad.why, bad.parameter);
 }
 
-void append_real(std::string& out, double v) {
-  char buf[40];
-  out.append(buf, format_real(buf, v));
-}
-
 }  // namespace
 
 Response error_response(int status, const std::string& why, const std::optional<std::string>& parameter) {

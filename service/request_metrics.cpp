@@ -9,8 +9,9 @@ namespace geovor::service {
 namespace {
 
 std::string real(double v) {
-  char buf[40];
-  return std::string(buf, format_real(buf, v));
+  std::string out;
+  append_real(out, v);
+  return out;
 }
 
 // kBucketsS as Prometheus writes them.

@@ -21,7 +21,6 @@ namespace {
 // The feature's attributes as a JSON object.
 std::string properties_json(OGRFeature& feature) {
   std::string out = "{";
-  char buf[40];
   for (int i = 0; i < feature.GetFieldCount(); ++i) {
     const OGRFieldDefn* def = feature.GetFieldDefnRef(i);
     if (i > 0) out += ",";
@@ -32,7 +31,7 @@ std::string properties_json(OGRFeature& feature) {
     } else if (def->GetType() == OFTInteger || def->GetType() == OFTInteger64) {
       out += std::to_string(feature.GetFieldAsInteger64(i));
     } else if (def->GetType() == OFTReal) {
-      out.append(buf, format_real(buf, feature.GetFieldAsDouble(i)));
+      append_real(out, feature.GetFieldAsDouble(i));
     } else {
       append_json_string(out, feature.GetFieldAsString(i));
     }

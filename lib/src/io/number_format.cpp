@@ -154,4 +154,9 @@ char* format_real(char* out, double value) {
   return end;
 }
 
+void append_real(std::string& out, double value) {
+  char buf[kMaxRealChars];
+  out.append(buf, format_real(buf, value));
+}
+
 }  // namespace geovor

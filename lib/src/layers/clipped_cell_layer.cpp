@@ -36,8 +36,9 @@ void append_csv(std::string& out, std::string_view field) {
 }
 
 std::string real(double v) {
-  char buf[40];
-  return std::string(buf, format_real(buf, v));
+  std::string out;
+  append_real(out, v);
+  return out;
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 /// (trailing zeros trimmed), reals in shortest round-trip form that stay Real for readers.
 #pragma once
 
+#include <string>
+
 namespace geovor {
 
 /// Largest number of characters format_coordinate() writes.
@@ -28,5 +30,8 @@ char* format_coordinate(char* out, double value, int precision);
 /// (std::to_chars), with ".0" appended when that form has no '.' or exponent, so that readers
 /// keep the field Real. At most kMaxRealChars characters. @return one past the last character.
 char* format_real(char* out, double value);
+
+/// Appends format_real(value) to `out`.
+void append_real(std::string& out, double value);
 
 }  // namespace geovor
