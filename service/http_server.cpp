@@ -1,164 +1,280 @@
 #include "http_server.hpp"
 
-#include <httplib.h>
-#include <sys/socket.h>
+#define BOOST_BEAST_USE_STD_STRING_VIEW  // Beast's views are std::string_view
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <unordered_map>
+#include <vector>
 
 #include "geovor/core/error.hpp"
-#include "geovor/io/json_text.hpp"
-#include "map_page.hpp"
+#include "request_target.hpp"
+#include "router.hpp"
 
 namespace geovor::service {
+
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+
 namespace {
 
-void answer(httplib::Response& res, Response&& r) {
-  res.status = r.status;
-  res.set_content(std::move(r.body), r.content_type.c_str());
-}
+using Clock = std::chrono::steady_clock;
 
-// Requests on one keep-alive connection before it is closed.
-constexpr std::size_t kKeepAliveRequests = 100000;
-
-// The routes counted apart in /metrics.
-const std::vector<std::string> kRoutes = {"GET /nearest", "POST /nearest", "GET /healthz", "GET /metrics", "POST /admin/reload",
-                                          "GET /", "GET /collections", "GET /map"};
-
-// When this worker thread began reading the request it answers now (set before routing).
-thread_local std::chrono::steady_clock::time_point request_start;
-
-std::string prometheus_gauges(const ServedData& data) {
-  return "# HELP geovor_sites Sites served.\n# TYPE geovor_sites gauge\ngeovor_sites " +
-         std::to_string(data.nearest.index().hierarchy.base().num_sites()) + "\n";
-}
-
-// The base of the links of OGC API - Features: the address the client used.
-std::string base_url(const httplib::Request& req) { return "http://" + req.get_header_value("Host"); }
-
-// OGC API - Features (FeaturesService).
-void add_feature_routes(httplib::Server& s, LiveData& data) {
-  s.Get("/", [&data](const httplib::Request& req, httplib::Response& res) {
-    answer(res, data.current()->features.landing(base_url(req)));
-  });
-  s.Get("/api", [&data](const httplib::Request& req, httplib::Response& res) {
-    answer(res, data.current()->features.api(base_url(req)));
-  });
-  s.Get("/conformance", [&data](const httplib::Request&, httplib::Response& res) {
-    answer(res, data.current()->features.conformance());
-  });
-  s.Get("/collections", [&data](const httplib::Request& req, httplib::Response& res) {
-    answer(res, data.current()->features.collections(base_url(req)));
-  });
-  s.Get(R"(/collections/([^/]+))", [&data](const httplib::Request& req, httplib::Response& res) {
-    answer(res, data.current()->features.collection(req.matches[1], base_url(req)));
-  });
-  s.Get(R"(/collections/([^/]+)/items)", [&data](const httplib::Request& req, httplib::Response& res) {
-    const Params params(req.params.begin(), req.params.end());
-    answer(res, data.current()->features.items(req.matches[1], params, base_url(req)));
-  });
-  s.Get(R"(/collections/([^/]+)/items/([^/]+))", [&data](const httplib::Request& req, httplib::Response& res) {
-    answer(res, data.current()->features.item(req.matches[1], req.matches[2], base_url(req)));
-  });
-}
-
-// /map, Leaflet (Debian's libjs-leaflet, served from where it is installed) and the countries.
-void add_map_routes(httplib::Server& s) {
-  s.Get("/map", [](const httplib::Request&, httplib::Response& res) { res.set_content(map_page().data(), map_page().size(), "text/html; charset=utf-8"); });
-  s.Get("/static/countries.geojson", [](const httplib::Request&, httplib::Response& res) {
-    res.set_content(countries_geojson().data(), countries_geojson().size(), "application/geo+json");
-  });
-  s.set_mount_point("/static/leaflet", kLeafletDir);
+// The request as Router takes it; false when its target is no origin-form URL.
+bool to_router_request(const http::request<http::string_body>& req, HttpRequest& out) {
+  std::optional<RequestTarget> target = parse_request_target(req.target());
+  if (!target) return false;
+  out.method = std::string(req.method_string());
+  out.path = std::move(target->path);
+  out.params = std::move(target->query);
+  out.host = std::string(req[http::field::host]);
+  out.content_type = std::string(req[http::field::content_type]);
+  out.body = req.body();
+  return true;
 }
 
 }  // namespace
 
-struct HttpServer::Impl {
-  explicit Impl(LiveData& d) : data(d), metrics(kRoutes) {}
-  LiveData& data;
+struct HttpServer::Impl : std::enable_shared_from_this<HttpServer::Impl> {
+  Impl(LiveData& data, const ServerOptions& o)
+      : options(o),
+        threads(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency())),
+        metrics(Router::metric_routes()),
+        router(data, metrics),
+        slow_pool(threads),
+        acceptor(net::make_strand(events)),
+        accept_wait(acceptor.get_executor()) {}
+
+  class Session;
+  void accept();
+  void on_accept(beast::error_code ec, tcp::socket socket);
+  void stop_all();
+
+  ServerOptions options;
+  unsigned threads;
   RequestMetrics metrics;
-  httplib::Server server;
-  int listening = -1;  // the listening socket
+  Router router;
+  net::io_context events;
+  net::thread_pool slow_pool;  // POSTs: joins and reloads, off the event threads
+  tcp::acceptor acceptor;
+  net::steady_timer accept_wait;  // at ServerOptions::connections, accepting waits for a close
+  std::atomic<bool> stopping{false};
+  std::atomic<unsigned> open{0};
+  std::mutex sessions_mutex;  // guards sessions
+  std::unordered_map<const void*, std::weak_ptr<Session>> sessions;
 };
 
-HttpServer::HttpServer(LiveData& data, const ServerOptions& options) : impl_(std::make_unique<Impl>(data)) {
-  Impl& impl = *impl_;
-  httplib::Server& s = impl.server;
-  const std::size_t connections = std::max(1u, options.connections);
-  s.new_task_queue = [connections] { return new httplib::ThreadPool(connections); };
-  s.set_payload_max_length(options.max_body_bytes);
-  s.set_read_timeout(options.read_timeout_s, 0);
-  s.set_write_timeout(options.write_timeout_s, 0);
-  s.set_keep_alive_timeout(options.keep_alive_timeout_s);
-  s.set_tcp_nodelay(true);  // small responses go out at once, not after a delayed ACK (40 ms)
-  s.set_keep_alive_max_count(kKeepAliveRequests);  // cpp-httplib closes after 5 by default: reconnections
-  // The listening socket, to widen its backlog once bound (cpp-httplib's is 5: bursts of
-  // connections waited for SYN retries, 1 s each). Replacing the default options drops its
-  // SO_REUSEADDR, set here again (never SO_REUSEPORT: a port in use stays an error).
-  s.set_socket_options([&impl](int sock) {
-    const int yes = 1;
-    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-    impl.listening = sock;
-  });
-  s.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
-    request_start = std::chrono::steady_clock::now();
-    return httplib::Server::HandlerResponse::Unhandled;
-  });
-  s.set_logger([&impl](const httplib::Request& req, const httplib::Response& res) {
-    const std::chrono::duration<double> took = std::chrono::steady_clock::now() - request_start;
-    impl.metrics.record(req.method + " " + req.path, res.status, took.count());
-  });
+// One connection: reads a request, answers it, and again while it is kept alive.
+class HttpServer::Impl::Session : public std::enable_shared_from_this<Session> {
+ public:
+  Session(std::shared_ptr<Impl> server, tcp::socket socket) : server_(std::move(server)), stream_(std::move(socket)) {}
 
-  s.Get("/nearest", [&impl](const httplib::Request& req, httplib::Response& res) {
-    const Params params(req.params.begin(), req.params.end());
-    answer(res, impl.data.current()->nearest.nearest(params));
-  });
-  s.Post("/nearest", [&impl](const httplib::Request& req, httplib::Response& res) {
-    const Params params(req.params.begin(), req.params.end());
-    answer(res, impl.data.current()->nearest.join(params, req.body, req.get_header_value("Content-Type")));
-  });
-  s.Get("/healthz", [&impl](const httplib::Request&, httplib::Response& res) {
-    answer(res, impl.data.current()->nearest.health());
-  });
-  s.Get("/metrics", [&impl](const httplib::Request&, httplib::Response& res) {
-    res.set_content(impl.metrics.text(prometheus_gauges(*impl.data.current())), "text/plain; version=0.0.4");
-  });
-  s.Post("/admin/reload", [this](const httplib::Request&, httplib::Response& res) {
-    const ReloadResult r = reload();
-    if (!r.ok) return answer(res, error_response(500, "reload failed, the previous data are still served: " + r.message));
-    Response ok;
-    ok.content_type = "application/json";
-    ok.body = "{\"status\":\"reloaded\",\"served\":";
-    append_json_string(ok.body, r.message);
-    ok.body += "}";
-    answer(res, std::move(ok));
-  });
-  add_feature_routes(s, impl.data);
-  add_map_routes(s);
-  s.set_error_handler([max = options.max_body_bytes](const httplib::Request& req, httplib::Response& res) {
-    if (!res.body.empty()) return;  // a handler's own error body
-    std::string why = "request refused";
-    if (res.status == 404) why = req.path + ": no such resource";
-    if (res.status == 405) why = req.method + " " + req.path + ": method not allowed";
-    if (res.status == 413) why = "request body larger than " + std::to_string(max) + " bytes (ServerOptions::max_body_bytes)";
-    answer(res, error_response(res.status, why));
-  });
-  port_ = options.port == 0 ? s.bind_to_any_port(options.host) : (s.bind_to_port(options.host, options.port) ? options.port : -1);
-  if (port_ <= 0)
-    throw Error(ErrorCode::Io, options.host + ":" + std::to_string(options.port) + ": cannot listen there (in use, or not an address of this machine)");
-  ::listen(impl.listening, SOMAXCONN);  // a second listen() only sets the backlog
+  void start() {
+    {
+      std::lock_guard lock(server_->sessions_mutex);
+      server_->sessions[this] = weak_from_this();
+    }
+    net::dispatch(stream_.get_executor(), [self = shared_from_this()] { self->read_header(); });
+  }
+
+  ~Session() {
+    std::lock_guard lock(server_->sessions_mutex);
+    server_->sessions.erase(this);
+    if (server_->open.fetch_sub(1) == server_->options.connections) {
+      Impl* s = server_.get();  // a raw pointer: a handler left unrun at exit must not keep the server alive
+      net::post(s->accept_wait.get_executor(), [s] { s->accept_wait.cancel(); });
+    }
+  }
+
+  // From stop(): an idle connection (waiting for a request) closes now; one being answered closes
+  // after its response.
+  void close_if_idle() {
+    net::dispatch(stream_.get_executor(), [self = shared_from_this()] {
+      if (self->idle_) self->stream_.socket().close();
+    });
+  }
+
+ private:
+  void read_header() {
+    if (server_->stopping) return stream_.socket().close();
+    parser_.emplace();
+    parser_->body_limit(server_->options.max_body_bytes);
+    idle_ = buffer_.size() == 0;
+    stream_.expires_after(std::chrono::seconds(first_ ? server_->options.read_timeout_s : server_->options.keep_alive_timeout_s));
+    http::async_read_header(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      self->on_header(ec);
+    });
+  }
+
+  void on_header(beast::error_code ec) {
+    idle_ = false;
+    first_ = false;
+    start_ = Clock::now();
+    if (ec == http::error::body_limit) return refuse_body();
+    if (ec) return stream_.socket().close();  // closed, timed out, or no HTTP: nothing to answer
+    if (beast::iequals(parser_->get()[http::field::expect], "100-continue")) return send_continue();
+    read_body();
+  }
+
+  void send_continue() {
+    auto cont = std::make_shared<http::response<http::empty_body>>(http::status::continue_, parser_->get().version());
+    stream_.expires_after(std::chrono::seconds(server_->options.write_timeout_s));
+    http::async_write(stream_, *cont, [self = shared_from_this(), cont](beast::error_code ec, std::size_t) {
+      if (ec) return self->stream_.socket().close();
+      self->read_body();
+    });
+  }
+
+  void read_body() {
+    stream_.expires_after(std::chrono::seconds(server_->options.read_timeout_s));
+    http::async_read(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec == http::error::body_limit) return self->refuse_body();
+      if (ec) return self->stream_.socket().close();
+      self->handle();
+    });
+  }
+
+  void refuse_body() {
+    keep_alive_ = false;  // the body is not read: the connection cannot carry another request
+    Routed r;
+    const std::string_view target = parser_->get().target();
+    r.route = std::string(parser_->get().method_string()) + " " + std::string(target.substr(0, target.find('?')));
+    r.response = error_response(413, "request body larger than " + std::to_string(server_->options.max_body_bytes) +
+                                         " bytes (ServerOptions::max_body_bytes)");
+    send(std::move(r));
+  }
+
+  void handle() {
+    request_ = parser_->release();
+    keep_alive_ = request_.keep_alive();
+    HttpRequest req;
+    if (!to_router_request(request_, req)) {
+      Routed r;
+      r.route = "other";
+      r.response = error_response(400, std::string(request_.target()) + ": not a request target (an absolute path and a query)");
+      return send(std::move(r));
+    }
+    if (!Router::is_slow(req)) return send(server_->router.route(req));
+    // Off the event threads; the answer is written back on this connection's strand.
+    net::post(server_->slow_pool, [self = shared_from_this(), req = std::move(req),
+                                   guard = net::make_work_guard(server_->events)]() mutable {
+      Routed r = self->server_->router.route(req);
+      net::post(self->stream_.get_executor(), [self, r = std::move(r)]() mutable { self->send(std::move(r)); });
+    });
+  }
+
+  void send(Routed r) {
+    const bool head = request_.method() == http::verb::head;
+    auto res = std::make_shared<http::response<http::string_body>>(static_cast<http::status>(r.response.status),
+                                                                   request_.version() ? request_.version() : 11);
+    res->set(http::field::content_type, r.response.content_type);
+    if (!r.allow.empty()) res->set(http::field::allow, r.allow);
+    res->keep_alive(keep_alive_ && !server_->stopping);
+    res->content_length(r.response.body.size());
+    if (!head) res->body() = std::move(r.response.body);
+    const std::chrono::duration<double> took = Clock::now() - start_;
+    server_->metrics.record(r.route, r.response.status, took.count());
+    stream_.expires_after(std::chrono::seconds(server_->options.write_timeout_s));
+    http::async_write(stream_, *res, [self = shared_from_this(), res](beast::error_code ec, std::size_t) {
+      if (ec || !res->keep_alive()) {
+        beast::error_code ignored;
+        self->stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+        return self->stream_.socket().close();
+      }
+      self->request_ = {};
+      self->read_header();
+    });
+  }
+
+  std::shared_ptr<Impl> server_;
+  beast::tcp_stream stream_;
+  beast::flat_buffer buffer_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+  http::request<http::string_body> request_;
+  Clock::time_point start_;
+  bool keep_alive_ = true;
+  bool first_ = true;
+  bool idle_ = false;
+};
+
+void HttpServer::Impl::accept() {
+  if (stopping) return;
+  if (open.load() >= options.connections) {  // wait for a close (Session's destructor cancels the wait)
+    accept_wait.expires_after(std::chrono::seconds(1));
+    accept_wait.async_wait([self = shared_from_this()](beast::error_code) { self->accept(); });
+    return;
+  }
+  acceptor.async_accept(net::make_strand(events), beast::bind_front_handler(&Impl::on_accept, shared_from_this()));
 }
 
-HttpServer::~HttpServer() = default;
-
-void HttpServer::run() { impl_->server.listen_after_bind(); }
-
-void HttpServer::stop() { impl_->server.stop(); }
-
-ReloadResult HttpServer::reload() {
-  ReloadResult r = impl_->data.reload();
-  impl_->metrics.record_reload(r.ok);
-  return r;
+void HttpServer::Impl::on_accept(beast::error_code ec, tcp::socket socket) {
+  if (ec == net::error::operation_aborted || stopping) return;
+  if (ec) {  // out of file descriptors, say: try again shortly rather than spin
+    accept_wait.expires_after(std::chrono::milliseconds(10));
+    accept_wait.async_wait([self = shared_from_this()](beast::error_code) { self->accept(); });
+    return;
+  }
+  socket.set_option(tcp::no_delay(true), ec);  // small responses go out at once, not after a delayed ACK
+  ++open;
+  std::make_shared<Session>(shared_from_this(), std::move(socket))->start();
+  accept();
 }
+
+void HttpServer::Impl::stop_all() {
+  stopping = true;
+  net::post(acceptor.get_executor(), [this] {  // raw: stop() may come before run() or after it
+    beast::error_code ignored;
+    acceptor.close(ignored);
+    accept_wait.cancel();
+  });
+  std::vector<std::shared_ptr<Session>> live;
+  {
+    std::lock_guard lock(sessions_mutex);
+    for (auto& [key, weak] : sessions)
+      if (auto s = weak.lock()) live.push_back(std::move(s));
+  }
+  for (auto& s : live) s->close_if_idle();
+}
+
+HttpServer::HttpServer(LiveData& data, const ServerOptions& options) : impl_(std::make_shared<Impl>(data, options)) {
+  const std::string where = options.host + ":" + std::to_string(options.port);
+  beast::error_code ec;
+  const auto endpoints = tcp::resolver(impl_->events).resolve(options.host, std::to_string(options.port), ec);
+  if (ec || endpoints.empty()) throw Error(ErrorCode::Io, where + ": not an address of this machine (" + ec.message() + ")");
+  const tcp::endpoint endpoint = *endpoints.begin();
+  tcp::acceptor& a = impl_->acceptor;
+  a.open(endpoint.protocol(), ec);
+  if (!ec) a.set_option(net::socket_base::reuse_address(true), ec);  // never SO_REUSEPORT: a port in use stays an error
+  if (!ec) a.bind(endpoint, ec);
+  if (!ec) a.listen(net::socket_base::max_listen_connections, ec);
+  if (ec) throw Error(ErrorCode::Io, where + ": cannot listen there (" + ec.message() + ")");
+  port_ = a.local_endpoint().port();
+}
+
+HttpServer::~HttpServer() {
+  stop();
+  impl_->slow_pool.join();
+}
+
+void HttpServer::run() {
+  impl_->accept();
+  std::vector<std::thread> more;
+  for (unsigned i = 1; i < impl_->threads; ++i) more.emplace_back([this] { impl_->events.run(); });
+  impl_->events.run();
+  for (auto& t : more) t.join();
+}
+
+void HttpServer::stop() { impl_->stop_all(); }
+
+ReloadResult HttpServer::reload() { return impl_->router.reload(); }
 
 }  // namespace geovor::service

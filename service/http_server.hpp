@@ -1,12 +1,10 @@
 /// \file http_server.hpp
-/// \brief `geovor serve`'s HTTP layer: cpp-httplib (Debian's libcpp-httplib-dev) routes requests to
-/// the handlers of the data served now (LiveData); no HTTP parsing of our own. Binds the host
-/// given (127.0.0.1 by default).
-///
-/// Routes: GET /nearest, POST /nearest (NearestService), GET /healthz, GET /metrics (Prometheus
-/// text: RequestMetrics), POST /admin/reload (LiveData::reload: 200 {"status":"reloaded",...},
-/// or 500 {"error": why} with the old data still served). Anything else: 404 in JSON; a known
-/// path with another method: 405. A body over ServerOptions::max_body_bytes: 413.
+/// \brief `geovor serve`'s HTTP layer: Boost.Beast (HTTP/1.1, keep-alive) on Boost.Asio's event
+/// loop, one thread per core: no HTTP parsing of our own (the target's percent-decoding:
+/// request_target.hpp). Requests go to Router (router.hpp: the routes); a POST (a join, a reload) is answered on
+/// a pool of its own so that it never holds up the quick GETs. Binds the host given (127.0.0.1 by
+/// default). A body over ServerOptions::max_body_bytes: 413 before it is read; a target that is
+/// no URL: 400.
 #pragma once
 
 #include <cstddef>
@@ -24,10 +22,13 @@ struct ServerOptions {
   std::string host = "127.0.0.1";
   /// Port; 0 picks a free one (port() says which). DEFAULT: 8080.
   int port = 8080;
-  /// Connections served at once: cpp-httplib gives each its own thread of a pool for as long as it
-  /// stays open (keep-alive included), so this is the pool's size; more connections wait to be
-  /// accepted. Threads waiting on idle connections cost no CPU. DEFAULT: 256.
-  unsigned connections = 256;
+  /// Threads of the event loop (and of the pool answering POSTs); 0 means one per core.
+  /// DEFAULT: 0.
+  unsigned threads = 0;
+  /// Connections open at once (an idle keep-alive one costs a socket and a few KiB, no thread);
+  /// more wait in the listen backlog until one closes (the process's open-file limit, often 1024, must
+  /// allow them). DEFAULT: 1000.
+  unsigned connections = 1000;
   /// The largest request body (POST /nearest's CSV), in bytes: a larger one is refused with 413
   /// before it is read. DEFAULT: 64 MiB (about 2.5 million lat,lon lines).
   std::size_t max_body_bytes = std::size_t{64} << 20;
@@ -56,7 +57,7 @@ class HttpServer {
 
  private:
   struct Impl;
-  std::unique_ptr<Impl> impl_;
+  std::shared_ptr<Impl> impl_;
   int port_ = 0;
 };
 

@@ -50,6 +50,7 @@ void handle_signals(const sigset_t& signals, service::HttpServer& server) {
 
 int run(ServeArgs& args) {
   args.service.join_threads = static_cast<unsigned>(args.threads);
+  args.server.threads = static_cast<unsigned>(args.threads);
   args.server.max_body_bytes = args.max_body_mb << 20;
   service::LiveData data([&args] { return load(args); });
   // These signals are blocked here, so in every thread started below, and taken by sigwait.
@@ -78,9 +79,10 @@ Command add_serve_command(CLI::App& app) {
   cmd->add_option("--cells", args->cells, "A layer of geovor cells (any OGR format), served as the collection 'cells'");
   cmd->add_option("--host", args->server.host, "Address to listen on (default 127.0.0.1: this machine only)");
   cmd->add_option("--port", args->server.port, "Port (default 8080; 0: any free one, printed)")->check(integer_in(0, 65535));
-  cmd->add_option("--threads", args->threads, "Threads of each POST join (default 0: one per core)")->check(integer_in(0, kMaxThreads));
-  cmd->add_option("--connections", args->server.connections, "Connections served at once, a thread each (default 256)")
-      ->check(integer_in(1, 100000));
+  cmd->add_option("--threads", args->threads, "Threads answering requests, and of each POST join (default 0: one per core)")
+      ->check(integer_in(0, kMaxThreads));
+  cmd->add_option("--connections", args->server.connections, "Connections open at once; more wait to be accepted (default 1000)")
+      ->check(integer_in(1, 1000000));
   cmd->add_option("--max-k", args->service.max_k, "The largest k a request may ask (default 100)")->check(integer_in(1, 10000));
   cmd->add_option("--max-body-mb", args->max_body_mb, "The largest POST body in MiB; larger: 413 (default 64)")
       ->check(integer_in(1, 4096));
