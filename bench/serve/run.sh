@@ -20,8 +20,8 @@
 # points, default 10000), CHECK_POINTS (default 1000), BATCH_POINTS (default 1000000), PG_CLIENTS
 # (pgbench -c, default CONNECTIONS), PG_EXTRA_CLIENTS (more pgbench -c values at the listed points,
 # extra rows, default 8: PostgreSQL's best on 2 cores), FASTAPI_WORKERS (uvicorn --workers, default:
-# nproc), GEOVOR_EXTRA_THREADS (more geovor serve --threads values, extra rows; default none:
-# --threads is the POST join's; connections get a thread each, up to 256), KEEP_TMP=1 (keep the temporary directory).
+# nproc), GEOVOR_EXTRA_THREADS (more geovor serve --threads values, extra rows; default none),
+# KEEP_TMP=1 (keep the temporary directory).
 # The targets are checked against the best PostGIS figure at the listed points, for each geovor row.
 #
 # Packages (Debian): wrk postgresql-15-postgis-3 python3-fastapi python3-uvicorn python3-scipy curl;

@@ -5,9 +5,12 @@
 // weighted. A GET is a 200 GeoJSON FeatureCollection or a 400 naming a parameter; a POST a 200
 // CSV with geovor nearest's header, or a 400 with its reason; never a crash or a hang. The same
 // parameters go to the OGC API - Features items of the sites (200 or 400 naming the parameter).
+// The first line is also a request target ("/" + line) decoded by parse_request_target and sent
+// to the Router as a GET: 200, 400, 404 or 405, a file served only from Leaflet's folder.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -15,12 +18,14 @@
 #include "geovor/geo/site_encoder.hpp"
 #include "features_service.hpp"
 #include "nearest_service.hpp"
+#include "request_target.hpp"
+#include "router.hpp"
 
 namespace {
 
 using namespace geovor;
 
-service::NearestService make_service(bool weighted) {
+SiteTable site_table(bool weighted) {
   SiteTable t;
   t.source = "fuzz.csv";
   t.columns = {"id", "name"};
@@ -38,7 +43,27 @@ service::NearestService make_service(bool weighted) {
   }
   t.rows_read = t.sites.size();
   t.weighted = weighted;
-  return service::NearestService(build_site_index(t), {.max_k = 100, .join_threads = 1});
+  return t;
+}
+
+service::NearestService make_service(bool weighted) {
+  return service::NearestService(build_site_index(site_table(weighted)), {.max_k = 100, .join_threads = 1});
+}
+
+// The first line as a GET through the router.
+void route_target(const std::string& line) {
+  static service::LiveData data([] { return service::make_served_data(build_site_index(site_table(false)), "", {.max_k = 100, .join_threads = 1}); });
+  static service::RequestMetrics metrics(service::Router::metric_routes());
+  static const service::Router router(data, metrics);
+  std::optional<service::RequestTarget> target = service::parse_request_target("/" + line);
+  if (!target) return;
+  service::HttpRequest req{.method = "GET", .path = target->path, .params = target->query, .host = "fuzz"};
+  const int status = router.route(req).response.status;
+  FUZZ_CHECK(status == 200 || status == 400 || status == 404 || status == 405, "GET %s: status %d", line.c_str(), status);
+  if (status == 200 && req.path.starts_with("/static/"))
+    FUZZ_CHECK(req.path == "/static/countries.geojson" ||
+                   (req.path.starts_with("/static/leaflet/") && req.path.find("..") == std::string::npos),
+               "GET %s: a file outside Leaflet's folder", line.c_str());
 }
 
 }  // namespace
@@ -48,6 +73,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string input(reinterpret_cast<const char*>(data), size);
   const std::size_t line_feed = input.find('\n');
   const std::string text = input.substr(0, line_feed);
+  route_target(text);
   service::Params params;
   std::size_t at = 0;
   while (at <= text.size() && params.size() < 16) {
