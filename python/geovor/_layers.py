@@ -99,10 +99,9 @@ def _shapely18_geometries(wkb):
     return out
 
 
-def _frame(features, carried=None, first_rows=None):
-    """A GeoDataFrame (EPSG:4326) of features from _geovor, with the carried columns of each
+def _columns(features, carried=None, first_rows=None):
+    """A DataFrame of the fields of features from _geovor, with the carried columns of each
     feature's site's first row (renamed src_<name> where they clash with ours, as `geovor cells`)."""
-    import geopandas as gpd
     import pandas as pd
 
     names = list(features["fields"])
@@ -113,7 +112,15 @@ def _frame(features, carried=None, first_rows=None):
         ours = {n.lower() for n in names}
         taken.columns = [f"src_{c}" if str(c).lower() in ours else c for c in taken.columns]
         frame = pd.concat([frame, taken], axis=1)
-    return gpd.GeoDataFrame(frame, geometry=_geometries(features["geometry"]), crs="EPSG:4326")
+    return frame
+
+
+def _frame(features, carried=None, first_rows=None):
+    """_columns() and the features' geometry: a GeoDataFrame in EPSG:4326."""
+    import geopandas as gpd
+
+    return gpd.GeoDataFrame(_columns(features, carried, first_rows), geometry=_geometries(features["geometry"]),
+                            crs="EPSG:4326")
 
 
 def _warn_unwritten(unwritten, what):
@@ -145,9 +152,14 @@ def _region_rings(clip):
 
 def _clipped(out, carried, clip):
     """The pieces' GeoDataFrame: ours, the sites' carried columns, then region_<name> columns."""
-    frame = _frame(out, carried, out["site_first_row"])
+    import geopandas as gpd
+    import pandas as pd
+
+    # One GeoDataFrame at the end (each one built compares CRSs, which costs a millisecond);
+    # a carried column named geometry gives way to the geometry, as in _frame().
+    frame = _columns(out, carried, out["site_first_row"]).drop(columns="geometry", errors="ignore")
     taken = clip.drop(columns=[clip.geometry.name]).iloc[frame["region_index"].to_numpy()].reset_index(drop=True)
-    names = {str(c).lower() for c in frame.columns}
+    names = {str(c).lower() for c in frame.columns} | {"geometry"}
     renamed = []
     for c in taken.columns:
         name = f"region_{c}"
@@ -156,11 +168,7 @@ def _clipped(out, carried, clip):
         names.add(name.lower())
         renamed.append(name)
     taken.columns = renamed
-    import geopandas as gpd
-    import pandas as pd
-
-    return gpd.GeoDataFrame(pd.concat([frame.drop(columns=frame.geometry.name), taken], axis=1),
-                            geometry=frame.geometry.values, crs="EPSG:4326")
+    return gpd.GeoDataFrame(pd.concat([frame, taken], axis=1), geometry=_geometries(out["geometry"]))
 
 
 def cells(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, merge_m=0.0, threads=None, weights=None,
