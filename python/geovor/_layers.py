@@ -130,23 +130,18 @@ def _warn_unwritten(unwritten, what):
                       GeometryWarning, stacklevel=3)
 
 
-def _region_rings(clip):
-    """The clip regions as lists of polygons of (N, 2) lon/lat arrays, in EPSG:4326."""
+def _region_wkb(clip):
+    """(clip in EPSG:4326, the WKB of each region), each a Polygon or MultiPolygon."""
     from shapely.geometry import MultiPolygon, Polygon
 
     if getattr(clip, "crs", None) is not None and not clip.crs.equals("EPSG:4326"):
         clip = clip.to_crs("EPSG:4326")
     regions = []
     for row, geom in enumerate(clip.geometry):
-        if isinstance(geom, Polygon):
-            parts = [geom]
-        elif isinstance(geom, MultiPolygon):
-            parts = list(geom.geoms)
-        else:
+        if not isinstance(geom, (Polygon, MultiPolygon)):
             kind = "no geometry" if geom is None else f"a {geom.geom_type}"
             raise ValueError(f"clip row {row}: {kind}, not a Polygon or MultiPolygon")
-        regions.append([[np.asarray(p.exterior.coords, dtype=np.float64)[:, :2]] +
-                        [np.asarray(h.coords, dtype=np.float64)[:, :2] for h in p.interiors] for p in parts if not p.is_empty])
+        regions.append(geom.wkb)
     return clip, regions
 
 
@@ -221,7 +216,7 @@ def cells(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, merge_m=0
     """
     lat_deg, lon_deg, id_list, carried = _sites(data, lat, lon, ids)
     if clip is not None:
-        clip, regions = _region_rings(clip)
+        clip, regions = _region_wkb(clip)
         out = _geovor.cells_clipped(lat_deg, lon_deg, id_list, float(densify_m), float(merge_m),
                                     0 if threads is None else int(threads), _values(data, weights), regions)
         if out["problems"]:
