@@ -11,7 +11,7 @@ packages=(
   python3-shapely python3-pyproj python3-numpy python3-geographiclib
   pybind11-dev python3-dev python3-venv python3-pip python3-setuptools python3-wheel python3-pytest
   python3-scipy python3-pandas python3-geopandas python3-dask python3-distributed python3-sklearn
-  python3-mpmath libeigen3-dev libboost-dev libjs-leaflet
+  python3-mpmath python3-rtree libeigen3-dev libboost-dev libjs-leaflet
   chromium chromium-driver python3-selenium python3-qgis qgis-providers
   qgis  # qgis_process.bin: the QGIS plugin's test (tests/qgis)
 )

@@ -54,10 +54,54 @@ def _sites(data, lat, lon, ids):
     return lat_deg, lon_deg, ids_list, carried
 
 
-def _frame(features, carried=None, first_rows=None):
-    """A GeoDataFrame (EPSG:4326) of features from _geovor, with the carried columns of each
-    feature's site's first row (renamed src_<name> where they clash with ours, as `geovor cells`)."""
+def _geometries(wkb):
+    """A GeoSeries (EPSG:4326) of a list of WKB bytes (none of them empty bytes)."""
     import geopandas as gpd
+    import shapely
+
+    if hasattr(shapely, "from_wkb") or getattr(gpd.options, "use_pygeos", False):
+        return gpd.GeoSeries.from_wkb(wkb, crs="EPSG:4326")  # vectorised already
+    from geopandas.array import GeometryArray
+
+    return gpd.GeoSeries(GeometryArray(_shapely18_geometries(wkb), crs="EPSG:4326"))
+
+
+def _shapely18_geometries(wkb):
+    """Shapely 1.8's geometries of our WKB (2D, as _geovor writes it) in an object array.
+
+    GeoPandas' loop makes a WKB reader per geometry and then numpy probes each geometry as a
+    sequence; shapely's geom_factory makes 11 checked attribute assignments per geometry. Here
+    one reader, and each geometry gets the attributes geom_factory gave the first one (checked to
+    be the four of Shapely 1.8, else geom_factory itself): a third of the time."""
+    from shapely import geometry
+    from shapely.geometry.base import GEOMETRY_TYPES
+    from shapely.geos import WKBReader, lgeos
+
+    reader = WKBReader(lgeos)
+    out = np.empty(len(wkb), dtype=object)
+    if not len(wkb):
+        return out
+    out[0] = reader.read(wkb[0])
+    template = dict(out[0].__dict__)
+    if template.keys() != {"__geom__", "__p__", "_ndim", "_is_empty"} or template["_ndim"] != 2:
+        for i in range(1, len(wkb)):
+            out[i] = reader.read(wkb[i])
+        return out
+    classes = [getattr(geometry, name) for name in GEOMETRY_TYPES]
+    read, type_id, new = lgeos.GEOSWKBReader_read, lgeos.GEOSGeomTypeId, object.__new__
+    for i in range(1, len(wkb)):
+        g = read(reader._reader, wkb[i], len(wkb[i]))
+        if not g:
+            raise ValueError(f"geovor: unreadable WKB for feature {i}")
+        ob = new(classes[type_id(g)])
+        ob.__dict__ = {**template, "__geom__": g}  # owns g: freed by BaseGeometry.__del__
+        out[i] = ob
+    return out
+
+
+def _columns(features, carried=None, first_rows=None):
+    """A DataFrame of the fields of features from _geovor, with the carried columns of each
+    feature's site's first row (renamed src_<name> where they clash with ours, as `geovor cells`)."""
     import pandas as pd
 
     names = list(features["fields"])
@@ -68,8 +112,15 @@ def _frame(features, carried=None, first_rows=None):
         ours = {n.lower() for n in names}
         taken.columns = [f"src_{c}" if str(c).lower() in ours else c for c in taken.columns]
         frame = pd.concat([frame, taken], axis=1)
-    geometry = gpd.GeoSeries.from_wkb(features["geometry"], crs="EPSG:4326")
-    return gpd.GeoDataFrame(frame, geometry=geometry, crs="EPSG:4326")
+    return frame
+
+
+def _frame(features, carried=None, first_rows=None):
+    """_columns() and the features' geometry: a GeoDataFrame in EPSG:4326."""
+    import geopandas as gpd
+
+    return gpd.GeoDataFrame(_columns(features, carried, first_rows), geometry=_geometries(features["geometry"]),
+                            crs="EPSG:4326")
 
 
 def _warn_unwritten(unwritten, what):
@@ -79,31 +130,31 @@ def _warn_unwritten(unwritten, what):
                       GeometryWarning, stacklevel=3)
 
 
-def _region_rings(clip):
-    """The clip regions as lists of polygons of (N, 2) lon/lat arrays, in EPSG:4326."""
+def _region_wkb(clip):
+    """(clip in EPSG:4326, the WKB of each region), each a Polygon or MultiPolygon."""
     from shapely.geometry import MultiPolygon, Polygon
 
     if getattr(clip, "crs", None) is not None and not clip.crs.equals("EPSG:4326"):
         clip = clip.to_crs("EPSG:4326")
     regions = []
     for row, geom in enumerate(clip.geometry):
-        if isinstance(geom, Polygon):
-            parts = [geom]
-        elif isinstance(geom, MultiPolygon):
-            parts = list(geom.geoms)
-        else:
+        if not isinstance(geom, (Polygon, MultiPolygon)):
             kind = "no geometry" if geom is None else f"a {geom.geom_type}"
             raise ValueError(f"clip row {row}: {kind}, not a Polygon or MultiPolygon")
-        regions.append([[np.asarray(p.exterior.coords, dtype=np.float64)[:, :2]] +
-                        [np.asarray(h.coords, dtype=np.float64)[:, :2] for h in p.interiors] for p in parts if not p.is_empty])
+        regions.append(geom.wkb)
     return clip, regions
 
 
 def _clipped(out, carried, clip):
     """The pieces' GeoDataFrame: ours, the sites' carried columns, then region_<name> columns."""
-    frame = _frame(out, carried, out["site_first_row"])
+    import geopandas as gpd
+    import pandas as pd
+
+    # One GeoDataFrame at the end (each one built compares CRSs, which costs a millisecond);
+    # a carried column named geometry gives way to the geometry, as in _frame().
+    frame = _columns(out, carried, out["site_first_row"]).drop(columns="geometry", errors="ignore")
     taken = clip.drop(columns=[clip.geometry.name]).iloc[frame["region_index"].to_numpy()].reset_index(drop=True)
-    names = {str(c).lower() for c in frame.columns}
+    names = {str(c).lower() for c in frame.columns} | {"geometry"}
     renamed = []
     for c in taken.columns:
         name = f"region_{c}"
@@ -112,11 +163,7 @@ def _clipped(out, carried, clip):
         names.add(name.lower())
         renamed.append(name)
     taken.columns = renamed
-    import geopandas as gpd
-    import pandas as pd
-
-    return gpd.GeoDataFrame(pd.concat([frame.drop(columns=frame.geometry.name), taken], axis=1),
-                            geometry=frame.geometry.values, crs="EPSG:4326")
+    return gpd.GeoDataFrame(pd.concat([frame, taken], axis=1), geometry=_geometries(out["geometry"]))
 
 
 def cells(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, merge_m=0.0, threads=None, weights=None,
@@ -169,7 +216,7 @@ def cells(data=None, *, lat=None, lon=None, ids=None, densify_m=100.0, merge_m=0
     """
     lat_deg, lon_deg, id_list, carried = _sites(data, lat, lon, ids)
     if clip is not None:
-        clip, regions = _region_rings(clip)
+        clip, regions = _region_wkb(clip)
         out = _geovor.cells_clipped(lat_deg, lon_deg, id_list, float(densify_m), float(merge_m),
                                     0 if threads is None else int(threads), _values(data, weights), regions)
         if out["problems"]:

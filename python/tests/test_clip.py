@@ -121,3 +121,17 @@ def test_other_crs_and_bad_regions():
         pieces = geovor.cells(lat=lat, lon=lon, clip=bowtie)
     assert any("Self-intersection" in str(w.message) for w in caught)
     assert pieces.is_valid.all() and pieces.attrs["problems"][0][0] == 0
+
+
+def test_regions_with_z_and_empty_parts():
+    # The regions reach the clip as WKB: a Z is dropped, empty polygons and parts are no region.
+    rng = np.random.default_rng(3)
+    lat, lon = rng.uniform(-60, 60, 400), rng.uniform(-180, 180, 400)
+    flat = [box(0, 0, 20, 15), MultiPolygon([box(40, -10, 60, 10), box(70, 0, 80, 5)])]
+    other = [Polygon([(x, y, 7.0) for x, y in flat[0].exterior.coords]), MultiPolygon([*flat[1].geoms, Polygon()])]
+    ours = geovor.cells(lat=lat, lon=lon, clip=gpd.GeoDataFrame(geometry=flat, crs="EPSG:4326"))
+    theirs = geovor.cells(lat=lat, lon=lon, clip=gpd.GeoDataFrame(geometry=other, crs="EPSG:4326"))
+    assert ours.drop(columns="geometry").equals(theirs.drop(columns="geometry"))
+    assert [g.wkb for g in ours.geometry] == [g.wkb for g in theirs.geometry]
+    empty = geovor.cells(lat=lat, lon=lon, clip=gpd.GeoDataFrame(geometry=[Polygon(), flat[0]], crs="EPSG:4326"))
+    assert set(empty.region_index) == {1} and empty.attrs["problems"][0][0] == 0
