@@ -62,41 +62,15 @@ def _geometries(wkb):
     if hasattr(shapely, "from_wkb") or getattr(gpd.options, "use_pygeos", False):
         return gpd.GeoSeries.from_wkb(wkb, crs="EPSG:4326")  # vectorised already
     from geopandas.array import GeometryArray
-
-    return gpd.GeoSeries(GeometryArray(_shapely18_geometries(wkb), crs="EPSG:4326"))
-
-
-def _shapely18_geometries(wkb):
-    """Shapely 1.8's geometries of our WKB (2D, as _geovor writes it) in an object array.
-
-    GeoPandas' loop makes a WKB reader per geometry and then numpy probes each geometry as a
-    sequence; shapely's geom_factory makes 11 checked attribute assignments per geometry. Here
-    one reader, and each geometry gets the attributes geom_factory gave the first one (checked to
-    be the four of Shapely 1.8, else geom_factory itself): a third of the time."""
-    from shapely import geometry
-    from shapely.geometry.base import GEOMETRY_TYPES
     from shapely.geos import WKBReader, lgeos
 
-    reader = WKBReader(lgeos)
+    # Shapely 1.8: GeoPandas makes a reader per geometry, then numpy's list assignment probes
+    # each geometry as a sequence; one reader and one assignment per item take half the time.
+    read = WKBReader(lgeos).read
     out = np.empty(len(wkb), dtype=object)
-    if not len(wkb):
-        return out
-    out[0] = reader.read(wkb[0])
-    template = dict(out[0].__dict__)
-    if template.keys() != {"__geom__", "__p__", "_ndim", "_is_empty"} or template["_ndim"] != 2:
-        for i in range(1, len(wkb)):
-            out[i] = reader.read(wkb[i])
-        return out
-    classes = [getattr(geometry, name) for name in GEOMETRY_TYPES]
-    read, type_id, new = lgeos.GEOSWKBReader_read, lgeos.GEOSGeomTypeId, object.__new__
-    for i in range(1, len(wkb)):
-        g = read(reader._reader, wkb[i], len(wkb[i]))
-        if not g:
-            raise ValueError(f"geovor: unreadable WKB for feature {i}")
-        ob = new(classes[type_id(g)])
-        ob.__dict__ = {**template, "__geom__": g}  # owns g: freed by BaseGeometry.__del__
-        out[i] = ob
-    return out
+    for i, w in enumerate(wkb):
+        out[i] = read(w)
+    return gpd.GeoSeries(GeometryArray(out, crs="EPSG:4326"))
 
 
 def _columns(features, carried=None, first_rows=None):

@@ -113,21 +113,6 @@ def test_frames_and_merges():
     assert geovor.cells(clash)["src_area_m2"].tolist() == [7, 8, 9]
 
 
-def test_geometries_from_wkb_as_geopandas_reads_them():
-    # geovor's reader of its WKB (shapely 1.8's fast path, or GeoPandas' own) against GeoPandas':
-    # the same types and coordinates, empty geometries and points included.
-    from geovor._layers import _geometries
-
-    wkb = [gpd.GeoSeries.from_wkt([text]).iloc[0].wkb for text in
-           ["MULTIPOLYGON (((0 0, 1 0, 1 1, 0 0)))", "MULTIPOLYGON EMPTY", "POINT (1 2)",
-            "MULTILINESTRING ((0 0, 1 1), (2 2, 3 1))", "MULTIPOLYGON (((0 0, 1 0, 1 1, 0 0)), ((5 5, 6 5, 6 6, 5 5)))"]]
-    ours, theirs = _geometries(wkb), gpd.GeoSeries.from_wkb(wkb, crs="EPSG:4326")
-    assert ours.crs == theirs.crs and len(ours) == len(theirs)
-    assert [type(g) for g in ours] == [type(g) for g in theirs]
-    assert [g.wkb for g in ours] == [g.wkb for g in theirs]
-    assert len(_geometries([])) == 0
-
-
 def test_bad_input():
     with pytest.raises(ValueError, match="site 2"):
         geovor.cells(lat=[0.0, 1.0, 91.0], lon=[0.0, 1.0, 2.0])
