@@ -31,6 +31,7 @@
 #include <cstring>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "geovor/core/types.hpp"
@@ -98,6 +99,15 @@ class WalkGraph {
     HugePageAllocator(const HugePageAllocator<U>&) {}
     T* allocate(std::size_t n);
     void deallocate(T* p, std::size_t) { std::free(p); }
+    // resize() leaves the words unwritten: the thread that writes a record touches its pages first.
+    template <class U>
+    void construct(U* p) noexcept {
+      ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
     friend bool operator==(const HugePageAllocator&, const HugePageAllocator&) { return true; }
   };
   struct Level {
