@@ -124,33 +124,38 @@ Validation SphericalDelaunay::validate_structure(unsigned threads) const {
   return v;
 }
 
-Validation SphericalDelaunay::validate(const BuildReport* report, bool global) const {
-  Validation v = validate_structure();
+Validation SphericalDelaunay::validate(const BuildReport* report, bool global, unsigned threads) const {
+  Validation v = validate_structure(threads);
   if (!v.ok()) return v;
   auto fail = [&v](std::string msg) {
-    if (v.errors.size() < 50) v.errors.push_back(std::move(msg));
+    if (v.errors.size() < kMaxErrors) v.errors.push_back(std::move(msg));
   };
   const std::size_t nh = halfedges_.size(), nt = num_triangles();
   const std::size_t live = num_live_;
 
   // Local Delaunay under the perturbation: across every edge, the opposite site is outside the
   // circumcircle. (The test is the same from both sides: an even permutation.)
-  for (HalfedgeId e = 0; e < nh; ++e) {
-    const HalfedgeId tw = halfedges_[e];
-    if (tw < e) continue;
-    const SiteId d = triangles_[prev_halfedge(tw)];
-    if (live == 3) continue;  // the two triangles of three sites share all their vertices
-    if (in_conflict(tri_of(e), sites_[d], lift(d), priority(d)))
-      fail("edge " + std::to_string(e) + " is not locally Delaunay");
-  }
-  if (global) {
-    for (TriId t = 0; t < nt; ++t)
-      for (SiteId s = 0; s < sites_.size(); ++s) {
-        if (!alive(s) || s == triangles_[3 * t] || s == triangles_[3 * t + 1] || s == triangles_[3 * t + 2]) continue;
-        if (in_conflict(t, sites_[s], lift(s), priority(s)))
-          fail("site " + std::to_string(s) + " lies in the circumcircle of triangle " + std::to_string(t));
+  if (live != 3)  // the two triangles of three sites share all their vertices
+    check_in_order(v, nh, threads, [&](std::size_t begin, std::size_t end, SliceErrors& fail) -> std::size_t {
+      for (HalfedgeId e = static_cast<HalfedgeId>(begin); e < end; ++e) {
+        const HalfedgeId tw = halfedges_[e];
+        if (tw < e) continue;
+        const SiteId d = triangles_[prev_halfedge(tw)];
+        if (in_conflict(tri_of(e), sites_[d], lift(d), priority(d)))
+          fail("edge " + std::to_string(e) + " is not locally Delaunay");
       }
-  }
+      return 0;
+    });
+  if (global)
+    check_in_order(v, nt, threads, [&](std::size_t begin, std::size_t end, SliceErrors& fail) -> std::size_t {
+      for (TriId t = static_cast<TriId>(begin); t < end; ++t)
+        for (SiteId s = 0; s < sites_.size(); ++s) {
+          if (!alive(s) || s == triangles_[3 * t] || s == triangles_[3 * t + 1] || s == triangles_[3 * t + 2]) continue;
+          if (in_conflict(t, sites_[s], lift(s), priority(s)))
+            fail("site " + std::to_string(s) + " lies in the circumcircle of triangle " + std::to_string(t));
+        }
+      return 0;
+    });
   // A hidden weighted site lies inside the hull of the lifted points: no triangle sees it.
   for (SiteId s = 0; s < hidden_by_.size(); ++s) {
     if (!is_hidden(s)) continue;

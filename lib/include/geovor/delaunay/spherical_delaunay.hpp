@@ -291,8 +291,10 @@ class SphericalDelaunay {
   /// Delaunay of every edge under the perturbation, and that every live site is a vertex.
   /// With a report, also checks that every input point of build() is accounted for: it is a live
   /// site or merged into one, and every merge is listed. With `global`, also checks each triangle
-  /// against every site (O(n^2): small inputs only).
-  Validation validate(const BuildReport* report = nullptr, bool global = false) const;
+  /// against every site (O(n^2): small inputs only). The checks of the structure, of every edge
+  /// and of every triangle run on `threads` threads (0: one per core; core/parallel.hpp); the
+  /// result does not depend on it.
+  Validation validate(const BuildReport* report = nullptr, bool global = false, unsigned threads = 1) const;
   /// The combinatorial part of validate() only (no predicate): O(n), for loading files, on
   /// `threads` threads (0: one per core; core/parallel.hpp); the result does not depend on it.
   Validation validate_structure(unsigned threads = 1) const;
