@@ -139,7 +139,7 @@ TEST(WalkGraph, TheSameOnAnyNumberOfThreads) {
   expect_the_same_on_any_threads(DelaunayHierarchy::build(testing::uniform_on_sphere(40000, 72)));
   // Sites in order of latitude: each thread's slice of the keys lies on another part of the curve
   // (the sort's buckets are cut by samples of all of them), and a cluster around one point.
-  std::vector<Vec3> by_latitude = testing::uniform_on_sphere(40000, 74);
+  std::vector<Vec3> by_latitude = testing::uniform_on_sphere(140000, 74);  // several slices of 2^16
   std::sort(by_latitude.begin(), by_latitude.end(), [](const Vec3& a, const Vec3& b) { return a.z < b.z; });
   expect_the_same_on_any_threads(DelaunayHierarchy::build(by_latitude));
   std::vector<Vec3> cluster = testing::uniform_on_sphere(30000, 75);

@@ -34,6 +34,7 @@
 #include <utility>
 #include <vector>
 
+#include "geovor/core/default_init.hpp"
 #include "geovor/core/types.hpp"
 #include "geovor/locate/delaunay_hierarchy.hpp"
 
@@ -88,6 +89,9 @@ class WalkGraph {
   /// Bytes held (capacity), all levels.
   std::size_t memory_bytes() const;
 
+  /// Arrays of 32-bit words not zero-filled by resize() (core/default_init.hpp).
+  using U32s = std::vector<std::uint32_t, DefaultInitAllocator<std::uint32_t>>;
+
  private:
   // Large levels in transparent huge pages (where the system allows them on request): a walk
   // touches records all over the level, and with 4 KiB pages most of its misses also miss the TLB.
@@ -132,7 +136,7 @@ class WalkGraph {
   const DelaunayHierarchy* source_ = nullptr;
   std::vector<std::uint64_t> revisions_;
   std::vector<Level> levels_;
-  std::vector<std::uint32_t> node_of_;
+  U32s node_of_;
   std::vector<std::uint64_t> curve_keys_;   // hilbert_key() of every kCurveSample-th base node
   std::vector<std::uint32_t> curve_nodes_;  // and that node
 };
