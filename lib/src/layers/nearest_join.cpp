@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "geovor/core/ascii.hpp"
+#include "geovor/core/default_init.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
 #include "geovor/geo/column_types.hpp"
@@ -105,6 +106,20 @@ struct Worker {
   Worker(const DelaunayHierarchy& h, const LocatorOptions& o, const QueryFormat& f) : locator(h, o), parser(f) {}
 };
 
+// A site's id text: a string_view without a constructor, so that the array of them is not written
+// before prepare_site_ids() fills it on its threads (which touch its pages first).
+struct IdText {
+  const char* ptr;
+  std::size_t len;
+  IdText& operator=(std::string_view s) {
+    ptr = s.data();
+    len = s.size();
+    return *this;
+  }
+  const char* data() const { return ptr; }
+  operator std::string_view() const { return {ptr, len}; }
+};
+
 struct Context {
   const SiteIndex* index = nullptr;
   const NearestJoinOptions* options = nullptr;
@@ -115,7 +130,7 @@ struct Context {
   bool declared = false;  // query_types are a stream's declared ones: each value checked
   std::string source;     // the stream's name, for a value not of its declared type
   // Each site's id, CSV-quoted when needed, ready to copy (one lookup per answer).
-  std::vector<std::string_view> site_ids;
+  std::vector<IdText, DefaultInitAllocator<IdText>> site_ids;
   std::string quoted_site_ids;  // storage of the quoted ones
   // The joined site fields: their columns, and each site's ",a,b" CSV text (empty without fields).
   std::vector<std::size_t> site_columns;
@@ -160,7 +175,7 @@ void prepare_site_ids(Context& ctx, unsigned threads) {
         ctx.site_ids[s] = id;
         continue;
       }
-      ctx.site_ids[s] = {};  // quoted below (a site without rows keeps this empty id)
+      ctx.site_ids[s] = std::string_view{};  // quoted below (a site without rows keeps this empty id)
       bytes += id.size() + 2 + static_cast<std::size_t>(std::count(id.begin(), id.end(), '"'));
     }
     quoted_at[slice + 1] = bytes;
@@ -309,7 +324,7 @@ void answer_batch(const Context& ctx, Worker& w, Block& b) {
     const bool header = ctx.format.header;
     const std::string_view empty_match = o.rank_column ? ",,,," : ",,,";
     const std::size_t n = w.results.size();
-    const std::string_view* ids = ctx.site_ids.data();
+    const IdText* ids = ctx.site_ids.data();
     for (std::size_t i = 0; i < n && i < 8; ++i) __builtin_prefetch(&ids[w.results[i].site]);
     std::size_t i = 0;
     for (const Query& q : w.batch) {
