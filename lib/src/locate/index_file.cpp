@@ -692,18 +692,17 @@ SiteIndex load_index(const std::string& path, unsigned threads) {
   std::vector<std::size_t> level_end(levels);  // past the level's last job
   std::size_t lifts_read = 0;
   for (std::uint32_t l = 0; l < levels; ++l) {
-    SphericalDelaunay::Arrays& ar = arrays[l];
-    add(kSites, l, [&, l] { ar.sites = in.read_array<Vec3>(in.find(kSites, l)); });
-    add(kTriangles, l, [&, l] { ar.triangles = in.read_array<SiteId>(in.find(kTriangles, l), std::string::npos, 3); });
-    add(kHalfedges, l, [&, l] { ar.halfedges = in.read_array<HalfedgeId>(in.find(kHalfedges, l), halfedges_of(l)); });
-    add(kSiteEdge, l, [&, l] { ar.site_edge = in.read_array<HalfedgeId>(in.find(kSiteEdge, l), sites_of(l)); });
+    add(kSites, l, [&, l] { arrays[l].sites = in.read_array<Vec3>(in.find(kSites, l)); });
+    add(kTriangles, l, [&, l] { arrays[l].triangles = in.read_array<SiteId>(in.find(kTriangles, l), std::string::npos, 3); });
+    add(kHalfedges, l, [&, l] { arrays[l].halfedges = in.read_array<HalfedgeId>(in.find(kHalfedges, l), halfedges_of(l)); });
+    add(kSiteEdge, l, [&, l] { arrays[l].site_edge = in.read_array<HalfedgeId>(in.find(kSiteEdge, l), sites_of(l)); });
     add(kUp, l, [&, l] { up[l] = in.read_array<SiteId>(in.find(kUp, l), sites_of(l)); });
     if (l > 0) add(kDown, l, [&, l] { down[l] = in.read_array<SiteId>(in.find(kDown, l), sites_of(l)); });
     if (in.has(kLifts, l)) {
-      add(kLifts, l, [&, l] { ar.lifts = in.read_array<double>(in.find(kLifts, l), sites_of(l)); });
+      add(kLifts, l, [&, l] { arrays[l].lifts = in.read_array<double>(in.find(kLifts, l), sites_of(l)); });
       ++lifts_read;
     }
-    if (weighted && l == 0) add(kHidden, 0, [&] { ar.hidden_by = in.read_array<SiteId>(in.find(kHidden, 0), sites_of(0)); });
+    if (weighted && l == 0) add(kHidden, 0, [&] { arrays[0].hidden_by = in.read_array<SiteId>(in.find(kHidden, 0), sites_of(0)); });
     level_end[l] = jobs.size();
   }
   // The attributes, each job first checking the counts its size depends on.
