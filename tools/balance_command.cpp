@@ -39,6 +39,7 @@ int run(BalanceArgs& args) {
   options.balance.tolerance = args.tolerance;
   options.balance.max_iterations = args.max_iterations;
   options.balance.threads = static_cast<unsigned>(args.cells.threads);
+  args.sites.reader.threads = static_cast<unsigned>(args.cells.threads);
   options.capacity_field = args.capacity_field;
   options.cells = cell_file_options(args.cells);
   options.sites_path = args.sites_output;
@@ -86,9 +87,7 @@ Command add_balance_command(CLI::App& app) {
   cmd->add_option("--precision", args->cells.precision, "Decimals of coordinates in GeoJSON (default 7)")
       ->check(integer_in(1, 17));
   cmd->add_flag("-q,--quiet", args->cells.quiet, "No per-iteration lines, progress, summary or list of merged rows on stderr");
-  cmd->add_option("--threads", args->cells.threads,
-                  "Threads computing the areas, the Hessian and the cells (default: one per core); the output is the same")
-      ->check(integer_in(0, kMaxThreads));
+  add_threads_option(cmd, args->cells.threads);
   cmd->footer(
       "The semi-discrete optimal transport problem of docs/weighted.md, solved by damped Newton (Kitagawa,\n"
       "Merigot and Thibert): each iteration prints on stderr the largest relative area error of a cell and\n"

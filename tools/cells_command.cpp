@@ -35,6 +35,7 @@ int run_clipped(CellsArgs& args) {
 }
 
 int run(CellsArgs& args) {
+  args.sites.reader.threads = static_cast<unsigned>(args.out.threads);
   if (!args.clip.regions_path.empty()) return run_clipped(args);
   if (args.clip.no_geometry) throw Error(ErrorCode::InvalidArgument, "--no-geometry is the weights table of --clip; give --clip REGIONS");
   // Two outputs that are one file (a path, an alias, a link; `-` twice): refused before any work.
@@ -70,8 +71,7 @@ Command add_cells_command(CLI::App& app) {
   cmd->add_option("--region-id-field", args->clip.region_id_field, "The --clip field holding each region's id (default: its feature number)");
   cmd->add_flag("--no-geometry", args->clip.no_geometry, "With --clip: the weights table alone, as CSV (region_index, region_id, site_index, site_id, region_share, area_m2)");
   cmd->add_flag("-q,--quiet", args->out.quiet, "No progress, no summary and no list of merged rows on stderr (they stay in the cells' ids and --report); rejected rows and cells written with an empty geometry are still listed");
-  cmd->add_option("--threads", args->out.threads, "Threads converting the coordinates and computing and formatting the cells (default: one per core); the output is the same")
-      ->check(integer_in(0, kMaxThreads));
+  add_threads_option(cmd, args->out.threads);
   cmd->footer(
       "Each cell carries: site_index, site_id (also the feature id; site_index is when ids repeat), ids (JSON array of the ids of every\n"
       "row merged into the site), n_rows, area_m2 (WGS84 ellipsoid, of the ring as written), area_sr\n"

@@ -27,6 +27,7 @@ struct DelaunayArgs {
   bool no_ghosts = false;
   bool overwrite = false;
   bool quiet = false;
+  int threads = 0;  // 0: one per core
 };
 
 int run(DelaunayArgs& args) {
@@ -41,6 +42,7 @@ int run(DelaunayArgs& args) {
   const DelaunayOutput output = delaunay_output(args.triangles, args.edges, options, args.edges_format, args.edges_layer);
   check_delaunay_output(output, "--output", "--edges");  // before any work
   args.sites.quiet = args.quiet;  // merged rows stay in the counts
+  args.sites.reader.threads = static_cast<unsigned>(args.threads);  // the conversion of the coordinates
   DelaunayFilesOptions files;
   files.densify_m = args.densify_m;
   files.no_ghosts = args.no_ghosts;
@@ -72,6 +74,7 @@ Command add_delaunay_command(CLI::App& app) {
                 "Leave out the faces and edges with ghost = 1 (outside the sites' convex hull: only when all sites lie "
                 "in one hemisphere); the other triangles tile the sites' convex hull");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress, no summary and no list of merged rows on stderr");
+  add_threads_option(cmd, args->threads);
   cmd->footer(
       "At least one of -o and --edges. Triangles carry: tri_index, kind (proper, ghost or great_circle),\n"
       "ghost (1 for a face outside the triangulation of the sites' convex hull: a ghost face, whose\n"

@@ -11,6 +11,7 @@
 #include "geovor/core/error.hpp"
 #include "geovor/core/output_target.hpp"
 #include "geovor/locate/index_file.hpp"
+#include "numeric_options.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -20,6 +21,7 @@ struct IndexArgs {
   SiteInputArgs sites;
   std::string output;
   bool overwrite = false;
+  int threads = 0;  // 0: one per core
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -31,6 +33,7 @@ int run(IndexArgs& args) {
   // Refuse an existing output before the work (save_index checks again, atomically).
   if (!args.overwrite && stat(args.output.c_str(), &st) == 0)
     throw Error(ErrorCode::Io, output_exists(args.output));
+  args.sites.reader.threads = static_cast<unsigned>(args.threads);  // the conversion of the coordinates
   TableBuild summary;
   const SiteIndex index = build_index_from_table(args.sites, &summary);
   const auto t0 = std::chrono::steady_clock::now();
@@ -62,6 +65,7 @@ Command add_index_command(CLI::App& app) {
   cmd->add_option("-o,--output", args->output, "The index file to write (by convention *.gvi)")->required();
   cmd->add_flag("--overwrite", args->overwrite, "Replace an existing output file");
   cmd->add_flag("-q,--quiet", args->sites.quiet, "No list of merged rows on stderr (rejected rows are still listed)");
+  add_threads_option(cmd, args->threads);
   cmd->footer(
       "Reads the sites as `geovor info` does and saves the hierarchy and every row's attributes\n"
       "(id, fields, merged rows) in a checksummed binary file, written to a temporary file and\n"

@@ -9,6 +9,7 @@
 #include "geovor/core/ascii.hpp"
 #include "geovor/delaunay/degenerate_case.hpp"
 #include "geovor/geo/site_weights.hpp"
+#include "numeric_options.hpp"
 #include "site_input.hpp"
 
 namespace geovor::tools {
@@ -17,6 +18,7 @@ namespace {
 struct InfoArgs {
   SiteInputArgs sites;
   bool global_check = false;
+  int threads = 0;  // 0: one per core
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -25,6 +27,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 int run(InfoArgs& args) {
   using Clock = std::chrono::steady_clock;
+  const unsigned threads = static_cast<unsigned>(args.threads);
+  args.sites.reader.threads = threads;  // the conversion of the coordinates; the build is serial
   auto t0 = Clock::now();
   const SiteTable table = read_site_input(args.sites);
   const double read_s = seconds_since(t0);
@@ -36,7 +40,7 @@ int run(InfoArgs& args) {
   const double build_s = seconds_since(t0);
   list_build(args.sites, table, report);  // merged rows counted in `merged` either way; hidden ones listed even with --quiet
   t0 = Clock::now();
-  const Validation valid = dt.validate(&report, args.global_check);
+  const Validation valid = dt.validate(&report, args.global_check, threads);
   const double validate_s = seconds_since(t0);
   for (const std::string& e : valid.errors) std::fprintf(stderr, "validate: %s\n", e.c_str());
 
@@ -65,6 +69,7 @@ Command add_info_command(CLI::App& app) {
   add_site_input_options(cmd, args->sites);
   cmd->add_flag("--global-check", args->global_check, "Also check every triangle against every site (O(n^2))");
   cmd->add_flag("-q,--quiet", args->sites.quiet, "No list of merged rows on stderr (rejected rows are still listed)");
+  add_threads_option(cmd, args->threads);
   cmd->footer(
       "Prints one 'key: value' line each: input, rows, sites, merged, hidden (with --weight-field: weighted\n"
       "sites whose power cell is empty), rejected, triangles, ghost_triangles, degenerate, valid,\n"

@@ -33,7 +33,7 @@ struct NearestArgs {
   std::size_t k = 1;
   CLI::Option* k_option = nullptr;
   std::string metric;  // "": the index's default (power for weighted sites, else sphere)
-  int threads = 1;
+  int threads = 0;  // 0: one per core
   bool strict = false;
   QueryColumns query_columns;
   std::vector<std::string> site_fields;
@@ -48,7 +48,6 @@ int run(NearestArgs& args) {
   if (files.queries == "-" && sites_path == "-")
     throw Error(ErrorCode::InvalidArgument, "--sites and --queries cannot both be standard input");
   if (args.k < 1) throw Error(ErrorCode::InvalidArgument, "--k must be at least 1");
-  if (args.threads < 1) throw Error(ErrorCode::InvalidArgument, "--threads must be at least 1");
   if (!(args.max_distance_m >= 0))
     throw Error(ErrorCode::InvalidArgument, "--max-distance-m must be a number of metres, at least 0");
   if (queries_are_ogr(files) && is_csv_site_path(files.queries))
@@ -80,6 +79,7 @@ int run(NearestArgs& args) {
       if (o->count() > 0)
         throw Error(ErrorCode::InvalidArgument, o->get_name() + " applies to a site table; " + sites_path +
                                                     " is an index (its columns were chosen by geovor index)");
+  args.sites.reader.threads = static_cast<unsigned>(args.threads);
   const SiteIndex index = load_site_index(args.sites, static_cast<unsigned>(args.threads));
 
   NearestJoinOptions options;
@@ -143,8 +143,7 @@ Command add_nearest_command(CLI::App& app) {
   cmd->add_option("--metric", args->metric,
                   "sphere (great circle on the mean-radius sphere; the default), geodesic (WGS84), or power: the "
                   "site whose power cell holds the query (weighted sites: the default and their only metric)");
-  cmd->add_option("--threads", args->threads, "Threads (default 1); the output order is the input order")
-      ->check(integer_in(1, kMaxThreads));
+  add_threads_option(cmd, args->threads);
   cmd->add_flag("--strict", args->strict, "Stop at the first malformed query line (exit 3)");
   cmd->add_flag("-q,--quiet", args->sites.quiet, "Do not list the merged sites of a site table nor count the queries without a match (malformed queries are still listed)");
   args->site_options = add_site_table_options(cmd, args->sites);  // of a site table, not an index

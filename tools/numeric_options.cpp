@@ -7,6 +7,12 @@
 
 namespace geovor::tools {
 
+CLI::Option* add_threads_option(CLI::App* cmd, int& threads) {
+  threads = 0;
+  return cmd->add_option("--threads", threads, "Threads (default 0: one per core); the output is the same on any number")
+      ->check(integer_in(0, kMaxThreads));
+}
+
 CLI::Validator integer_in(std::int64_t lo, std::int64_t hi) {
   const std::string range = "an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
   return CLI::Validator(

@@ -30,6 +30,7 @@ int run(RelaxArgs& args) {
   options.lloyd.iterations = args.iterations;
   options.lloyd.tolerance_rad = args.tolerance_m / SiteEncoder::kEarthRadiusM;
   options.lloyd.threads = static_cast<unsigned>(args.cells.threads);
+  args.sites.reader.threads = static_cast<unsigned>(args.cells.threads);
   const auto relocations = {Relocation::Filtered, Relocation::Naive, Relocation::Rebuild};
   const auto r = std::find_if(relocations.begin(), relocations.end(),
                               [&](Relocation x) { return args.relocation == to_string(x); });
@@ -78,9 +79,7 @@ Command add_relax_command(CLI::App& app) {
   cmd->add_option("--precision", args->cells.precision, "Decimals of coordinates in GeoJSON (default 7, about 1 cm; binary formats store doubles): positions are computed, checked valid and measured as written; what collapses or cannot be written valid gets an empty geometry and is reported")
       ->check(integer_in(1, 17));
   cmd->add_flag("-q,--quiet", args->cells.quiet, "No per-iteration lines, progress, summary or list of merged rows on stderr");
-  cmd->add_option("--threads", args->cells.threads,
-                  "Threads computing the centroids and the cells (default: one per core); the output is the same")
-      ->check(integer_in(0, kMaxThreads));
+  add_threads_option(cmd, args->cells.threads);
   cmd->footer(
       "Each iteration moves every site to the centroid of its spherical Voronoi cell (the mass centre\n"
       "projected to the sphere), toward a centroidal Voronoi tessellation. It prints on stderr the energy\n"

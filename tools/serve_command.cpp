@@ -30,7 +30,7 @@ struct ServeArgs {
 
 // Reads the data from their paths: at start, and again on each reload.
 std::shared_ptr<const service::ServedData> load(ServeArgs& args) {
-  SiteIndex index = is_index_path(args.sites.input) ? load_index(args.sites.input, 2)
+  SiteIndex index = is_index_path(args.sites.input) ? load_index(args.sites.input, args.sites.reader.threads)
                                                       : build_index_from_table(args.sites, nullptr);
   return service::make_served_data(std::move(index), args.cells, args.service);
 }
@@ -51,6 +51,7 @@ void handle_signals(const sigset_t& signals, service::HttpServer& server) {
 int run(ServeArgs& args) {
   args.service.join_threads = static_cast<unsigned>(args.threads);
   args.server.threads = static_cast<unsigned>(args.threads);
+  args.sites.reader.threads = static_cast<unsigned>(args.threads);  // reading the sites, or loading the index
   args.server.max_body_bytes = args.max_body_mb << 20;
   service::LiveData data([&args] { return load(args); });
   // These signals are blocked here, so in every thread started below, and taken by sigwait.
@@ -79,8 +80,7 @@ Command add_serve_command(CLI::App& app) {
   cmd->add_option("--cells", args->cells, "A layer of geovor cells (any OGR format), served as the collection 'cells'");
   cmd->add_option("--host", args->server.host, "Address to listen on (default 127.0.0.1: this machine only)");
   cmd->add_option("--port", args->server.port, "Port (default 8080; 0: any free one, printed)")->check(integer_in(0, 65535));
-  cmd->add_option("--threads", args->threads, "Threads answering requests, and of each POST join (default 0: one per core)")
-      ->check(integer_in(0, kMaxThreads));
+  add_threads_option(cmd, args->threads);
   cmd->add_option("--connections", args->server.connections, "Connections open at once; more wait to be accepted (default 1000)")
       ->check(integer_in(1, 1000000));
   cmd->add_option("--max-k", args->service.max_k, "The largest k a request may ask (default 100)")->check(integer_in(1, 10000));

@@ -61,7 +61,21 @@ set(numeric_cases
   "relax_tolerance_nan|--tolerance-m|relax ${three} -o ${conv_out}/n.geojson --tolerance-m nan"
   "relax_threads_negative|--threads|relax ${three} -o ${conv_out}/n.geojson --threads -3"
   "info_merge_nan|--merge-m|info ${three} --merge-m nan"
-  "index_merge_inf|--merge-m|index ${three} -o ${conv_out}/n.gvi --merge-m inf")
+  "index_merge_inf|--merge-m|index ${three} -o ${conv_out}/n.gvi --merge-m inf"
+  # --threads on every command (issue 36): one option, one check (tools/numeric_options.hpp).
+  "info_threads_negative|--threads|info ${three} --threads -1"
+  "info_threads_text|--threads|info ${three} --threads all"
+  "delaunay_threads_negative|--threads|delaunay ${three} -o ${conv_out}/n.geojson --threads -1"
+  "delaunay_threads_fraction|--threads|delaunay ${three} -o ${conv_out}/n.geojson --threads 1.5"
+  "index_threads_negative|--threads|index ${three} -o ${conv_out}/n.gvi --threads -1"
+  "index_threads_text|--threads|index ${three} -o ${conv_out}/n.gvi --threads two"
+  "nearest_threads_text|--threads|nearest --sites ${three} --queries ${three} --threads 2x"
+  "cells_threads_huge|--threads|cells ${three} -o ${conv_out}/n.geojson --threads 1000001"
+  "relax_threads_exponent|--threads|relax ${three} -o ${conv_out}/n.geojson --threads 1e3"
+  "balance_threads_negative|--threads|balance ${three} -o ${conv_out}/n.geojson --threads -1"
+  "balance_threads_text|--threads|balance ${three} -o ${conv_out}/n.geojson --threads 0x10"
+  "serve_threads_negative|--threads|serve ${three} --threads -1"
+  "serve_threads_text|--threads|serve ${three} --threads 4.0")
 foreach(case ${numeric_cases})
   string(REPLACE "|" ";" case "${case}")
   list(GET case 0 name)
@@ -69,6 +83,16 @@ foreach(case ${numeric_cases})
   list(GET case 2 args)
   separate_arguments(args UNIX_COMMAND "${args}")
   geovor_cli_expect(cli.conventions.numeric.${name} 2 STDERR "^${option}: expected [^\n]*, got '" COMMAND ${args})
+endforeach()
+
+# --threads N on every command, 0 (one per core) by default: the same files, stdout and stderr
+# for 1, 2, 3 and the default, on the weather stations and a generated hostile table
+# (tests/cli/threads_test.py; serve's answers on threads: serve_test.py).
+foreach(command info delaunay index nearest cells relax balance)
+  add_test(NAME cli.conventions.threads.${command}
+    COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/threads_test.py $<TARGET_FILE:geovor_cli> ${conv_out}/threads ${command}
+    WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  set_tests_properties(cli.conventions.threads.${command} PROPERTIES LABELS cli PASS_REGULAR_EXPRESSION "^ok\n$")
 endforeach()
 
 # geovor runs itself again with transparent huge pages for malloc (glibc.malloc.hugetlb=1 added to

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,23 @@ TEST(OutputFile, AppearsOnlyWhenCommitted) {
   }
   EXPECT_EQ(slurp(path), "a,b\n");
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"out.csv"});
+}
+
+// Past the write-back interval (8 MB: the write-back started, not waited for): the same bytes,
+// and still nothing under the name before commit().
+TEST(OutputFile, LargerThanTheWriteBackInterval) {
+  TempDir dir;
+  const std::string path = dir / "big.csv";
+  std::string text;
+  for (int i = 0; text.size() < (std::size_t{20} << 20); ++i) text += std::to_string(i) + ",row\n";
+  {
+    OutputFile out(path, false);
+    for (std::size_t at = 0; at < text.size(); at += 100000) out.write(text.data() + at, std::min<std::size_t>(100000, text.size() - at));
+    EXPECT_EQ(dir.entries().size(), 1u);
+    EXPECT_NE(dir.entries()[0], "big.csv");
+    out.commit();
+  }
+  EXPECT_EQ(slurp(path), text);
 }
 
 TEST(OutputFile, NotCommittedLeavesNothing) {

@@ -294,5 +294,38 @@ TEST(SphericalDelaunay, ArraysRoundTripAndCorruptionIsAnError) {
   EXPECT_THROW(SphericalDelaunay::from_arrays(std::move(truncated)), Error);
 }
 
+// from_arrays() on several threads: the checks and validate_structure() cut into slices (each at
+// least 2^16 items) report the first broken invariant in the serial order, whatever the threads.
+TEST(SphericalDelaunay, FromArraysOnAnyThreadsReportsTheSameError) {
+  const SphericalDelaunay dt = SphericalDelaunay::build(testing::uniform_on_sphere(150000, 52));
+  auto outcome = [](SphericalDelaunay::Arrays a, unsigned threads) -> std::string {
+    try {
+      const SphericalDelaunay t = SphericalDelaunay::from_arrays(std::move(a), {}, threads);
+      return "ok " + std::to_string(t.num_sites());
+    } catch (const Error& e) {
+      return e.what();
+    }
+  };
+  EXPECT_EQ(outcome(dt.arrays(), 3), "ok 150000");
+  std::mt19937_64 rng(4);
+  int thrown = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    SphericalDelaunay::Arrays a = dt.arrays();
+    // Two to four edits anywhere: the one the serial loops meet first is the error.
+    for (int k = 0, edits = 2 + static_cast<int>(rng() % 3); k < edits; ++k) {
+      switch (rng() % 4) {
+        case 0: a.triangles[rng() % a.triangles.size()] = static_cast<SiteId>(rng() % (a.sites.size() + 5)); break;
+        case 1: a.halfedges[rng() % a.halfedges.size()] = static_cast<HalfedgeId>(rng() % (a.halfedges.size() + 5)); break;
+        case 2: a.site_edge[rng() % a.site_edge.size()] = static_cast<HalfedgeId>(rng() % a.halfedges.size()); break;
+        default: std::swap(a.halfedges[rng() % a.halfedges.size()], a.halfedges[rng() % a.halfedges.size()]); break;
+      }
+    }
+    const std::string serial = outcome(a, 1);
+    thrown += serial.rfind("ok", 0) != 0;
+    for (const unsigned threads : {2u, 3u, 0u}) EXPECT_EQ(outcome(a, threads), serial) << threads << " threads";
+  }
+  EXPECT_GT(thrown, 30);
+}
+
 }  // namespace
 }  // namespace geovor

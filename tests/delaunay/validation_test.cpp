@@ -74,5 +74,22 @@ TEST(Validation, ReportMustAccountForEveryInput) {
   lost.site_of_input[7] = kNoIndex;
   EXPECT_FALSE(dt.validate(&lost).ok());
 }
+
+// On several threads (slices of 2^16 edges): the same errors in the same order. Sites moved
+// across their neighbours leave the structure valid and some edges not locally Delaunay.
+TEST(Validation, TheSameErrorsOnAnyThreads) {
+  const auto pts = testing::uniform_on_sphere(150000, 6);
+  const SphericalDelaunay dt = SphericalDelaunay::build(pts);
+  ASSERT_TRUE(dt.validate(nullptr, false, 3).ok());
+  SphericalDelaunay::Arrays a = dt.arrays();
+  for (std::size_t i = 7; i < a.sites.size(); i += 1500) a.sites[i] = a.sites[(i * 7919) % a.sites.size()];
+  for (std::size_t i = 11; i < a.sites.size(); i += 1500)
+    a.sites[i] = testing::normalized(a.sites[i] + Vec3{0.01, -0.01, 0.005});
+  const SphericalDelaunay moved = SphericalDelaunay::from_arrays(std::move(a));
+  const Validation serial = moved.validate();
+  ASSERT_EQ(serial.errors.size(), 50u);  // at most 50 are kept
+  for (const unsigned threads : {2u, 3u, 0u}) EXPECT_EQ(moved.validate(nullptr, false, threads).errors, serial.errors) << threads;
+}
+
 }  // namespace
 }  // namespace geovor

@@ -224,6 +224,28 @@ TEST(NearestJoin, OutputIndependentOfThreadsAndBlocks) {
     }
 }
 
+// Enough sites that their ids are prepared on several threads (slices of 2^16 sites), quoted ids
+// in every slice: the same output on any threads, each quoted id written as on one thread.
+TEST(NearestJoin, QuotedSiteIdsOnAnyThreads) {
+  auto sites = make_sites(140000, 8);
+  for (std::size_t i = 5; i < sites.size(); i += 9973) sites[i].id_csv = "\"q" + std::to_string(i) + ", \"\"x\"\"\"";
+  const SiteIndex index = make_index(sites);
+  std::ostringstream queries;
+  queries.precision(17);
+  for (std::size_t i = 0; i < sites.size(); ++i)
+    if (i % 997 == 0 || i % 9973 == 5) queries << sites[i].lat << ',' << sites[i].lon << '\n';
+  NearestJoinOptions one;
+  const Result ref = join(index, queries.str(), one);
+  EXPECT_NE(ref.csv.find(",\"q9978, \"\"x\"\"\","), std::string::npos);
+  EXPECT_NE(ref.csv.find(",\"q129654, \"\"x\"\"\","), std::string::npos);
+  for (const unsigned threads : {2u, 3u, 0u}) {
+    NearestJoinOptions o;
+    o.threads = threads;
+    o.block_bytes = 4096;
+    EXPECT_EQ(join(index, queries.str(), o).csv, ref.csv) << threads << " threads";
+  }
+}
+
 // Malformed lines are values with their line numbers; BOM, CRLF, empty lines and a last line
 // without its end are read as such.
 TEST(NearestJoin, MalformedLinesReportedInOrder) {

@@ -225,10 +225,11 @@ std::string load_error(const std::string& path, unsigned threads) {
   return "";
 }
 
-// The same, and the same message when the attributes are read on a second thread.
+// The same, and the same message on 2 and 3 threads and one per core (0): the sections are read
+// and checked in parallel, the first error in the serial order reported.
 std::string load_error(const std::string& path) {
   const std::string serial = load_error(path, 1);
-  EXPECT_EQ(load_error(path, 2), serial);
+  for (const unsigned threads : {2u, 3u, 0u}) EXPECT_EQ(load_error(path, threads), serial) << threads << " threads";
   return serial;
 }
 
@@ -322,10 +323,40 @@ TEST_F(IndexFile, RoundTripIsIdentical) {
   EXPECT_EQ(read_bytes(again), *bytes_);
 }
 
-TEST_F(IndexFile, TwoThreadsLoadTheSame) {
-  const SiteIndex loaded = load_index(*path_, 2);
-  expect_same_hierarchy(index_->hierarchy, loaded.hierarchy);
-  expect_same_attributes(index_->attributes, loaded.attributes);
+TEST_F(IndexFile, AnyThreadsLoadTheSame) {
+  for (const unsigned threads : {2u, 3u, 8u, 0u}) {
+    const SiteIndex loaded = load_index(*path_, threads);
+    expect_same_hierarchy(index_->hierarchy, loaded.hierarchy);
+    expect_same_attributes(index_->attributes, loaded.attributes);
+  }
+}
+
+// Several broken sections: whatever the threads, the error is the first in the serial order (the
+// levels' sections, level by level, then the attributes'), not the first a thread met.
+TEST_F(IndexFile, FirstErrorInTheSerialOrder) {
+  const std::string path = temp_path("two_errors.gvi");
+  const SectionRef text = find_section(*bytes_, 23), sites1 = find_section(*bytes_, 10, 1),
+                   tri0 = find_section(*bytes_, 11, 0), half0 = find_section(*bytes_, 12, 0);
+  auto flip = [](Bytes& b, std::size_t at) { b[at] = static_cast<char>(b[at] ^ 1); };
+  Bytes b = *bytes_;
+  flip(b, text.offset + 5);  // the largest sections, read first
+  flip(b, sites1.offset + 3);
+  write_bytes(path, b);
+  EXPECT_NE(load_error(path).find("sites, level 1): checksum mismatch"), std::string::npos);
+  flip(b, half0.offset + 1);
+  write_bytes(path, b);
+  EXPECT_NE(load_error(path).find("half-edges, level 0): checksum mismatch"), std::string::npos);
+  flip(b, tri0.offset + 2);
+  write_bytes(path, b);
+  EXPECT_NE(load_error(path).find("triangles, level 0): checksum mismatch"), std::string::npos);
+  // A structural error of level 0 comes before a checksum error of level 1, and of the attributes.
+  b = *bytes_;
+  set32(b, tri0.offset + 4, 3000);  // a site id out of range
+  rehash(b);
+  flip(b, sites1.offset + 3);
+  flip(b, text.offset + 5);
+  write_bytes(path, b);
+  EXPECT_NE(load_error(path).find("level 0: triangulation"), std::string::npos);
 }
 
 TEST_F(IndexFile, LoadedIndexStaysDynamic) {
@@ -580,8 +611,15 @@ TEST_F(IndexFile, RehashedRandomEditsNeverCrash) {
     }
     rehash(b);
     write_bytes(path, b);
+    std::string serial_error;
     try {
-      const SiteIndex index = load_index(path);
+      (void)load_index(path, 1);
+    } catch (const Error& e) {
+      serial_error = e.what();
+    }
+    try {
+      const SiteIndex index = load_index(path, 2);  // as on one thread
+      EXPECT_EQ(serial_error, "");
       ++loaded;
       for (const LocateStrategy st : {LocateStrategy::Hierarchy, LocateStrategy::KeepJumpClimb, LocateStrategy::Walk}) {
         Locator locator(index.hierarchy, {st});
@@ -593,6 +631,7 @@ TEST_F(IndexFile, RehashedRandomEditsNeverCrash) {
       }
     } catch (const Error& e) {
       EXPECT_EQ(e.code(), ErrorCode::BadData) << e.what();
+      EXPECT_EQ(e.what(), serial_error);
     }
   }
   // Some edits (a text byte, a low mantissa bit of a site) leave a loadable index.

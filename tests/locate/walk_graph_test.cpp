@@ -110,10 +110,9 @@ TEST(WalkGraph, IsACopyOfTheHierarchy) {
   EXPECT_GT(bytes_per_site, 56.0);
 }
 
-// Built on several threads (keys, sorted runs merged, degrees, records): the same graph, record
+// Built on several threads (keys, their sample sort, degrees, records): the same graph, record
 // for record, as on one.
-TEST(WalkGraph, TheSameOnAnyNumberOfThreads) {
-  const DelaunayHierarchy h = DelaunayHierarchy::build(testing::uniform_on_sphere(40000, 72));
+void expect_the_same_on_any_threads(const DelaunayHierarchy& h) {
   const WalkGraph one(h, 1);
   for (const unsigned threads : {2u, 3u, 7u}) {
     const WalkGraph many(h, threads);
@@ -134,6 +133,18 @@ TEST(WalkGraph, TheSameOnAnyNumberOfThreads) {
     }
     for (const Vec3& q : testing::uniform_on_sphere(200, 73)) ASSERT_EQ(one.curve_start(q), many.curve_start(q));
   }
+}
+
+TEST(WalkGraph, TheSameOnAnyNumberOfThreads) {
+  expect_the_same_on_any_threads(DelaunayHierarchy::build(testing::uniform_on_sphere(40000, 72)));
+  // Sites in order of latitude: each thread's slice of the keys lies on another part of the curve
+  // (the sort's buckets are cut by samples of all of them), and a cluster around one point.
+  std::vector<Vec3> by_latitude = testing::uniform_on_sphere(140000, 74);  // several slices of 2^16
+  std::sort(by_latitude.begin(), by_latitude.end(), [](const Vec3& a, const Vec3& b) { return a.z < b.z; });
+  expect_the_same_on_any_threads(DelaunayHierarchy::build(by_latitude));
+  std::vector<Vec3> cluster = testing::uniform_on_sphere(30000, 75);
+  for (std::size_t i = 0; i < 30000; i += 2) cluster[i] = testing::normalized(Vec3{1, 1e-3 * cluster[i].y, 1e-3 * cluster[i].z});
+  expect_the_same_on_any_threads(DelaunayHierarchy::build(cluster));
 }
 
 // curve_start gives a base node, usually near q: within 8 mean spacings for most queries.

@@ -1,5 +1,6 @@
 #include "geovor/core/output_file.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -34,6 +35,12 @@ OutputFile::~OutputFile() {
 void OutputFile::write(const char* data, std::size_t n) {
   if (file_ == nullptr) throw Error(ErrorCode::Io, name_ + ": the output failed earlier");
   if (n > 0 && std::fwrite(data, 1, n, file_) != n) fail("write error", errno);
+  unsynced_ += n;
+  if (unsynced_ >= kWriteBackEvery && temp_.active()) {
+    unsynced_ = 0;
+    flush();
+    ::sync_file_range(::fileno(file_), 0, 0, SYNC_FILE_RANGE_WRITE);  // a hint: errors surface in fsync
+  }
 }
 
 void OutputFile::flush() {

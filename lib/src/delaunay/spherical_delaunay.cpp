@@ -16,6 +16,7 @@
 
 #include "delaunay/unit_vector.hpp"
 #include "geovor/core/error.hpp"
+#include "geovor/core/parallel.hpp"
 #include "geovor/delaunay/spatial_sort.hpp"
 #include "geovor/kernel/predicates.hpp"
 #include "kernel/in_sphere_filter.hpp"
@@ -437,26 +438,47 @@ void SphericalDelaunay::check_weights(const Arrays& arrays) {
   }
 }
 
-SphericalDelaunay SphericalDelaunay::from_arrays(Arrays arrays, const DelaunayOptions& options) {
+namespace {
+
+// The first i in [0, n) with bad(i), or n; on `threads` threads (contiguous slices, each stopping
+// at its first), for n large enough to pay for them.
+template <class Bad>
+std::size_t first_bad(std::size_t n, unsigned threads, Bad&& bad) {
+  const unsigned t = static_cast<unsigned>(std::min<std::size_t>(thread_count(threads), n / (std::size_t{1} << 16) + 1));
+  std::vector<std::size_t> first(t, n);
+  parallel_for(n, t, [&](unsigned slice, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      if (bad(i)) {
+        first[slice] = i;
+        return;
+      }
+  });
+  return *std::min_element(first.begin(), first.end());
+}
+
+}  // namespace
+
+SphericalDelaunay SphericalDelaunay::from_arrays(Arrays arrays, const DelaunayOptions& options, unsigned threads) {
   SphericalDelaunay dt(options);
   auto fail = [](const std::string& why) { throw Error(ErrorCode::BadData, "triangulation: " + why); };
   if (arrays.site_edge.size() != arrays.sites.size()) fail("site arrays differ in size");
   if (arrays.triangles.size() != arrays.halfedges.size() || arrays.triangles.size() % 3 != 0)
     fail("triangle arrays differ in size");
   if (arrays.sites.size() >= kMaxSites) fail("too many sites");
-  for (std::size_t i = 0; i < arrays.sites.size(); ++i) {
-    if (!is_unit(arrays.sites[i])) fail("site " + std::to_string(i) + " is not a unit vector");
-  }
-  for (const SiteId s : arrays.triangles)
-    if (s >= arrays.sites.size()) fail("a triangle names an unknown site");
-  for (const HalfedgeId e : arrays.halfedges)
-    if (e >= arrays.halfedges.size()) fail("a half-edge's twin is out of range");
+  const std::size_t n = arrays.sites.size(), nh = arrays.halfedges.size();
+  if (const std::size_t i = first_bad(n, threads, [&](std::size_t i) { return !is_unit(arrays.sites[i]); }); i < n)
+    fail("site " + std::to_string(i) + " is not a unit vector");
+  if (first_bad(nh, threads, [&](std::size_t i) { return arrays.triangles[i] >= n; }) < nh)
+    fail("a triangle names an unknown site");
+  if (first_bad(nh, threads, [&](std::size_t i) { return arrays.halfedges[i] >= nh; }) < nh)
+    fail("a half-edge's twin is out of range");
   std::size_t live = 0;
-  for (const HalfedgeId e : arrays.site_edge) {
-    if (e == kRemoved) continue;
-    ++live;
-    if (e != kNoIndex && e >= arrays.halfedges.size()) fail("a site's half-edge is out of range");
-  }
+  for (const HalfedgeId e : arrays.site_edge) live += e != kRemoved;
+  if (first_bad(n, threads, [&](std::size_t i) {
+        const HalfedgeId e = arrays.site_edge[i];
+        return e != kRemoved && e != kNoIndex && e >= nh;
+      }) < n)
+    fail("a site's half-edge is out of range");
   if (!arrays.lifts.empty() && arrays.hidden_by.empty()) arrays.hidden_by.assign(arrays.sites.size(), kNoIndex);
   check_weights(arrays);
   dt.sites_ = std::move(arrays.sites);
@@ -466,7 +488,7 @@ SphericalDelaunay SphericalDelaunay::from_arrays(Arrays arrays, const DelaunayOp
   dt.halfedges_ = std::move(arrays.halfedges);
   dt.site_edge_ = std::move(arrays.site_edge);
   dt.num_live_ = live;
-  const Validation v = dt.validate_structure();
+  const Validation v = dt.validate_structure(threads);
   if (!v.ok()) fail(v.errors.front());
   dt.last_site_ = dt.any_live_site();
   return dt;

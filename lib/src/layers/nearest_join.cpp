@@ -7,10 +7,12 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
 #include "geovor/core/ascii.hpp"
+#include "geovor/core/default_init.hpp"
 #include "geovor/core/error.hpp"
 #include "geovor/core/parallel.hpp"
 #include "geovor/geo/column_types.hpp"
@@ -99,9 +101,23 @@ struct Worker {
   std::vector<NearestResult> results, k_results;
   std::vector<std::string_view> fields;  // a malformed line's fields
   std::string scratch;
-  bool prepared = false;  // has the packed copy built in the background
+  bool prepared = false;  // has taken the packed copy built for the workers (join_stream)
 
   Worker(const DelaunayHierarchy& h, const LocatorOptions& o, const QueryFormat& f) : locator(h, o), parser(f) {}
+};
+
+// A site's id text: a string_view without a constructor, so that the array of them is not written
+// before prepare_site_ids() fills it on its threads (which touch its pages first).
+struct IdText {
+  const char* ptr;
+  std::size_t len;
+  IdText& operator=(std::string_view s) {
+    ptr = s.data();
+    len = s.size();
+    return *this;
+  }
+  const char* data() const { return ptr; }
+  operator std::string_view() const { return {ptr, len}; }
 };
 
 struct Context {
@@ -114,7 +130,7 @@ struct Context {
   bool declared = false;  // query_types are a stream's declared ones: each value checked
   std::string source;     // the stream's name, for a value not of its declared type
   // Each site's id, CSV-quoted when needed, ready to copy (one lookup per answer).
-  std::vector<std::string_view> site_ids;
+  std::vector<IdText, DefaultInitAllocator<IdText>> site_ids;
   std::string quoted_site_ids;  // storage of the quoted ones
   // The joined site fields: their columns, and each site's ",a,b" CSV text (empty without fields).
   std::vector<std::size_t> site_columns;
@@ -144,31 +160,43 @@ void append_csv(std::string& out, std::string_view s) {
   out.push_back('"');
 }
 
-void prepare_site_ids(Context& ctx) {
+void prepare_site_ids(Context& ctx, unsigned threads) {
   const SiteAttributes& a = ctx.index->attributes;
   const std::size_t n = a.num_sites();
-  std::size_t quoted_bytes = 0;
-  for (SiteId s = 0; s < n; ++s) {
-    const std::string_view id = a.site_id(s);
-    if (needs_quotes(id)) quoted_bytes += 2 * id.size() + 2;
-  }
-  ctx.quoted_site_ids.reserve(quoted_bytes);  // never reallocated below: the views stay valid
+  const unsigned t = static_cast<unsigned>(std::min<std::size_t>(thread_count(threads), n / 65536 + 1));
   ctx.site_ids.resize(n);
-  for (SiteId s = 0; s < n; ++s) {
-    const std::string_view id = a.site_id(s);
-    if (!needs_quotes(id)) {
-      ctx.site_ids[s] = id;
-      continue;
+  // The ids that need no quotes, on every thread; the others' quoted bytes counted by slice.
+  std::vector<std::size_t> quoted_at(t + 1, 0);
+  parallel_for(n, t, [&](unsigned slice, std::size_t begin, std::size_t end) {
+    std::size_t bytes = 0;
+    for (std::size_t s = begin; s < end; ++s) {
+      const std::string_view id = a.site_id(static_cast<SiteId>(s));
+      if (!needs_quotes(id)) {
+        ctx.site_ids[s] = id;
+        continue;
+      }
+      ctx.site_ids[s] = std::string_view{};  // quoted below (a site without rows keeps this empty id)
+      bytes += id.size() + 2 + static_cast<std::size_t>(std::count(id.begin(), id.end(), '"'));
     }
-    const std::size_t at = ctx.quoted_site_ids.size();
-    ctx.quoted_site_ids.push_back('"');
-    for (const char c : id) {
-      if (c == '"') ctx.quoted_site_ids.push_back('"');
-      ctx.quoted_site_ids.push_back(c);
+    quoted_at[slice + 1] = bytes;
+  });
+  for (unsigned slice = 0; slice < t; ++slice) quoted_at[slice + 1] += quoted_at[slice];
+  if (quoted_at[t] == 0) return;
+  ctx.quoted_site_ids.resize(quoted_at[t]);  // never reallocated below: the views stay valid
+  parallel_for(n, t, [&](unsigned slice, std::size_t begin, std::size_t end) {
+    char* out = ctx.quoted_site_ids.data() + quoted_at[slice];
+    for (std::size_t s = begin; s < end; ++s) {
+      if (ctx.site_ids[s].data() != nullptr || !needs_quotes(a.site_id(static_cast<SiteId>(s)))) continue;
+      const char* start = out;
+      *out++ = '"';
+      for (const char c : a.site_id(static_cast<SiteId>(s))) {
+        if (c == '"') *out++ = '"';
+        *out++ = c;
+      }
+      *out++ = '"';
+      ctx.site_ids[s] = std::string_view(start, static_cast<std::size_t>(out - start));
     }
-    ctx.quoted_site_ids.push_back('"');
-    ctx.site_ids[s] = std::string_view(ctx.quoted_site_ids).substr(at);
-  }
+  });
 }
 
 // The index's columns of options.site_fields, or Error(InvalidArgument) naming the unknown one.
@@ -296,7 +324,7 @@ void answer_batch(const Context& ctx, Worker& w, Block& b) {
     const bool header = ctx.format.header;
     const std::string_view empty_match = o.rank_column ? ",,,," : ",,,";
     const std::size_t n = w.results.size();
-    const std::string_view* ids = ctx.site_ids.data();
+    const IdText* ids = ctx.site_ids.data();
     for (std::size_t i = 0; i < n && i < 8; ++i) __builtin_prefetch(&ids[w.results[i].site]);
     std::size_t i = 0;
     for (const Query& q : w.batch) {
@@ -574,8 +602,10 @@ NearestJoinReport join_stream(const SiteIndex& index, std::FILE* queries, const 
   ctx.options = &options;
   ctx.metric = join_metric(index, options);
   ctx.features = sink.open != nullptr;
+  const unsigned cores = thread_count(0);
+  const unsigned threads = std::min(thread_count(options.threads), kMaxThreadsPerCore * cores);
   prepare_site_fields(ctx);  // an unknown site field before anything is read
-  if (!ctx.features) prepare_site_ids(ctx);
+  if (!ctx.features) prepare_site_ids(ctx, threads);
   BlockReader reader(queries, source, options.block_bytes);
   if (const std::optional<std::string_view> first = reader.first_line()) {
     ctx.format = detect_query_format(*first, source, options.columns);
@@ -589,32 +619,24 @@ NearestJoinReport join_stream(const SiteIndex& index, std::FILE* queries, const 
   else
     (*sink.write)(csv_header(names));
 
-  const unsigned cores = thread_count(0);
-  const unsigned threads = std::min(thread_count(options.threads), kMaxThreadsPerCore * cores);
-  // With several workers the packed copy of the hierarchy (LocatorOptions::packed) is built by a
-  // task beside them once the stream has shown it is long (rebuild_after queries, as a Locator
-  // would), while they go on walking the hierarchy; each takes the copy at its next block. A
-  // worker building it itself would keep the others waiting for it (DelaunayHierarchy::walk_graph()).
-  const bool background = threads > 1 && options.locator.packed;
+  // With several workers the packed copy of the hierarchy (LocatorOptions::packed) is built once the
+  // stream has shown it is long (rebuild_after queries, as a Locator would): the first worker to
+  // start a block after that builds it on every core (DelaunayHierarchy::walk_graph(threads)) and
+  // the others wait for it at their next block. Walking the hierarchy meanwhile, as they did, took
+  // the cores from the build at a fraction of the packed copy's speed (docs/design.md).
+  const bool shared_build = threads > 1 && options.locator.packed;
   LocatorOptions worker_options = options.locator;
-  if (background) worker_options.rebuild_after = std::numeric_limits<std::uint64_t>::max();
+  if (shared_build) worker_options.rebuild_after = std::numeric_limits<std::uint64_t>::max();
   const std::uint64_t build_after =
       options.locator.rebuild_after > 0 ? options.locator.rebuild_after
                                         : std::max<std::uint64_t>(1024, index.hierarchy.base().num_sites() / 8);
   std::atomic<std::uint64_t> answered{0};
-  std::atomic<bool> build_started{false}, built{false};
-  std::unique_ptr<Locator> owner;  // holds the packed copy once built
-  TaskGroup build;
-  auto build_in_background = [&](std::uint64_t queries) {
-    if (answered.fetch_add(queries, std::memory_order_relaxed) + queries < build_after) return;
-    if (build_started.exchange(true)) return;
-    build.run([&] {
-      index.hierarchy.walk_graph(threads);  // on every core: the workers walk slowly meanwhile
-      auto locator = std::make_unique<Locator>(index.hierarchy, options.locator);
-      locator->prepare();
-      owner = std::move(locator);
-      built.store(true, std::memory_order_release);
-    });
+  std::atomic<bool> build_due{false};
+  std::once_flag built;
+  auto take_packed_copy = [&](Worker& worker) {
+    std::call_once(built, [&] { index.hierarchy.walk_graph(std::min(threads, cores)); });  // the others wait
+    worker.locator.prepare();  // the copy just built: nothing is built
+    worker.prepared = true;
   };
 
   std::vector<std::unique_ptr<Worker>> workers(threads);  // made by their own thread, at first use
@@ -626,13 +648,11 @@ NearestJoinReport join_stream(const SiteIndex& index, std::FILE* queries, const 
       [&](Block& b, unsigned w) {
         if (!workers[w]) workers[w] = std::make_unique<Worker>(index.hierarchy, worker_options, ctx.format);
         Worker& worker = *workers[w];
-        if (background && !worker.prepared && built.load(std::memory_order_acquire)) {
-          worker.locator.prepare();  // the copy `owner` holds: nothing is built
-          worker.prepared = true;
-        }
+        if (shared_build && !worker.prepared && build_due.load(std::memory_order_relaxed)) take_packed_copy(worker);
         answer_block(ctx, worker, b);
         if (b.stopped) stop.store(true, std::memory_order_relaxed);
-        if (background) build_in_background(b.answered);
+        if (shared_build && answered.fetch_add(b.answered, std::memory_order_relaxed) + b.answered >= build_after)
+          build_due.store(true, std::memory_order_relaxed);
       },
       [&](Block& b) {
         if (report.stopped) return;  // blocks read after the stop
@@ -648,7 +668,6 @@ NearestJoinReport join_stream(const SiteIndex& index, std::FILE* queries, const 
           for (const MalformedQuery& m : b.errors) on_malformed(m);
         report.stopped = b.stopped;
       });
-  build.wait();
   if (sink.writer) sink.writer->finish();
   return report;
 }

@@ -10,8 +10,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <exception>
+#include <filesystem>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -660,65 +661,121 @@ SiteIndex load_index(const std::string& path, unsigned threads) {
     if (p != names.size()) in.bad("names: " + std::to_string(names.size() - p) + " bytes too many");
   }
 
-  // The attributes, independent of the levels: read beside them when threads > 1. Errors are
-  // reported in the serial order (the levels' first).
-  auto load_attributes = [&] {
-    const std::size_t fields = 1 + std::size_t{num_columns};
+  // Every section is one job: find it, check its size, read it, check its checksum. The jobs run
+  // on `threads` threads (core/parallel.hpp), the largest first, each into its own array. Errors
+  // are reported in the serial order: each level's sections, then its from_arrays(), then the
+  // hierarchy's links, then the attributes' sections and offsets. A job whose count depends on
+  // another section (a level's site count, its triangles) takes it from that section's size,
+  // which is the count read whenever that section is valid; when it is not, its own error comes
+  // first. No job allocates more than its section's bytes.
+  struct Job {
+    std::function<void()> read;
+    std::uint64_t bytes = 0;
+    std::exception_ptr error;
+  };
+  std::vector<Job> jobs;
+  auto section_bytes = [&](std::uint32_t kind, std::uint32_t level) -> std::uint64_t {
+    for (std::size_t i = 0; i < in.num_sections(); ++i)
+      if (in.entry(i).kind == kind && in.entry(i).level == level) return in.entry(i).size;
+    return 0;
+  };
+  auto add = [&](std::uint32_t kind, std::uint32_t level, std::function<void()> read) {
+    jobs.push_back({std::move(read), section_bytes(kind, level), nullptr});
+  };
+  // A level's count of sites and of half-edges, as its sites and triangles sections give them.
+  auto sites_of = [&](std::uint32_t l) { return static_cast<std::size_t>(in.entry(in.find(kSites, l)).size / sizeof(Vec3)); };
+  auto halfedges_of = [&](std::uint32_t l) {
+    return static_cast<std::size_t>(in.entry(in.find(kTriangles, l)).size / sizeof(SiteId));
+  };
+  std::vector<SphericalDelaunay::Arrays> arrays(levels);
+  std::vector<std::vector<SiteId>> up(levels), down(levels);
+  std::vector<std::size_t> level_end(levels);  // past the level's last job
+  std::size_t lifts_read = 0;
+  for (std::uint32_t l = 0; l < levels; ++l) {
+    add(kSites, l, [&, l] { arrays[l].sites = in.read_array<Vec3>(in.find(kSites, l)); });
+    add(kTriangles, l, [&, l] { arrays[l].triangles = in.read_array<SiteId>(in.find(kTriangles, l), std::string::npos, 3); });
+    add(kHalfedges, l, [&, l] { arrays[l].halfedges = in.read_array<HalfedgeId>(in.find(kHalfedges, l), halfedges_of(l)); });
+    add(kSiteEdge, l, [&, l] { arrays[l].site_edge = in.read_array<HalfedgeId>(in.find(kSiteEdge, l), sites_of(l)); });
+    add(kUp, l, [&, l] { up[l] = in.read_array<SiteId>(in.find(kUp, l), sites_of(l)); });
+    if (l > 0) add(kDown, l, [&, l] { down[l] = in.read_array<SiteId>(in.find(kDown, l), sites_of(l)); });
+    if (in.has(kLifts, l)) {
+      add(kLifts, l, [&, l] { arrays[l].lifts = in.read_array<double>(in.find(kLifts, l), sites_of(l)); });
+      ++lifts_read;
+    }
+    if (weighted && l == 0) add(kHidden, 0, [&] { arrays[0].hidden_by = in.read_array<SiteId>(in.find(kHidden, 0), sites_of(0)); });
+    level_end[l] = jobs.size();
+  }
+  // The attributes, each job first checking the counts its size depends on.
+  const std::size_t fields = 1 + std::size_t{num_columns};
+  auto check_rows = [&] {
     if (num_rows > in.entry(in.find(kRows, 0)).size / sizeof(SiteAttributes::Row))
       in.bad("meta: " + std::to_string(num_rows) + " rows, the rows section is smaller");
-    a.site_rows = in.read_array<std::uint64_t>(in.find(kSiteRows, 0), static_cast<std::size_t>(num_sites) + 1);
-    a.rows = in.read_array<SiteAttributes::Row>(in.find(kRows, 0), static_cast<std::size_t>(num_rows));
+  };
+  auto check_offsets = [&] {
+    check_rows();
     const std::size_t offsets_i = in.find(kTextOffsets, 0);
     if (in.entry(offsets_i).size / 8 / fields < num_rows) in.bad(in.section_name(offsets_i) + ": too small for the rows");
-    a.text_offsets = in.read_array<std::uint64_t>(offsets_i, static_cast<std::size_t>(num_rows) * fields + 1);
-    a.text = in.read_bytes(in.find(kText, 0));
-    if (!offsets_ok(a.site_rows, num_rows)) in.bad("site rows: offsets out of order or range");
-    if (!offsets_ok(a.text_offsets, a.text.size())) in.bad("text offsets: out of order or range");
   };
-  TaskGroup beside;
-  if (threads > 1) beside.run(load_attributes);
-  std::exception_ptr levels_error;
-  try {
-    std::vector<SphericalDelaunay> dts;
-    std::vector<std::vector<SiteId>> up(levels), down(levels);
-    std::size_t lifts_read = 0;
-    for (std::uint32_t l = 0; l < levels; ++l) {
-      SphericalDelaunay::Arrays ar;
-      ar.sites = in.read_array<Vec3>(in.find(kSites, l));
-      const std::size_t n = ar.sites.size();
-      ar.triangles = in.read_array<SiteId>(in.find(kTriangles, l), std::string::npos, 3);
-      ar.halfedges = in.read_array<HalfedgeId>(in.find(kHalfedges, l), ar.triangles.size());
-      ar.site_edge = in.read_array<HalfedgeId>(in.find(kSiteEdge, l), n);
-      up[l] = in.read_array<SiteId>(in.find(kUp, l), n);
-      if (l > 0) down[l] = in.read_array<SiteId>(in.find(kDown, l), n);
-      if (in.has(kLifts, l)) ar.lifts = in.read_array<double>(in.find(kLifts, l), n), ++lifts_read;
-      if (weighted && l == 0) ar.hidden_by = in.read_array<SiteId>(in.find(kHidden, 0), n);
-      try {
-        dts.push_back(SphericalDelaunay::from_arrays(std::move(ar), dopt));
-      } catch (const Error& e) {
-        in.bad("level " + std::to_string(l) + ": " + e.what());
-      }
-    }
-    if (lifts_read != lift_sections) in.bad("a lifts section for a level that does not exist");
-    if (dts[0].site_capacity() != num_sites)
-      in.bad("meta: " + std::to_string(num_sites) + " sites, level 0 has " + std::to_string(dts[0].site_capacity()));
+  const std::size_t attributes_begin = jobs.size();
+  jobs.push_back({check_rows, 0, nullptr});  // the check alone, first as it always was
+  add(kSiteRows, 0, [&] {
+    a.site_rows = in.read_array<std::uint64_t>(in.find(kSiteRows, 0), static_cast<std::size_t>(num_sites) + 1);
+  });
+  add(kRows, 0, [&] {
+    check_rows();
+    a.rows = in.read_array<SiteAttributes::Row>(in.find(kRows, 0), static_cast<std::size_t>(num_rows));
+  });
+  add(kTextOffsets, 0, [&] {
+    check_offsets();
+    a.text_offsets =
+        in.read_array<std::uint64_t>(in.find(kTextOffsets, 0), static_cast<std::size_t>(num_rows) * fields + 1);
+  });
+  add(kText, 0, [&] {
+    check_offsets();
+    a.text = in.read_bytes(in.find(kText, 0));
+  });
+
+  std::vector<std::size_t> order(jobs.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return jobs[x].bytes > jobs[y].bytes; });
+  auto run_job = [](Job& job) {
     try {
-      index.hierarchy = DelaunayHierarchy::from_parts(hopt, std::move(dts), std::move(up), std::move(down));
-    } catch (const Error& e) {
-      in.bad(e.what());
-    }
-  } catch (...) {
-    levels_error = std::current_exception();
-  }
-  if (threads > 1) {
-    try {
-      beside.wait();
+      job.read();
     } catch (...) {
-      if (!levels_error) throw;
+      job.error = std::current_exception();
+    }
+  };
+  parallel_chunks(order.size(), 1, threads, [&](unsigned, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) run_job(jobs[order[i]]);
+  });
+
+  // Then, in the serial order, each level's first error or its structure (from_arrays(), on
+  // `threads` threads), the hierarchy's links, the attributes' first error and their offsets.
+  auto rethrow_first = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      if (jobs[i].error) std::rethrow_exception(jobs[i].error);
+  };
+  std::vector<SphericalDelaunay> dts;
+  dts.reserve(levels);
+  for (std::uint32_t l = 0; l < levels; ++l) {
+    rethrow_first(l == 0 ? 0 : level_end[l - 1], level_end[l]);
+    try {
+      dts.push_back(SphericalDelaunay::from_arrays(std::move(arrays[l]), dopt, threads));
+    } catch (const Error& e) {
+      in.bad("level " + std::to_string(l) + ": " + e.what());
     }
   }
-  if (levels_error) std::rethrow_exception(levels_error);
-  if (threads <= 1) load_attributes();
+  if (lifts_read != lift_sections) in.bad("a lifts section for a level that does not exist");
+  if (dts[0].site_capacity() != num_sites)
+    in.bad("meta: " + std::to_string(num_sites) + " sites, level 0 has " + std::to_string(dts[0].site_capacity()));
+  try {
+    index.hierarchy = DelaunayHierarchy::from_parts(hopt, std::move(dts), std::move(up), std::move(down));
+  } catch (const Error& e) {
+    in.bad(e.what());
+  }
+  rethrow_first(attributes_begin, jobs.size());
+  if (!offsets_ok(a.site_rows, num_rows)) in.bad("site rows: offsets out of order or range");
+  if (!offsets_ok(a.text_offsets, a.text.size())) in.bad("text offsets: out of order or range");
   const SphericalDelaunay& base = index.hierarchy.base();
   for (SiteId s = 0; s < base.site_capacity(); ++s)
     if (base.is_live(s) && a.site_rows[s] == a.site_rows[s + 1])

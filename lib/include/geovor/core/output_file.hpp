@@ -4,6 +4,7 @@
 /// renamed into place by commit() (the rules of output_target.hpp).
 #pragma once
 
+#include <cstddef>
 #include <cstdio>
 #include <string>
 
@@ -27,7 +28,9 @@ class OutputFile {
   std::FILE* get() const { return file_; }
   /// "<stdout>" or the path, for messages.
   const std::string& name() const { return name_; }
-  /// Writes `n` bytes; Error(Io) naming the file and the reason if they cannot be written.
+  /// Writes `n` bytes; Error(Io) naming the file and the reason if they cannot be written. Every
+  /// kWriteBackEvery bytes to a temporary file, starts their write-back to the disk without
+  /// waiting for it, so that commit()'s fsync has little left to wait for.
   void write(const char* data, std::size_t n);
   /// Flushes the buffer; Error(Io) on failure (a full disk), with the temporary file removed.
   void flush();
@@ -45,6 +48,8 @@ class OutputFile {
   TemporaryOutput temp_;  // unless stdout or a device
   std::FILE* file_ = nullptr;
   bool committed_ = false;
+  static constexpr std::size_t kWriteBackEvery = std::size_t{8} << 20;
+  std::size_t unsynced_ = 0;  // bytes written since the last write-back started
 };
 
 }  // namespace geovor

@@ -190,8 +190,10 @@ class SphericalDelaunay {
   /// (everything validate() checks but the geometric predicates, in O(n)), and for weighted arrays
   /// each lift in (0, 1], not all equal, and each hidden site no vertex and hidden by a live one,
   /// so a corrupted input is an error and never a crash.
+  /// The checks run on `threads` threads (0: one per core); the result and the error do not
+  /// depend on it.
   /// @exception Error(BadData) naming the first broken invariant.
-  static SphericalDelaunay from_arrays(Arrays arrays, const DelaunayOptions& options = {});
+  static SphericalDelaunay from_arrays(Arrays arrays, const DelaunayOptions& options = {}, unsigned threads = 1);
 
   /// Inserts one site (stations going online). A point closer than merge_distance to a site is
   /// merged into it instead. New sites get the next id, so existing ids never change.
@@ -289,10 +291,13 @@ class SphericalDelaunay {
   /// Delaunay of every edge under the perturbation, and that every live site is a vertex.
   /// With a report, also checks that every input point of build() is accounted for: it is a live
   /// site or merged into one, and every merge is listed. With `global`, also checks each triangle
-  /// against every site (O(n^2): small inputs only).
-  Validation validate(const BuildReport* report = nullptr, bool global = false) const;
-  /// The combinatorial part of validate() only (no predicate): O(n), for loading files.
-  Validation validate_structure() const;
+  /// against every site (O(n^2): small inputs only). The checks of the structure, of every edge
+  /// and of every triangle run on `threads` threads (0: one per core; core/parallel.hpp); the
+  /// result does not depend on it.
+  Validation validate(const BuildReport* report = nullptr, bool global = false, unsigned threads = 1) const;
+  /// The combinatorial part of validate() only (no predicate): O(n), for loading files, on
+  /// `threads` threads (0: one per core; core/parallel.hpp); the result does not depend on it.
+  Validation validate_structure(unsigned threads = 1) const;
 
  private:
   static constexpr HalfedgeId kRemoved = kNoIndex - 1;  // site_edge_ of a removed site

@@ -139,9 +139,11 @@ inline constexpr std::uint32_t kIndexVersion = 1;
 void save_index(const std::string& path, const DelaunayHierarchy& hierarchy,
                 const SiteAttributes& attributes, bool overwrite = false);
 
-/// Loads an index saved by save_index, with the checks described in the file comment. With
-/// threads > 1 the attributes are read and checked on a second thread beside the levels
-/// (core/parallel.hpp); the result and the error reported are the same.
+/// Loads an index saved by save_index, with the checks described in the file comment, on
+/// `threads` threads (0: one per core; core/parallel.hpp): the sections are read and their
+/// checksums checked in parallel, then each level's structure beside the others and the
+/// attributes'. The result, and the error reported (the first in the order above), do not
+/// depend on `threads`.
 /// @exception Error(Io) if the file cannot be read; Error(BadData) if it is not a valid index.
 SiteIndex load_index(const std::string& path, unsigned threads = 1);
 

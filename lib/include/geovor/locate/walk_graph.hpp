@@ -31,8 +31,10 @@
 #include <cstring>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
+#include "geovor/core/default_init.hpp"
 #include "geovor/core/types.hpp"
 #include "geovor/locate/delaunay_hierarchy.hpp"
 
@@ -87,6 +89,9 @@ class WalkGraph {
   /// Bytes held (capacity), all levels.
   std::size_t memory_bytes() const;
 
+  /// Arrays of 32-bit words not zero-filled by resize() (core/default_init.hpp).
+  using U32s = std::vector<std::uint32_t, DefaultInitAllocator<std::uint32_t>>;
+
  private:
   // Large levels in transparent huge pages (where the system allows them on request): a walk
   // touches records all over the level, and with 4 KiB pages most of its misses also miss the TLB.
@@ -98,6 +103,15 @@ class WalkGraph {
     HugePageAllocator(const HugePageAllocator<U>&) {}
     T* allocate(std::size_t n);
     void deallocate(T* p, std::size_t) { std::free(p); }
+    // resize() leaves the words unwritten: the thread that writes a record touches its pages first.
+    template <class U>
+    void construct(U* p) noexcept {
+      ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
     friend bool operator==(const HugePageAllocator&, const HugePageAllocator&) { return true; }
   };
   struct Level {
@@ -122,7 +136,7 @@ class WalkGraph {
   const DelaunayHierarchy* source_ = nullptr;
   std::vector<std::uint64_t> revisions_;
   std::vector<Level> levels_;
-  std::vector<std::uint32_t> node_of_;
+  U32s node_of_;
   std::vector<std::uint64_t> curve_keys_;   // hilbert_key() of every kCurveSample-th base node
   std::vector<std::uint32_t> curve_nodes_;  // and that node
 };
