@@ -21,7 +21,7 @@
 # (pgbench -c, default CONNECTIONS), PG_EXTRA_CLIENTS (more pgbench -c values at the listed points,
 # extra rows, default 8: PostgreSQL's best on 2 cores), FASTAPI_WORKERS (uvicorn --workers, default:
 # nproc), GEOVOR_EXTRA_THREADS (more geovor serve --threads values, extra rows; default none),
-# KEEP_TMP=1 (keep the temporary directory).
+# KEEP_TMP=1 (keep the temporary directory), PIN=1 (servers on CPU 0, clients on CPU 1; see above).
 # The targets are checked against the best PostGIS figure at the listed points, for each geovor row.
 #
 # Packages (Debian): wrk postgresql-15-postgis-3 python3-fastapi python3-uvicorn python3-scipy curl;
@@ -41,6 +41,15 @@ py=/usr/bin/python3  # Debian's Python, with Debian's scipy, fastapi and uvicorn
 pgbin=/usr/lib/postgresql/15/bin
 
 ncpu=$(nproc)
+# PIN=1: every server (geovor, uvicorn, PostgreSQL) on CPU 0 and every client (wrk, pgbench, curl)
+# on CPU 1, so that a server's latency is not the client's turn on a shared core; one thread or
+# worker per server by default then.
+PIN=${PIN:-0}
+on_server=() on_client=()
+if [[ $PIN == 1 ]]; then
+  ((ncpu >= 2)) || { echo "run.sh: PIN=1 needs two CPUs" >&2; exit 2; }
+  on_server=(taskset -c 0) on_client=(taskset -c 1) ncpu=1
+fi
 THREADS=${THREADS:-$ncpu}
 CONNECTIONS=${CONNECTIONS:-64}
 WRK_THREADS=${WRK_THREADS:-2}
@@ -119,9 +128,10 @@ free_port() {
 # answer counts in the latencies (wrk's default, 2 s, drops it from them as a "timeout").
 run_wrk() {
   local kind=$1 name=$2 url=$3 out=$tmp/wrk-${2//[^A-Za-z0-9]/_}.txt
-  timeout $((WARMUP + 30)) wrk -t"$WRK_THREADS" -c"$CONNECTIONS" -d"${WARMUP}s" -s "$here/nearest.lua" \
+  sync  # the writes before (data, logs, a previous run's cleanup) not flushed during the measurement
+  timeout $((WARMUP + 30)) "${on_client[@]}" wrk -t"$WRK_THREADS" -c"$CONNECTIONS" -d"${WARMUP}s" -s "$here/nearest.lua" \
     "$url" -- "$tmp/points.csv" "$SEED" >/dev/null
-  timeout $((DURATION + 60)) wrk -t"$WRK_THREADS" -c"$CONNECTIONS" -d"${DURATION}s" --latency --timeout 10s \
+  timeout $((DURATION + 60)) "${on_client[@]}" wrk -t"$WRK_THREADS" -c"$CONNECTIONS" -d"${DURATION}s" --latency --timeout 10s \
     -s "$here/nearest.lua" "$url" -- "$tmp/points.csv" "$SEED" >"$out"
   sed 's/^/    /' "$out"
   "$py" - "$kind" "$name" "$out" >>"$results" <<'EOF'
@@ -154,7 +164,7 @@ echo "query points: $POINTS uniform on the sphere (seed $SEED)"
 start_geovor() {  # THREADS: starts geovor serve, sets geovor_pid and geovor_url
   local out=$tmp/geovor-$1.out
   : >"$out"
-  "$geovor" serve "$sites" --port 0 --threads "$1" >"$out" 2>"$tmp/geovor-$1.err" &
+  "${on_server[@]}" "$geovor" serve "$sites" --port 0 --threads "$1" >"$out" 2>"$tmp/geovor-$1.err" &
   geovor_pid=$!
   pids+=("$geovor_pid")
   local i port=
@@ -182,7 +192,7 @@ run_wrk geovor "geovor serve --threads $THREADS" "$geovor_url"
 fastapi_port=$(free_port)
 fastapi_url=http://127.0.0.1:$fastapi_port
 loop=$("$py" -c 'import importlib.util as u; print("uvloop" if u.find_spec("uvloop") else "asyncio", "+", "httptools" if u.find_spec("httptools") else "h11")')
-(cd "$here" && GEOVOR_BENCH_SITES=$sites exec "$py" -m uvicorn fastapi_service:app --host 127.0.0.1 \
+(cd "$here" && GEOVOR_BENCH_SITES=$sites exec "${on_server[@]}" "$py" -m uvicorn fastapi_service:app --host 127.0.0.1 \
   --port "$fastapi_port" --workers "$FASTAPI_WORKERS" --log-level warning --no-access-log \
   >"$tmp/fastapi.out" 2>&1) &
 fastapi_pid=$!
@@ -206,7 +216,7 @@ fi
 "${as_pg[@]}" "$pgbin/initdb" -D "$pg_root/data" -U bench -A trust -E UTF8 --no-locale >"$tmp/initdb.log" 2>&1 ||
   die "initdb failed: $(tail -5 "$tmp/initdb.log")"
 pg_data=$pg_root/data
-"${as_pg[@]}" "$pgbin/pg_ctl" -D "$pg_data" -l "$pg_root/server.log" -w -o \
+"${on_server[@]}" "${as_pg[@]}" "$pgbin/pg_ctl" -D "$pg_data" -l "$pg_root/server.log" -w -o \
   "-c listen_addresses='' -c unix_socket_directories='$pg_root/sock' -c port=5432 -c max_connections=$((pg_max + 20)) -c fsync=off -c synchronous_commit=off -c jit=off" \
   start >/dev/null || die "the PostgreSQL cluster did not start: $(tail -5 "$pg_root/server.log")"
 pg=(-h "$pg_root/sock" -p 5432 -U bench)
@@ -247,10 +257,11 @@ psql_do -At -c 'EXPLAIN SELECT id FROM stations ORDER BY geog <-> (SELECT g FROM
 run_pgbench() {
   local kind=$1 name=$2 script=$3 clients=$4 tag=${3##*/}
   tag=${tag%.sql}-c$clients
-  timeout $((WARMUP + 30)) pgbench "${pg[@]}" -n -M prepared -c "$clients" -j "$WRK_THREADS" -T "$WARMUP" \
+  sync
+  timeout $((WARMUP + 30)) "${on_client[@]}" pgbench "${pg[@]}" -n -M prepared -c "$clients" -j "$WRK_THREADS" -T "$WARMUP" \
     -f "$script" postgres >/dev/null 2>&1
   mkdir -p "$tmp/pglog-$tag"
-  timeout $((DURATION + 60)) pgbench "${pg[@]}" -n -M prepared -c "$clients" -j "$WRK_THREADS" -T "$DURATION" \
+  timeout $((DURATION + 60)) "${on_client[@]}" pgbench "${pg[@]}" -n -M prepared -c "$clients" -j "$WRK_THREADS" -T "$DURATION" \
     -f "$script" -l --log-prefix="$tmp/pglog-$tag/log" postgres >"$tmp/pgbench-$tag.txt" 2>&1 ||
     die "pgbench failed: $(tail -5 "$tmp/pgbench-$tag.txt")"
   grep -E '^(number of (transactions actually processed|failed)|latency average|tps)' "$tmp/pgbench-$tag.txt" | sed 's/^/    /'
@@ -308,7 +319,7 @@ best_of() {  # OUTPUT COMMAND...: seconds of the fastest of 3 runs of COMMAND (O
   done
   echo "$best"
 }
-file_s=$(best_of "$tmp/batch-file.csv" "$geovor" nearest --sites "$sites" --queries "$tmp/batch.csv" -o "$tmp/batch-file.csv" \
+file_s=$(best_of "$tmp/batch-file.csv" "${on_server[@]}" "$geovor" nearest --sites "$sites" --queries "$tmp/batch.csv" -o "$tmp/batch-file.csv" \
   --threads "$THREADS" -q)
 printf '    geovor nearest --threads %s on the file: %.3f s (best of 3)\n' "$THREADS" "$file_s"
 batch_ratio=
@@ -319,7 +330,7 @@ if [[ $code == 404 || $code == 405 ]]; then
 elif [[ $code != 200 ]]; then
   echo "batch: POST /nearest answered HTTP $code: $(head -c 300 "$tmp/batch-post.csv")"
 else
-  post_s=$(best_of "$tmp/batch-post.csv" curl -sS -f -o "$tmp/batch-post.csv" -H 'Content-Type: text/csv' -H 'Expect:' \
+  post_s=$(best_of "$tmp/batch-post.csv" "${on_client[@]}" curl -sS -f -o "$tmp/batch-post.csv" -H 'Content-Type: text/csv' -H 'Expect:' \
     --data-binary @"$tmp/batch.csv" "$geovor_url/nearest")
   printf '    POST /nearest (curl --data-binary): %.3f s (best of 3)\n' "$post_s"
   if cmp -s "$tmp/batch-file.csv" "$tmp/batch-post.csv"; then
@@ -344,7 +355,9 @@ done
 
 # --- the table ----------------------------------------------------------------------------------
 echo
-echo "## bench/serve: GET /nearest, $CONNECTIONS connections ($(date -u +%Y-%m-%d), $(nproc) cores, load average at the end $(cut -d' ' -f1-3 /proc/loadavg))"
+pinned="servers and clients sharing the cores"
+[[ $PIN == 1 ]] && pinned="servers on CPU 0, clients on CPU 1"
+echo "## bench/serve: GET /nearest, $CONNECTIONS connections ($(date -u +%Y-%m-%d), $(nproc) cores, $pinned, load average at the end $(cut -d' ' -f1-3 /proc/loadavg))"
 echo
 "$py" - "$results" "$correct" "${batch_ratio:-}" <<'EOF'
 import sys
