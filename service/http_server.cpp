@@ -166,6 +166,7 @@ class HttpServer::Impl::Session : public std::enable_shared_from_this<Session> {
 
   void refuse_body() {
     keep_alive_ = false;  // the body is not read: the connection cannot carry another request
+    drain_ = true;
     Routed r;
     const std::string_view target = parser_->get().target();
     r.route = std::string(parser_->get().method_string()) + " " + std::string(target.substr(0, target.find('?')));
@@ -209,11 +210,24 @@ class HttpServer::Impl::Session : public std::enable_shared_from_this<Session> {
       if (ec || !res->keep_alive()) {
         beast::error_code ignored;
         self->stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+        if (!ec && self->drain_) return self->drain();
         return self->stream_.socket().close();
       }
       self->request_ = {};
       if (self->buffer_.size() == 0 && self->buffer_.capacity() > kBodyReadBytes / 8) self->buffer_.shrink_to_fit();  // idle connections stay small
       self->read_header();
+    });
+  }
+
+  // After a 413 sent before the body: read and drop what the client still sends (until it closes,
+  // or read_timeout_s), so that closing does not reset the connection before it reads the 413.
+  void drain() {
+    idle_ = true;  // stop() closes it
+    buffer_.clear();
+    stream_.expires_after(std::chrono::seconds(server_->options.read_timeout_s));
+    stream_.async_read_some(buffer_.prepare(kBodyReadBytes), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) return self->stream_.socket().close();
+      self->drain();
     });
   }
 
@@ -226,6 +240,7 @@ class HttpServer::Impl::Session : public std::enable_shared_from_this<Session> {
   bool keep_alive_ = true;
   bool first_ = true;
   bool idle_ = false;
+  bool drain_ = false;
 };
 
 void HttpServer::Impl::accept() {
