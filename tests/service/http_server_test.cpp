@@ -11,7 +11,7 @@
 #include <boost/beast/http.hpp>
 #include <thread>
 
-#include "geovor/geo/site_encoder.hpp"
+#include "served_sites.hpp"
 
 namespace geovor::service {
 namespace {
@@ -22,21 +22,7 @@ namespace net = boost::asio;
 using tcp = net::ip::tcp;
 using Reply = http::response<http::string_body>;
 
-std::shared_ptr<const ServedData> sites() {
-  SiteTable t;
-  t.source = "server.csv";
-  for (std::size_t i = 0; i < 40; ++i) {
-    InputSite s;
-    s.row = i + 1;
-    s.id = "s" + std::to_string(i);
-    s.lat_deg = -70.0 + 3.5 * static_cast<double>(i);
-    s.lon_deg = static_cast<double>(i * 71 % 360) - 180;
-    s.unit = SiteEncoder::from_lat_lon(s.lat_deg, s.lon_deg);
-    t.sites.push_back(s);
-  }
-  t.rows_read = t.sites.size();
-  return make_served_data(build_site_index(t), "", {});
-}
+std::shared_ptr<const ServedData> sites() { return served_sites(40); }
 
 // A server on a free loopback port, answering on its own thread until the test ends.
 struct Running {

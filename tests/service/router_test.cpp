@@ -4,26 +4,12 @@
 
 #include <gtest/gtest.h>
 
-#include "geovor/geo/site_encoder.hpp"
+#include "served_sites.hpp"
 
 namespace geovor::service {
 namespace {
 
-std::shared_ptr<const ServedData> sites() {
-  SiteTable t;
-  t.source = "router.csv";
-  for (std::size_t i = 0; i < 50; ++i) {
-    InputSite s;
-    s.row = i + 1;
-    s.id = "s" + std::to_string(i);
-    s.lat_deg = -60.0 + 2.5 * static_cast<double>(i);
-    s.lon_deg = static_cast<double>(i * 53 % 360) - 180;
-    s.unit = SiteEncoder::from_lat_lon(s.lat_deg, s.lon_deg);
-    t.sites.push_back(s);
-  }
-  t.rows_read = t.sites.size();
-  return make_served_data(build_site_index(t), "", {});
-}
+std::shared_ptr<const ServedData> sites() { return served_sites(50); }
 
 struct RouterTest : ::testing::Test {
   LiveData data{[] { return sites(); }};
